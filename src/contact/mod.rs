@@ -1,0 +1,41 @@
+//! Contact temperature: the per-step estimate of the tread/ice interface temperature.
+//!
+//! The engine calls a [`ContactTemperature`] once per step, after sampling the controllers and
+//! before advancing the state, with the current operating conditions of every tyre; the estimate it
+//! returns is held over the step and fills `TyreInput::contact_temp_c`. The Advanced Tire-Ice
+//! Interface Model (dissertation chapter 4) lives in the submodules; [`Isothermal`] is the estimator
+//! that does no heating (contact temperature = surface temperature).
+
+/// Operating conditions of one tyre at the start of a step (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TyreContact {
+    /// Normal load, N.
+    pub fz_n: f64,
+    /// Rolling speed omega R_e of the tread through the patch, m/s (>= 0).
+    pub roll_speed_mps: f64,
+    /// Sliding speed of the tread over the surface, m/s (>= 0); from slip ratio and slip angle.
+    pub slide_speed_mps: f64,
+    /// Magnitude of the friction force, N (so sliding power = force x slide speed).
+    pub friction_force_n: f64,
+    /// Bulk ice (surface) temperature, degC.
+    pub surface_temp_c: f64,
+}
+
+/// A per-step contact-temperature estimator.
+pub trait ContactTemperature: Send {
+    /// Advance the estimate by `h` seconds under `tyres` (one entry per tyre of the vehicle model)
+    /// and write each tyre's contact temperature, degC, into `out` (same length as `tyres`).
+    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]);
+}
+
+/// No heating: the contact temperature equals the surface temperature.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Isothermal;
+
+impl ContactTemperature for Isothermal {
+    fn update(&mut self, _h: f64, tyres: &[TyreContact], out: &mut [f64]) {
+        for (o, t) in out.iter_mut().zip(tyres) {
+            *o = t.surface_temp_c;
+        }
+    }
+}

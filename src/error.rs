@@ -1,0 +1,138 @@
+//! Error type of the library and the checks that turn raw spec values into validated ones.
+//!
+//! Every user-facing input problem becomes [`Error::Input`], whose message names the file, the key
+//! (or line) and what is allowed; the CLI maps it to exit code 2. Nothing in the library panics on
+//! bad input.
+
+use std::path::{Path, PathBuf};
+
+/// Library error. `Input` is the user's fault (exit 2); `Io` and `Run` are failures of a run (exit 1).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// Bad input: a missing or malformed file, an unknown key, a non-physical value.
+    #[error("{}: {message}", file.display())]
+    Input { file: PathBuf, message: String },
+    /// Reading or writing a file failed for a reason outside the user's input.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A run could not be carried out (not a bad input, not a simulation event).
+    #[error("{0}")]
+    Run(String),
+}
+
+impl Error {
+    /// Process exit code for this error: 2 for bad input, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Input { .. } => 2,
+            _ => 1,
+        }
+    }
+
+    /// A bad-input error about `file`.
+    pub fn input(file: &Path, message: impl Into<String>) -> Self {
+        Error::Input { file: file.to_path_buf(), message: message.into() }
+    }
+
+    /// A bad-input error about key `key` of `file`.
+    pub fn key(file: &Path, key: &str, message: impl std::fmt::Display) -> Self {
+        Error::Input { file: file.to_path_buf(), message: format!("key '{key}': {message}") }
+    }
+}
+
+/// Library result type.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Read a text file, mapping a missing or unreadable file to a bad-input error.
+pub fn read_input(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|e| {
+        let why = match e.kind() {
+            std::io::ErrorKind::NotFound => "file not found".to_string(),
+            std::io::ErrorKind::InvalidData => "not valid UTF-8 text".to_string(),
+            _ => format!("cannot read: {e}"),
+        };
+        Error::input(path, why)
+    })
+}
+
+/// Parse TOML text into `T` (unknown keys are rejected by `T`'s serde attributes); the message
+/// carries the line, the column and the key as reported by the toml crate.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
+    toml::from_str(text).map_err(|e| Error::input(path, format!("invalid spec: {}", e.to_string().trim_end())))
+}
+
+/// Checks on one spec file's numeric values. Each check returns the first violation as a
+/// bad-input error naming the file, the key, the value and what is allowed.
+pub struct Checker<'a> {
+    pub file: &'a Path,
+}
+
+impl<'a> Checker<'a> {
+    pub fn new(file: &'a Path) -> Self {
+        Self { file }
+    }
+
+    fn fail(&self, key: &str, v: f64, allowed: &str) -> Error {
+        Error::key(self.file, key, format!("value {v} is not allowed; {allowed}"))
+    }
+
+    /// Finite (not NaN, not infinite).
+    pub fn finite(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.fail(key, v, "expected a finite number"))
+        }
+    }
+
+    /// Finite and strictly positive.
+    pub fn positive(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.fail(key, v, "expected a finite number > 0"))
+        }
+    }
+
+    /// Finite and >= 0.
+    pub fn non_negative(&self, key: &str, v: f64) -> Result<f64> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.fail(key, v, "expected a finite number >= 0"))
+        }
+    }
+
+    /// Finite and within [lo, hi].
+    pub fn range(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64> {
+        if v.is_finite() && v >= lo && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.fail(key, v, &format!("expected a finite number in [{lo}, {hi}]")))
+        }
+    }
+
+    /// Generic condition with a custom description of what is allowed.
+    pub fn require(&self, key: &str, v: f64, ok: bool, allowed: &str) -> Result<f64> {
+        if v.is_finite() && ok {
+            Ok(v)
+        } else {
+            Err(self.fail(key, v, allowed))
+        }
+    }
+}
+
+/// Resolve `rel` against the folder of `spec_file` (paths inside spec files are relative to the file).
+pub fn resolve(spec_file: &Path, rel: &str) -> PathBuf {
+    let p = Path::new(rel);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        spec_file.parent().unwrap_or_else(|| Path::new(".")).join(p)
+    }
+}

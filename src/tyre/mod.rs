@@ -1,0 +1,93 @@
+//! Tyre-force providers behind one trait.
+//!
+//! Conventions (ISO 8855, wheel axes; DESIGN.md §4):
+//! - x along the wheel heading, y to the left, z up. Forces act on the tyre from the road.
+//! - Slip ratio `kappa = (omega R_e - V_x) / |V_x|`: positive when driving, -1 at a locked wheel.
+//! - Slip angle `alpha = -atan(V_y / |V_x|)` with V_y the lateral velocity of the wheel centre in
+//!   wheel axes, so a positive alpha gives a positive (leftward) lateral force.
+//! - Contact temperature: `contact_temp_c` is the estimated tread/ice interface temperature in degC;
+//!   `surface_temp_c` is the bulk ice (or road) surface temperature. Their difference is the
+//!   contact-temperature rise Delta-T that the ATIIM-modified providers use. Without a contact
+//!   estimator both are equal.
+//!
+//! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and
+//! load in [0, 3 Fz_nominal], give zero force at zero load, and bound combined slip with a friction
+//! ellipse or the Magic Formula combined-slip functions.
+
+pub mod linear;
+pub mod spec;
+
+pub use linear::LinearTyre;
+pub use spec::{TyreFileSpec, TyreModelKind};
+
+/// Everything a provider may use to compute the force of one tyre at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TyreInput {
+    /// Normal load on the tyre, N (>= 0; a lifted wheel has 0).
+    pub fz_n: f64,
+    /// Longitudinal slip ratio, dimensionless (see module docs).
+    pub kappa: f64,
+    /// Slip angle, rad (see module docs).
+    pub alpha_rad: f64,
+    /// Camber (inclination) angle, rad, positive when the top of the wheel leans to the vehicle's left.
+    pub camber_rad: f64,
+    /// Forward speed of the wheel centre in wheel axes, m/s (>= 0 in forward driving).
+    pub vx_mps: f64,
+    /// Peak friction coefficient of the surface (dry asphalt ~1.0, ice 0.05–0.2).
+    pub mu_surface: f64,
+    /// Bulk surface (ice) temperature, degC.
+    pub surface_temp_c: f64,
+    /// Estimated contact-patch temperature, degC (equals `surface_temp_c` without heating).
+    pub contact_temp_c: f64,
+}
+
+impl TyreInput {
+    /// A pure-slip input on a surface of friction `mu` at 0 degC with no heating and no camber.
+    pub fn new(fz_n: f64, kappa: f64, alpha_rad: f64, mu_surface: f64) -> Self {
+        Self {
+            fz_n,
+            kappa,
+            alpha_rad,
+            camber_rad: 0.0,
+            vx_mps: 10.0,
+            mu_surface,
+            surface_temp_c: 0.0,
+            contact_temp_c: 0.0,
+        }
+    }
+
+    /// Contact-temperature rise above the surface, K.
+    pub fn delta_t_k(&self) -> f64 {
+        self.contact_temp_c - self.surface_temp_c
+    }
+}
+
+/// Forces and moment of one tyre, wheel axes, N and N m.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TyreForces {
+    /// Longitudinal force, N (positive forward).
+    pub fx_n: f64,
+    /// Lateral force, N (positive left).
+    pub fy_n: f64,
+    /// Aligning moment about z, N m (positive counter-clockwise seen from above); 0 where not modelled.
+    pub mz_nm: f64,
+}
+
+/// A tyre-force provider. Implementations are pure: the same input gives the same output.
+pub trait TyreModel: Send + Sync + std::fmt::Debug {
+    /// Short name as used in spec files (`linear`, `pacejka`, ...).
+    fn name(&self) -> &'static str;
+
+    /// Forces for one input.
+    fn forces(&self, input: &TyreInput) -> TyreForces;
+
+    /// The bound on |F| / Fz this provider guarantees for this input (peak friction coefficient);
+    /// `f64::INFINITY` for a provider with no bound (the unsaturated linear tyre).
+    fn peak_friction(&self, input: &TyreInput) -> f64;
+
+    /// dFx/dkappa at zero slip for this input's load and conditions, N per unit slip.
+    fn longitudinal_stiffness(&self, input: &TyreInput) -> f64;
+
+    /// dFy/dalpha at zero slip for this input's load and conditions, N/rad.
+    fn cornering_stiffness(&self, input: &TyreInput) -> f64;
+}
