@@ -148,13 +148,11 @@ pub fn body_corners(body: &Body, kin: &Kinematics) -> [(f64, f64); 4] {
 /// Does the body outline, carried along `t` with heading along the tangent, keep `clearance`
 /// from every gate boundary while its corners lie in that gate?
 fn clears(t: &Transition, gates: &[Gate], body: &Body, clearance: f64) -> bool {
-    let (f, r, hw) = (body.front_m, body.rear_m, 0.5 * body.width_m);
-    let mut x = t.x0 - f - 0.5;
-    while x <= t.x1 + r + 0.5 {
+    let mut x = t.x0 - body.front_m - 0.5;
+    while x <= t.x1 + body.rear_m + 0.5 {
         let (y, slope) = t.at(x);
         let kin = Kinematics { x_m: x, y_m: y, yaw_rad: slope.atan(), ..Kinematics::default() };
-        for (cx, cy) in [kin.body_point(f, hw), kin.body_point(f, -hw), kin.body_point(-r, hw), kin.body_point(-r, -hw)]
-        {
+        for (cx, cy) in body_corners(body, &kin) {
             for g in gates {
                 if cx >= g.x0_m && cx <= g.x1_m && (cy < g.y_right_m + clearance || cy > g.y_left_m - clearance) {
                     return false;
