@@ -79,56 +79,119 @@ fn default_ramp() -> f64 {
     0.2
 }
 
-/// `[maneuver]`: which manoeuvre and its parameters.
+/// `[maneuver]` with `kind = "iso3888_2"`: ISO 3888-2 severe lane change with the path-following driver.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
+pub struct Iso3888_2Spec {
+    /// Entry speed, m/s (> 0).
+    pub speed_mps: f64,
+    /// `hold` (PID all the way) or `coast` (throttle released at the entry gate).
+    #[serde(default = "hold")]
+    pub speed_mode: SpeedModeSpec,
+    /// Straight run-up before the entry gate, m (default 30).
+    #[serde(default = "default_approach")]
+    pub approach_m: f64,
+    /// Distance after the exit gate before the run ends, m (default 20).
+    #[serde(default = "default_exit")]
+    pub exit_m: f64,
+    /// Lower bound on the lane-5 width, m (default 3.0, our reading of the standard).
+    #[serde(default = "default_lane5")]
+    pub lane5_min_width_m: f64,
+    /// Clearance the reference path keeps between the body and the gate boundaries, m (default 0.1).
+    #[serde(default = "default_clearance")]
+    pub clearance_m: f64,
+}
+
+/// `[maneuver]` with `kind = "sine_steer"`: open-loop sine steer at a held speed (dissertation Fig. 6.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SineSteerSpec {
+    pub speed_mps: f64,
+    /// Road-wheel amplitude, degrees.
+    pub steer_amplitude_deg: f64,
+    /// Sine period, s (default 10).
+    #[serde(default = "default_period")]
+    pub period_s: f64,
+    /// Start of the sine, s (default 0).
+    #[serde(default)]
+    pub start_s: f64,
+}
+
+/// `[maneuver]` with `kind = "step_steer"`: open-loop ramped step steer at a held speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepSteerSpec {
+    pub speed_mps: f64,
+    /// Road-wheel angle, degrees.
+    pub steer_amplitude_deg: f64,
+    /// Start of the ramp, s (default 0).
+    #[serde(default)]
+    pub start_s: f64,
+    /// Ramp duration, s (default 0.2).
+    #[serde(default = "default_ramp")]
+    pub ramp_s: f64,
+}
+
+/// `[maneuver]` with `kind = "straight"`: straight running following a speed schedule.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StraightSpec {
+    /// [[t_s, v_mps], ...], piecewise linear, held beyond the ends.
+    pub speed_schedule: Vec<[f64; 2]>,
+}
+
+/// A parsed `[maneuver]` table.
+#[derive(Debug, Clone, PartialEq)]
 pub enum ManeuverSpec {
-    /// ISO 3888-2 severe lane change with the path-following driver.
-    Iso3888_2 {
-        /// Entry speed, m/s (> 0).
-        speed_mps: f64,
-        /// `hold` (PID all the way) or `coast` (throttle released at the entry gate).
-        #[serde(default = "hold")]
-        speed_mode: SpeedModeSpec,
-        /// Straight run-up before the entry gate, m (default 30).
-        #[serde(default = "default_approach")]
-        approach_m: f64,
-        /// Distance after the exit gate before the run ends, m (default 20).
-        #[serde(default = "default_exit")]
-        exit_m: f64,
-        /// Lower bound on the lane-5 width, m (default 3.0, our reading of the standard).
-        #[serde(default = "default_lane5")]
-        lane5_min_width_m: f64,
-        /// Clearance the reference path keeps between the body and the gate boundaries, m (default 0.1).
-        #[serde(default = "default_clearance")]
-        clearance_m: f64,
-    },
-    /// Open-loop sine steer at a held speed (dissertation Fig. 6.3).
-    SineSteer {
-        speed_mps: f64,
-        /// Road-wheel amplitude, degrees.
-        steer_amplitude_deg: f64,
-        /// Sine period, s (default 10).
-        #[serde(default = "default_period")]
-        period_s: f64,
-        /// Start of the sine, s (default 0).
-        #[serde(default)]
-        start_s: f64,
-    },
-    /// Open-loop step steer (ramped) at a held speed: steady-state cornering.
-    StepSteer {
-        speed_mps: f64,
-        /// Road-wheel angle, degrees.
-        steer_amplitude_deg: f64,
-        /// Start of the ramp, s (default 0).
-        #[serde(default)]
-        start_s: f64,
-        /// Ramp duration, s (default 0.2).
-        #[serde(default = "default_ramp")]
-        ramp_s: f64,
-    },
-    /// Straight running following a speed schedule [[t_s, v_mps], ...] (piecewise linear).
-    Straight { speed_schedule: Vec<[f64; 2]> },
+    Iso3888_2(Iso3888_2Spec),
+    SineSteer(SineSteerSpec),
+    StepSteer(StepSteerSpec),
+    Straight(StraightSpec),
+}
+
+/// The manoeuvre kinds accepted in `[maneuver] kind`.
+pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight"];
+
+impl ManeuverSpec {
+    /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
+    /// checked with their full path (`maneuver.speed_mps`) in any message.
+    pub fn from_table(path: &Path, table: &toml::Table) -> Result<Self> {
+        let kind = match table.get("kind") {
+            Some(toml::Value::String(k)) => k.clone(),
+            Some(_) => return Err(Error::key(path, "maneuver.kind", "expected a string")),
+            None => {
+                return Err(Error::key(
+                    path,
+                    "maneuver.kind",
+                    format!("missing; allowed: {}", MANEUVER_KINDS.join(", ")),
+                ))
+            }
+        };
+        let mut rest = table.clone();
+        rest.remove("kind");
+        fn parse<T: serde::de::DeserializeOwned>(path: &Path, t: toml::Table) -> Result<T> {
+            serde_path_to_error::deserialize(toml::Value::Table(t)).map_err(|e| {
+                let key = e.path().to_string();
+                let key = if key.is_empty() || key == "." { "maneuver".to_string() } else { format!("maneuver.{key}") };
+                // The toml value deserializer appends "in `key`" on a second line; the key is named already.
+                let msg = e.into_inner().to_string();
+                Error::key(path, &key, msg.lines().next().unwrap_or_default())
+            })
+        }
+        Ok(match kind.as_str() {
+            "iso3888_2" => ManeuverSpec::Iso3888_2(parse(path, rest)?),
+            "sine_steer" => ManeuverSpec::SineSteer(parse(path, rest)?),
+            "step_steer" => ManeuverSpec::StepSteer(parse(path, rest)?),
+            "straight" => ManeuverSpec::Straight(parse(path, rest)?),
+            other => {
+                return Err(Error::key(
+                    path,
+                    "maneuver.kind",
+                    format!("unknown kind '{other}'; allowed: {}", MANEUVER_KINDS.join(", ")),
+                ))
+            }
+        })
+    }
 }
 
 fn hold() -> SpeedModeSpec {
@@ -210,7 +273,8 @@ pub struct ManeuverFile {
     #[serde(default)]
     pub duration_s: Option<f64>,
     pub surface: SurfaceSection,
-    pub maneuver: ManeuverSpec,
+    /// The manoeuvre table; its `kind` selects the parameter set (see [`ManeuverSpec`]).
+    pub maneuver: toml::Table,
     #[serde(default)]
     pub speed_control: PidParams,
     #[serde(default)]
@@ -364,8 +428,15 @@ impl ManeuverFile {
         let speed =
             |v: f64| c.require("maneuver.speed_mps", v, v > 0.0 && v <= 100.0, "expected 0 < speed_mps <= 100 (m/s)");
         let steer = |v: f64| c.range("maneuver.steer_amplitude_deg", v, -60.0, 60.0);
-        Ok(match &self.maneuver {
-            ManeuverSpec::Iso3888_2 { speed_mps, speed_mode, approach_m, exit_m, lane5_min_width_m, clearance_m } => {
+        Ok(match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
+            ManeuverSpec::Iso3888_2(Iso3888_2Spec {
+                speed_mps,
+                speed_mode,
+                approach_m,
+                exit_m,
+                lane5_min_width_m,
+                clearance_m,
+            }) => {
                 let v = speed(*speed_mps)?;
                 c.range("maneuver.approach_m", *approach_m, 5.0, 1000.0)?;
                 c.range("maneuver.exit_m", *exit_m, 0.0, 1000.0)?;
@@ -386,7 +457,7 @@ impl ManeuverFile {
                 };
                 (ManeuverConfig::Iso3888_2(params), "iso3888_2", Some(2.0 * dist / v + 5.0))
             }
-            ManeuverSpec::SineSteer { speed_mps, steer_amplitude_deg, period_s, start_s } => {
+            ManeuverSpec::SineSteer(SineSteerSpec { speed_mps, steer_amplitude_deg, period_s, start_s }) => {
                 let v = speed(*speed_mps)?;
                 let a = steer(*steer_amplitude_deg)?;
                 c.range("maneuver.period_s", *period_s, 0.05, 1000.0)?;
@@ -395,7 +466,7 @@ impl ManeuverFile {
                     SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: *period_s, start_s: *start_s };
                 (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "sine_steer", None)
             }
-            ManeuverSpec::StepSteer { speed_mps, steer_amplitude_deg, start_s, ramp_s } => {
+            ManeuverSpec::StepSteer(StepSteerSpec { speed_mps, steer_amplitude_deg, start_s, ramp_s }) => {
                 let v = speed(*speed_mps)?;
                 let a = steer(*steer_amplitude_deg)?;
                 c.range("maneuver.start_s", *start_s, 0.0, 3600.0)?;
@@ -403,7 +474,7 @@ impl ManeuverFile {
                 let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: *start_s, ramp_s: *ramp_s };
                 (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "step_steer", None)
             }
-            ManeuverSpec::Straight { speed_schedule } => {
+            ManeuverSpec::Straight(StraightSpec { speed_schedule }) => {
                 if speed_schedule.is_empty() {
                     return Err(Error::key(
                         c.file,
