@@ -97,51 +97,82 @@ impl RefPath {
     /// Closest point to (x, y) over the whole path. Returns (arc length, signed lateral offset of
     /// the point, positive to the left of the path direction).
     pub fn closest_global(&self, x: f64, y: f64) -> (f64, f64) {
-        self.closest_within(x, y, 0.0, f64::INFINITY)
+        let best = (0..self.n_segments()).map(|i| self.project(i, x, y)).fold((f64::INFINITY, 0.0, 0.0), |b, p| {
+            if p.0 < b.0 {
+                p
+            } else {
+                b
+            }
+        });
+        (self.wrap(best.1), best.2)
     }
 
-    /// Closest point to (x, y) among segments within +-`window` m of arc length around `hint_s`
-    /// (the whole path when it is shorter than twice the window). Returns (arc length, signed
-    /// lateral offset, positive to the left of the path direction).
+    /// Closest point to (x, y) found by walking from the segment at arc length `hint_s` to
+    /// neighbouring segments while they come closer (a few segments per call when the point moves
+    /// little between calls; use [`RefPath::closest_global`] for the first call). Returns (arc
+    /// length, signed lateral offset, positive to the left of the path direction).
     pub fn closest(&self, x: f64, y: f64, hint_s: f64) -> (f64, f64) {
-        self.closest_within(x, y, hint_s, 3.0)
-    }
-
-    fn closest_within(&self, x: f64, y: f64, hint_s: f64, window: f64) -> (f64, f64) {
         let nseg = self.n_segments();
         if nseg == 0 {
             return (0.0, 0.0);
         }
-        let (lo, hi) = if self.length() <= 2.0 * window {
-            (0, nseg - 1)
-        } else {
-            (self.index_at(hint_s - window), self.index_at(hint_s + window))
-        };
-        let mut best = (f64::INFINITY, 0.0, 0.0);
-        let mut visit = |i: usize| {
-            let (a, b, s0) = self.segment(i);
-            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-            let len2 = (dx * dx + dy * dy).max(1e-24);
-            let last_open = !self.closed && i + 1 == nseg;
-            let first_open = !self.closed && i == 0;
-            let mut u = ((x - a.0) * dx + (y - a.1) * dy) / len2;
-            if !(last_open && u > 1.0) && !(first_open && u < 0.0) {
-                u = u.clamp(0.0, 1.0);
-            }
-            let (px, py) = (a.0 + u * dx, a.1 + u * dy);
-            let d2 = (x - px).powi(2) + (y - py).powi(2);
-            if d2 < best.0 {
-                let len = len2.sqrt();
-                let side = (dx * (y - a.1) - dy * (x - a.0)) / len;
-                best = (d2, s0 + u * len, side);
+        let step = |i: usize, fwd: bool| -> Option<usize> {
+            if fwd {
+                if i + 1 < nseg {
+                    Some(i + 1)
+                } else if self.closed {
+                    Some(0)
+                } else {
+                    None
+                }
+            } else if i > 0 {
+                Some(i - 1)
+            } else if self.closed {
+                Some(nseg - 1)
+            } else {
+                None
             }
         };
-        if lo <= hi {
-            (lo..=hi).for_each(&mut visit);
-        } else {
-            (lo..nseg).chain(0..=hi).for_each(&mut visit);
+        let start = self.index_at(hint_s);
+        let mut best = (start, self.project(start, x, y));
+        for fwd in [true, false] {
+            let mut i = best.0;
+            // At most one lap: a closed path cannot make the walk cycle.
+            for _ in 0..nseg {
+                match step(i, fwd) {
+                    Some(j) => {
+                        let p = self.project(j, x, y);
+                        if p.0 < best.1 .0 {
+                            best = (j, p);
+                            i = j;
+                        } else {
+                            break;
+                        }
+                    }
+                    None => break,
+                }
+            }
         }
-        (self.wrap(best.1), best.2)
+        let (_, s, e) = best.1;
+        (self.wrap(s), e)
+    }
+
+    /// Projection of (x, y) on segment i: (squared distance, arc length, signed offset). The end
+    /// segments of an open path extend beyond their ends.
+    fn project(&self, i: usize, x: f64, y: f64) -> (f64, f64, f64) {
+        let nseg = self.n_segments();
+        let (a, b, s0) = self.segment(i);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len2 = (dx * dx + dy * dy).max(1e-24);
+        let mut u = ((x - a.0) * dx + (y - a.1) * dy) / len2;
+        let last_open = !self.closed && i + 1 == nseg;
+        let first_open = !self.closed && i == 0;
+        if !(last_open && u > 1.0) && !(first_open && u < 0.0) {
+            u = u.clamp(0.0, 1.0);
+        }
+        let (px, py) = (a.0 + u * dx, a.1 + u * dy);
+        let len = len2.sqrt();
+        ((x - px).powi(2) + (y - py).powi(2), s0 + u * len, (dx * (y - a.1) - dy * (x - a.0)) / len)
     }
 }
 

@@ -43,17 +43,20 @@ pub fn relaxed_slip_rate(kappa: f64, omega: f64, radius: f64, vxw: f64, sigma: f
     ((omega * radius - vxw) - vxw.abs().max(V_LOW) * kappa) / sigma
 }
 
-/// Torque opposing wheel spin of magnitude `torque_nm`, regularised as T tanh(omega / omega_0) with
-/// omega_0 = T_max / (I TORQUE_RATE_MAX) so the torque's stiffness stays below TORQUE_RATE_MAX.
+/// Torque opposing wheel spin of magnitude `torque_nm`, regularised near omega = 0 as
+/// T sat(omega / omega_1) with the C1 cubic saturation sat(u) = u (3 - u^2) / 2 for |u| < 1 and
+/// sign(u) beyond (a Coulomb torque made continuous). Its slope at 0 is 1.5 T / omega_1; with
+/// omega_1 = 1.5 T_max / (I TORQUE_RATE_MAX) the torque's stiffness stays below TORQUE_RATE_MAX.
 #[inline]
 pub fn resisting_torque(torque_nm: f64, torque_max_nm: f64, inertia: f64, omega: f64) -> f64 {
-    let omega0 = (torque_max_nm / (inertia * TORQUE_RATE_MAX)).max(1e-3);
-    let z = omega / omega0;
-    // tanh(z) rounds to +-1 in f64 beyond |z| = 19.1; skip the transcendental there.
-    if z.abs() > 19.5 {
-        torque_nm * z.signum()
+    let omega1 = (1.5 * torque_max_nm / (inertia * TORQUE_RATE_MAX)).max(1e-3);
+    let u = omega / omega1;
+    if u >= 1.0 {
+        torque_nm
+    } else if u <= -1.0 {
+        -torque_nm
     } else {
-        torque_nm * z.tanh()
+        torque_nm * 0.5 * u * (3.0 - u * u)
     }
 }
 
