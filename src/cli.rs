@@ -6,10 +6,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand};
-use rayon::prelude::*;
 
 use crate::error::Error;
-use crate::run;
+use crate::output::table::Table;
+use crate::{batch, compare, run};
 
 #[derive(Debug, Parser)]
 #[command(name = "vehsim", version, about = "Vehicle-dynamics simulation for driving on ice")]
@@ -20,7 +20,7 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Run manoeuvre specs and write results/<name>/timeseries.csv and summary.json.
+    /// Run manoeuvre specs (with their sweeps) and write results/<name>/.
     Run {
         /// Manoeuvre spec files (TOML).
         #[arg(required = true)]
@@ -28,9 +28,40 @@ pub enum Command {
         /// Folder for the results.
         #[arg(long, default_value = "results")]
         out: PathBuf,
-        /// Print nothing but errors.
+        /// Worker threads for the runs of a sweep (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Run only the K-th of N disjoint parts of each sweep (K from 1 to N), into
+        /// results/<name>.shard-K-of-N/; join the parts with `vehsim merge`.
+        #[arg(long)]
+        shard: Option<crate::batch::Shard>,
+        /// No progress bar, no table; print nothing but errors.
         #[arg(long)]
         quiet: bool,
+    },
+    /// Join shard folders (results/<name>.shard-K-of-N) into results/<name>/.
+    Merge {
+        /// Every shard folder of one batch.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+    },
+    /// Draw the standard charts of a results folder (one run or a batch) into <folder>/plots/.
+    Plot {
+        /// A results folder, e.g. results/dlc_ice.
+        folder: PathBuf,
+    },
+    /// Compare two time-series CSV files channel by channel; exit 0 within tolerance, 1 outside.
+    Compare {
+        /// Reference file.
+        a: PathBuf,
+        /// File compared with the reference (interpolated onto its times).
+        b: PathBuf,
+        /// Absolute tolerance of one channel, e.g. --tol yaw_rate_radps=1e-4 (repeatable).
+        #[arg(long = "tol")]
+        tol: Vec<String>,
+        /// Absolute tolerance of every channel not named by --tol.
+        #[arg(long, default_value_t = 1e-6)]
+        default_tol: f64,
     },
     /// Check manoeuvre specs (and the vehicle and tyre files they name); run nothing.
     Validate {
@@ -72,39 +103,53 @@ pub fn main() -> ExitCode {
             }
             code
         }
-        Command::Run { files, out, quiet } => {
-            let mut configs = Vec::new();
+        Command::Run { files, out, jobs, shard, quiet } => {
+            let mut batches = Vec::new();
             for f in &files {
-                match run::load(f) {
-                    Ok(c) => configs.push(c),
+                match batch::load(f) {
+                    Ok(b) => batches.push(b),
                     Err(e) => return report(&e),
                 }
             }
             let mut names = std::collections::BTreeSet::new();
-            for c in &configs {
-                if !names.insert(c.name.clone()) {
+            for b in &batches {
+                if !names.insert(b.name.clone()) {
                     return report(&Error::key(
-                        &c.spec_file,
+                        &b.spec_file,
                         "name",
                         format!(
                             "'{}' is used by more than one spec in this call; results would overwrite each other",
-                            c.name
+                            b.name
                         ),
                     ));
                 }
             }
-            let outputs: Vec<_> = configs.par_iter().map(run::execute).collect();
+            if jobs == Some(0) {
+                return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread"));
+            }
             let mut code = ExitCode::SUCCESS;
-            for (cfg, o) in configs.iter().zip(&outputs) {
-                let dir = match run::write_results(&out, cfg, o) {
-                    Ok(d) => d,
+            for b in &batches {
+                let opts = batch::Options { jobs, shard, progress: !quiet };
+                let result = match batch::execute(b, &out, opts) {
+                    Ok(r) => r,
                     Err(e) => return report(&e),
                 };
-                let s = &o.summary;
-                if s.failed() {
+                if result.records.iter().any(|r| r.status != "ok") {
                     code = ExitCode::from(1);
                 }
-                if !quiet || s.failed() {
+                if quiet {
+                    for r in result.records.iter().filter(|r| r.status != "ok") {
+                        eprintln!("{} {}: {} {}", b.name, batch::run_folder(r.index), r.status, r.message);
+                    }
+                    continue;
+                }
+                if b.is_sweep() {
+                    println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
+                    print!("{}", batch::table(&b.keys, &result.records, 40));
+                    for r in result.records.iter().filter(|r| r.status == "invalid") {
+                        println!("{}: invalid: {}", batch::run_folder(r.index), r.message);
+                    }
+                } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
                     let verdict = match s.passed {
                         Some(true) => "passed".to_string(),
                         Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
@@ -112,18 +157,76 @@ pub fn main() -> ExitCode {
                     };
                     println!(
                         "{}: {} at t = {:.2} s, {}; peak yaw rate {:.3} rad/s, peak sideslip {:.2} deg, peak ay {:.2} m/s^2 -> {}",
-                        cfg.name,
+                        b.name,
                         s.end_reason,
                         s.end_time_s,
                         verdict,
                         s.peak_yaw_rate_radps,
                         s.peak_sideslip_rad.to_degrees(),
                         s.peak_ay_mps2,
-                        dir.display()
+                        result.dir.display()
                     );
                 }
             }
             code
+        }
+        Command::Merge { shards } => match batch::merge(&shards) {
+            Ok(d) => {
+                println!("merged {} shards -> {}", shards.len(), d.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
+        Command::Plot { folder } => match crate::plot::runs::plot_results(&folder, &folder) {
+            Ok(w) => {
+                for p in w {
+                    println!("{}.png, .svg", p.display());
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
+        Command::Compare { a, b, tol, default_tol } => {
+            let tols = match compare::parse_tolerances(&tol) {
+                Ok(t) => t,
+                Err(e) => return report(&Error::input(std::path::Path::new("--tol"), e)),
+            };
+            if !(default_tol.is_finite() && default_tol >= 0.0) {
+                return report(&Error::input(
+                    std::path::Path::new("--default-tol"),
+                    "expected a finite tolerance >= 0",
+                ));
+            }
+            let (ta, tb) = match (Table::read(&a), Table::read(&b)) {
+                (Ok(x), Ok(y)) => (x, y),
+                (Err(e), _) | (_, Err(e)) => return report(&e),
+            };
+            let r = match compare::compare(&a, &ta, &b, &tb, &tols, default_tol) {
+                Ok(r) => r,
+                Err(e) => return report(&e),
+            };
+            for c in &r.only_in_one {
+                println!("note: channel '{c}' is in only one file; not compared");
+            }
+            if let Some(w) = r.worst() {
+                println!(
+                    "worst channel: {} = {:.3e} at t = {} s (tolerance {:.3e})",
+                    w.channel, w.max_abs_error, w.at_t_s, w.tolerance
+                );
+            }
+            let outside: Vec<_> = r.channels.iter().filter(|c| c.ratio() > 1.0).collect();
+            if outside.is_empty() {
+                println!("within tolerance: {} channels", r.channels.len());
+                ExitCode::SUCCESS
+            } else {
+                for c in &outside {
+                    println!(
+                        "  outside: {} max error {:.3e} at t = {} s (tolerance {:.3e})",
+                        c.channel, c.max_abs_error, c.at_t_s, c.tolerance
+                    );
+                }
+                ExitCode::from(1)
+            }
         }
         Command::Bench { file, runs } => {
             let cfg = match run::load(&file) {

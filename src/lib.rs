@@ -11,7 +11,9 @@
 //! - [`run`]: one run from a spec to result files; [`cli`]: the command line.
 //! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
 
+pub mod batch;
 pub mod cli;
+pub mod compare;
 pub mod contact;
 pub mod control;
 pub mod error;

@@ -83,6 +83,8 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
 struct SummaryFile<'a> {
     name: &'a str,
     spec: String,
+    /// Swept parameters of this run within its batch (empty for a single run).
+    params: serde_json::Map<String, serde_json::Value>,
     vehicle: &'a str,
     tyre: &'a str,
     tyre_model: &'static str,
@@ -179,39 +181,61 @@ pub fn timeseries_csv(rows: &[Row]) -> String {
     s
 }
 
-/// Write a run's files into `out_root/<name>/` through a temporary folder; returns the folder.
-pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Result<PathBuf> {
-    create_dir(out_root)?;
-    let final_dir = out_root.join(&cfg.name);
-    let tmp = out_root.join(format!(".{}.tmp{}", cfg.name, std::process::id()));
+/// Write a run's files into the existing folder `dir`: timeseries.csv (unless switched off),
+/// summary.json and, for manoeuvres with a course, layout.json. `params` are the swept values.
+pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -> Result<()> {
+    if cfg.output.timeseries {
+        write_atomic(&dir.join("timeseries.csv"), timeseries_csv(&out.rows).as_bytes())?;
+    }
+    let sf = SummaryFile {
+        name: &cfg.name,
+        spec: cfg.spec_file.display().to_string(),
+        params: params.iter().map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone()))).collect(),
+        vehicle: &cfg.vehicle.name,
+        tyre: &cfg.vehicle.tyre.name,
+        tyre_model: cfg.tyre_model.as_str(),
+        maneuver: cfg.kind,
+        mu: cfg.env.mu,
+        surface_temperature_c: cfg.env.surface_temp_c,
+        integrator: cfg.settings.method.name(),
+        step_s: cfg.settings.step_s,
+        summary: &out.summary,
+    };
+    let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
+    write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;
+    if let Some(layout) = build_maneuver(cfg).layout() {
+        let json = serde_json::to_string_pretty(&layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
+        write_atomic(&dir.join("layout.json"), (json + "\n").as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Fill a fresh temporary folder next to `final_dir` with `fill`, then replace `final_dir` by it.
+/// On any error the temporary folder is removed and `final_dir` is left as it was.
+pub fn write_dir_atomic(final_dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let parent = final_dir.parent().unwrap_or_else(|| Path::new("."));
+    create_dir(parent)?;
+    let name = final_dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = parent.join(format!(".{name}.tmp{}", std::process::id()));
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp).map_err(|e| Error::Io { path: tmp.clone(), source: e })?;
     }
     create_dir(&tmp)?;
-    let result = (|| {
-        write_atomic(&tmp.join("timeseries.csv"), timeseries_csv(&out.rows).as_bytes())?;
-        let sf = SummaryFile {
-            name: &cfg.name,
-            spec: cfg.spec_file.display().to_string(),
-            vehicle: &cfg.vehicle.name,
-            tyre: &cfg.vehicle.tyre.name,
-            tyre_model: cfg.tyre_model.as_str(),
-            maneuver: cfg.kind,
-            mu: cfg.env.mu,
-            surface_temperature_c: cfg.env.surface_temp_c,
-            integrator: cfg.settings.method.name(),
-            step_s: cfg.settings.step_s,
-            summary: &out.summary,
-        };
-        let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
-        write_atomic(&tmp.join("summary.json"), (json + "\n").as_bytes())?;
+    let result = fill(&tmp).and_then(|_| {
         if final_dir.exists() {
-            std::fs::remove_dir_all(&final_dir).map_err(|e| Error::Io { path: final_dir.clone(), source: e })?;
+            std::fs::remove_dir_all(final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })?;
         }
-        std::fs::rename(&tmp, &final_dir).map_err(|e| Error::Io { path: final_dir.clone(), source: e })
-    })();
+        std::fs::rename(&tmp, final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })
+    });
     if result.is_err() {
         let _ = std::fs::remove_dir_all(&tmp);
     }
-    result.map(|_| final_dir)
+    result
+}
+
+/// Write a single run's files into `out_root/<name>/` atomically; returns the folder.
+pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Result<PathBuf> {
+    let final_dir = out_root.join(&cfg.name);
+    write_dir_atomic(&final_dir, |tmp| write_run_files(tmp, cfg, out, &[]))?;
+    Ok(final_dir)
 }

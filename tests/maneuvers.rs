@@ -55,3 +55,17 @@ fn repeated_runs_give_identical_bytes() {
     let b = timeseries_csv(&execute(&cfg).rows);
     assert_eq!(a, b);
 }
+
+/// With tyres that saturate at mu Fz the lateral acceleration can never exceed mu g, so on ice
+/// (mu 0.15) the sedan cannot make the 3.5 m lane change at 10 m/s: it understeers out of lane 3.
+#[test]
+fn friction_limited_tyres_bound_lateral_acceleration_by_mu_g() {
+    let mut cfg = common::load("maneuvers/dlc.toml");
+    let sat = common::root().join("tests/data/vehicles/sedan_saturating.toml");
+    cfg.vehicle = vehsim::spec::VehicleFile::load(&sat).unwrap().build(&sat, cfg.tyre_model).unwrap();
+    let out = execute(&cfg);
+    let mu_g = cfg.env.mu * vehsim::spec::vehicle::GRAVITY;
+    assert!(out.summary.peak_ay_mps2 <= mu_g * (1.0 + 1e-9), "peak ay {} > mu g {mu_g}", out.summary.peak_ay_mps2);
+    assert!(out.summary.peak_ay_mps2 > 0.95 * mu_g, "the tyres never reached the friction limit");
+    assert_eq!(out.summary.passed, Some(false));
+}

@@ -351,4 +351,25 @@ impl Maneuver for Iso3888_2 {
     fn outcome(&self) -> Outcome {
         Outcome { passed: Some(self.course_done && self.struck.is_empty()), cones_hit: self.struck.len() }
     }
+
+    fn layout(&self) -> Option<serde_json::Value> {
+        let gates: Vec<_> = self
+            .gates
+            .iter()
+            .map(|g| serde_json::json!({"name": g.name, "x0_m": g.x0_m, "x1_m": g.x1_m, "y_right_m": g.y_right_m, "y_left_m": g.y_left_m}))
+            .collect();
+        let x_end = COURSE_LENGTH_M + self.params.exit_m;
+        let (t1, t2) = self.transitions;
+        let path: Vec<[f64; 2]> = (0..)
+            .map(|i| -self.params.approach_m + 0.5 * i as f64)
+            .take_while(|x| *x <= x_end)
+            .map(|x| [x, if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 }])
+            .collect();
+        Some(serde_json::json!({
+            "kind": "iso3888_2",
+            "gates": gates,
+            "body": {"front_m": self.body.front_m, "rear_m": self.body.rear_m, "width_m": self.body.width_m},
+            "reference_path": path,
+        }))
+    }
 }

@@ -61,4 +61,9 @@ pub trait Maneuver: Send {
     fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool;
     /// Verdict so far.
     fn outcome(&self) -> Outcome;
+
+    /// The course for plots (gates, reference path, body outline), as JSON; `None` if there is none.
+    fn layout(&self) -> Option<serde_json::Value> {
+        None
+    }
 }

@@ -244,6 +244,16 @@ pub struct OutputSection {
     /// Interval between rows of timeseries.csv, s (rounded to whole steps; default 0.01).
     #[serde(default = "cs")]
     pub interval_s: f64,
+    /// Write timeseries.csv (default true; large sweeps may want only the summaries).
+    #[serde(default = "yes")]
+    pub timeseries: bool,
+    /// Draw the comparison plots after a run or batch (default true; skipped above 24 runs).
+    #[serde(default = "yes")]
+    pub plots: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn cs() -> f64 {
@@ -252,7 +262,7 @@ fn cs() -> f64 {
 
 impl Default for OutputSection {
     fn default() -> Self {
-        Self { interval_s: cs() }
+        Self { interval_s: cs(), timeseries: true, plots: true }
     }
 }
 
@@ -283,6 +293,10 @@ pub struct ManeuverFile {
     pub integrator: IntegratorSection,
     #[serde(default)]
     pub output: OutputSection,
+    /// Sweeps: dotted spec paths (`tyre_model`, `"surface.mu"`, `"maneuver.speed_mps"`, `vehicle`,
+    /// any numeric key) mapped to lists of values; the batch runs their full product.
+    #[serde(default)]
+    pub sweep: Option<toml::Table>,
 }
 
 /// The validated manoeuvre, ready to instantiate.
@@ -306,6 +320,8 @@ pub struct RunConfig {
     pub pid: PidParams,
     pub driver: DriverParams,
     pub settings: SimSettings,
+    /// Output switches.
+    pub output: OutputSection,
 }
 
 /// Is `name` usable as a results folder name?
@@ -319,6 +335,15 @@ fn valid_name(name: &str) -> bool {
 impl ManeuverFile {
     pub fn load(path: &Path) -> Result<Self> {
         parse_toml(path, &read_input(path)?)
+    }
+
+    /// Parse an already-read TOML table (used for sweep combinations), naming keys by their path.
+    pub fn from_table(path: &Path, table: toml::Table) -> Result<Self> {
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let key = e.path().to_string();
+            let msg = e.into_inner().to_string();
+            Error::key(path, &key, msg.lines().next().unwrap_or_default())
+        })
     }
 
     /// Validate everything (the vehicle and tyre files included) into a [`RunConfig`].
@@ -421,6 +446,7 @@ impl ManeuverFile {
                 duration_s,
                 output_interval_s: self.output.interval_s,
             },
+            output: self.output.clone(),
         })
     }
 
