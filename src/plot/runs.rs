@@ -22,9 +22,10 @@ struct RunData {
     strikes: Vec<f64>,
 }
 
-fn run_label(dir: &Path, params: &[(String, String)]) -> String {
+/// Legend label: the swept values, or for a single run the name in its summary.json.
+fn run_label(summary: Option<&serde_json::Value>, params: &[(String, String)]) -> String {
     if params.is_empty() {
-        dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default()
+        summary.and_then(|s| s.get("name")).and_then(|n| n.as_str()).unwrap_or("run").to_string()
     } else {
         params.iter().map(|(k, v)| format!("{}={v}", k.rsplit('.').next().unwrap_or(k))).collect::<Vec<_>>().join(", ")
     }
@@ -40,16 +41,18 @@ fn load_run(dir: &Path, params: &[(String, String)]) -> Result<Option<RunData>> 
         Ok(t) => serde_json::from_str(&t).ok(),
         Err(_) => None,
     };
-    let strikes = std::fs::read_to_string(dir.join("summary.json"))
+    let summary = std::fs::read_to_string(dir.join("summary.json"))
         .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let strikes = summary
+        .as_ref()
         .and_then(|v| v.get("events").and_then(|e| e.as_array()).cloned())
         .unwrap_or_default()
         .iter()
         .filter(|e| e.get("kind").and_then(|k| k.as_str()) == Some("cone_strike"))
         .filter_map(|e| e.get("t_s").and_then(|t| t.as_f64()))
         .collect();
-    Ok(Some(RunData { label: run_label(dir, params), table, layout, strikes }))
+    Ok(Some(RunData { label: run_label(summary.as_ref(), params), table, layout, strikes }))
 }
 
 /// The runs of a results folder, in order, with their swept parameters.
