@@ -13,7 +13,8 @@ use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::Maneuver;
 use crate::output::{create_dir, write_atomic};
-use crate::sim::{simulate, Controls, Recorder, Row, Summary};
+use crate::sim::observer::NoOutput;
+use crate::sim::{simulate, Controls, Observer, Recorder, Row, Summary};
 use crate::spec::maneuver::ManeuverConfig;
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
@@ -23,7 +24,10 @@ use crate::vehicle::Bicycle;
 #[derive(Debug, Clone)]
 pub struct RunOutput {
     pub summary: Summary,
+    /// Recorded rows (empty when the spec switches the time series off).
     pub rows: Vec<Row>,
+    /// The manoeuvre's course for plots (`layout.json`), if it has one.
+    pub layout: Option<serde_json::Value>,
 }
 
 /// Load and validate a manoeuvre spec (with its vehicle and tyre files).
@@ -73,9 +77,11 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
     let mut maneuver = build_maneuver(cfg);
     let ctl = controls(cfg, maneuver.start().speed_mps);
     let mut recorder = Recorder::default();
+    let mut none = NoOutput;
+    let observer: &mut dyn Observer = if cfg.output.timeseries { &mut recorder } else { &mut none };
     let mut contact = Isothermal;
-    let summary = simulate(&model, cfg.env, maneuver.as_mut(), &mut contact, &ctl, &cfg.settings, &mut recorder);
-    RunOutput { summary, rows: recorder.rows }
+    let summary = simulate(&model, cfg.env, maneuver.as_mut(), &mut contact, &ctl, &cfg.settings, observer);
+    RunOutput { summary, rows: recorder.rows, layout: maneuver.layout() }
 }
 
 /// `summary.json`: the run's identity plus the engine's figures.
@@ -203,8 +209,8 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
     };
     let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;
-    if let Some(layout) = build_maneuver(cfg).layout() {
-        let json = serde_json::to_string_pretty(&layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
+    if let Some(layout) = &out.layout {
+        let json = serde_json::to_string_pretty(layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
         write_atomic(&dir.join("layout.json"), (json + "\n").as_bytes())?;
     }
     Ok(())
