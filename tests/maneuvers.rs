@@ -69,3 +69,15 @@ fn friction_limited_tyres_bound_lateral_acceleration_by_mu_g() {
     assert!(out.summary.peak_ay_mps2 > 0.95 * mu_g, "the tyres never reached the friction limit");
     assert_eq!(out.summary.passed, Some(false));
 }
+
+/// A spec survives a round trip (parse, serialise, parse) without changing the answer.
+#[test]
+fn spec_round_trip_gives_the_same_bytes() {
+    let path = common::root().join("maneuvers/dlc.toml");
+    let file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let text = toml::to_string(&file).unwrap();
+    let again: vehsim::spec::ManeuverFile = toml::from_str(&text).unwrap();
+    assert_eq!(file, again);
+    let (a, b) = (file.build(&path).unwrap(), again.build(&path).unwrap());
+    assert_eq!(timeseries_csv(&execute(&a).rows), timeseries_csv(&execute(&b).rows));
+}
