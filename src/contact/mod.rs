@@ -11,11 +11,13 @@
 //! [`estimator`] (the per-step [`ContactTemperature`] for the engine), [`spec`] (the `[contact]`
 //! table and scenario files) and [`command`] (`vehsim atiim`).
 
+pub mod estimator;
 pub mod film;
 pub mod friction;
 pub mod heat;
 pub mod model;
 pub mod patch;
+pub mod spec;
 pub mod thermal;
 
 /// Operating conditions of one tyre at the start of a step (SI units).

@@ -115,10 +115,11 @@ pub struct PatchSummary {
     pub sliding_fraction: f64,
     pub max_film_m: f64,
     pub mean_film_wet_m: f64,
-    /// Viscous friction: largest first-wet-pixel value over tracks (leading edge of the wet zone),
-    /// mean over tracks of the last wet pixel (trailing edge), mean over wet pixels.
-    pub mu_visc_leading_max: f64,
-    pub mu_visc_trailing_mean: f64,
+    /// Viscous friction (eq. 4.13), pressure-weighted: over each track's first wet pixel (leading
+    /// edge of the wet zone; grid-dependent, see docs/atiim.md), over wet pixels in the last 10 %
+    /// of each track (trailing edge), and the plain mean over wet pixels.
+    pub mu_visc_leading: f64,
+    pub mu_visc_trailing: f64,
     pub mu_visc_mean: f64,
     /// Drawbar-pull coefficient sum(tau dA) / F_z.
     pub drawbar_coeff: f64,
@@ -294,14 +295,32 @@ fn summarize(grid: &PressureGrid, op: &Operating, r: &mut PatchResult) {
             }
         }
     }
-    let (mut lead, mut trail, mut ntrail) = (0.0f64, 0.0, 0usize);
+    // Viscous friction at the wet zone's leading edge (each track's onset pixel) and trailing edge
+    // (wet pixels in the last 10 % of the track's loaded length), pressure-weighted
+    // (sum mu p / sum p = shear force / normal force), so low-pressure edge pixels do not dominate.
+    let (mut lead_t, mut lead_p, mut trail_t, mut trail_p) = (0.0, 0.0, 0.0, 0.0);
     for c in 0..cols {
-        let wet_rows: Vec<usize> = (0..rows).filter(|&i| r.wet[i * cols + c]).collect();
-        if let (Some(&f), Some(&l)) = (wet_rows.first(), wet_rows.last()) {
-            lead = lead.max(r.mu_visc[f * cols + c]);
-            trail += r.mu_visc[l * cols + c];
-            ntrail += 1;
+        let loaded: Vec<usize> = (0..rows).filter(|&i| grid.p_pa[i * cols + c] > 0.0).collect();
+        let (Some(&i0), Some(&i1)) = (loaded.first(), loaded.last()) else { continue };
+        if let Some(f) = (0..rows).find(|&i| r.wet[i * cols + c]) {
+            let p = grid.p_pa[f * cols + c];
+            lead_t += r.mu_visc[f * cols + c] * p;
+            lead_p += p;
         }
+        let tail = i1 as f64 - 0.1 * (i1 - i0 + 1) as f64;
+        for &i in loaded.iter().filter(|&&i| i as f64 > tail) {
+            if r.wet[i * cols + c] {
+                let p = grid.p_pa[i * cols + c];
+                trail_t += r.mu_visc[i * cols + c] * p;
+                trail_p += p;
+            }
+        }
+    }
+    if lead_p > 0.0 {
+        s.mu_visc_leading = lead_t / lead_p;
+    }
+    if trail_p > 0.0 {
+        s.mu_visc_trailing = trail_t / trail_p;
     }
     let _ = op;
     if nl > 0 {
@@ -312,10 +331,6 @@ fn summarize(grid: &PressureGrid, op: &Operating, r: &mut PatchResult) {
     if nw > 0 {
         s.mean_film_wet_m = sum_film / nw as f64;
         s.mu_visc_mean = sum_mu_v / nw as f64;
-    }
-    s.mu_visc_leading_max = lead;
-    if ntrail > 0 {
-        s.mu_visc_trailing_mean = trail / ntrail as f64;
     }
     if s.load_n > 0.0 {
         s.drawbar_coeff = tau / s.load_n;
