@@ -11,6 +11,7 @@
 //! [`estimator`] (the per-step [`ContactTemperature`] for the engine), [`spec`] (the `[contact]`
 //! table and scenario files) and [`command`] (`vehsim atiim`).
 
+pub mod command;
 pub mod estimator;
 pub mod film;
 pub mod friction;
