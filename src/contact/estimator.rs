@@ -8,11 +8,15 @@
 //! - T_start = (e_tread T_b + e_ice T_ice) / (e_tread + e_ice) is the temperature two semi-infinite
 //!   bodies take on first contact;
 //! - flash = the patch-average interface rise of the full patch model ([`super::model::solve_patch`])
+//!   (with the whole patch sliding, see [`FlashTable::build`])
 //!   at (load, sliding speed, rolling speed, T_start), read from a table built once per run and
-//!   interpolated multilinearly in (ln F_z, ln v_slide, ln(v_roll + 0.3 m/s), T) on ln(rise). In
-//!   these coordinates the dry-regime rise, about mu p v_slide sqrt(L / v_roll), is nearly linear,
-//!   so a coarse table suffices. Below the smallest sliding-speed node the rise is scaled linearly
-//!   with v_slide (dry regime); outside the other ranges the inputs are clamped.
+//!   interpolated trilinearly on ln(rise) in (ln F_z, ln v_slide, ln sigma), with the ice temperature handled through the melting cap (see [`FlashTable`]);
+//!   the rolling
+//!   speed enters through the slip fraction sigma = v_slide / (v_roll + v_slide) (0 free rolling,
+//!   1 locked). In these coordinates the dry-regime rise, about mu p v_slide sqrt(L / v_roll), is
+//!   nearly linear, and the brush model's sliding onset, a function of the slip alone, lies along
+//!   one axis. Below the smallest sliding-speed node the rise is scaled linearly with v_slide (dry
+//!   regime); outside the other ranges the inputs are clamped.
 //!
 //! The flash table uses the spec's dry friction mu_dry for heat generation (as the patch model
 //! does); the actual friction force enters through the bulk state.
@@ -26,53 +30,86 @@ use crate::error::Result;
 use rayon::prelude::*;
 use std::path::Path;
 
-/// A uniform axis in a transformed coordinate.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// An axis of table nodes in a transformed coordinate (strictly increasing).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
-    /// First node (transformed coordinate).
-    pub x0: f64,
-    /// Node spacing (transformed coordinate), > 0.
-    pub dx: f64,
-    /// Number of nodes, >= 2.
-    pub n: usize,
+    /// Node coordinates, >= 2, strictly increasing.
+    pub nodes: Vec<f64>,
 }
 
 impl Axis {
-    /// Axis from `lo` to `hi` with `n` nodes.
+    /// Uniform axis from `lo` to `hi` with `n` nodes.
     pub fn new(lo: f64, hi: f64, n: usize) -> Self {
         let n = n.max(2);
         let dx = ((hi - lo) / (n - 1) as f64).max(1e-12);
-        Axis { x0: lo, dx, n }
+        Axis { nodes: (0..n).map(|k| lo + dx * k as f64).collect() }
+    }
+    /// Number of nodes.
+    pub fn n(&self) -> usize {
+        self.nodes.len()
     }
     /// Node k.
     pub fn node(&self, k: usize) -> f64 {
-        self.x0 + self.dx * k as f64
+        self.nodes[k.min(self.nodes.len() - 1)]
     }
     /// Cell index and fraction for x (clamped to the axis).
     #[inline]
     fn locate(&self, x: f64) -> (usize, f64) {
-        let u = (x - self.x0) / self.dx;
-        let u = if u.is_finite() { u.clamp(0.0, (self.n - 1) as f64) } else { 0.0 };
-        let k = (u as usize).min(self.n - 2);
-        (k, u - k as f64)
+        let v = &self.nodes;
+        let n = v.len();
+        if !(x > v[0]) {
+            return (0, 0.0);
+        }
+        if x >= v[n - 1] {
+            return (n - 2, 1.0);
+        }
+        let k = v.partition_point(|&t| t <= x).saturating_sub(1).min(n - 2);
+        (k, (x - v[k]) / (v[k + 1] - v[k]))
     }
 }
 
-/// Offset in the rolling-speed coordinate ln(v_roll + V0), m/s (keeps a locked wheel on the axis).
-pub const ROLL_OFFSET_MPS: f64 = 0.3;
+/// Slip fraction sigma = v_slide / (v_roll + v_slide), in (0, 1]; 1 for v_roll = v_slide = 0.
+#[inline]
+pub fn slip_fraction(vs_mps: f64, vr_mps: f64) -> f64 {
+    let d = vr_mps.max(0.0) + vs_mps.max(0.0);
+    if d > 0.0 {
+        vs_mps.max(0.0) / d
+    } else {
+        1.0
+    }
+}
+
+/// Rolling speed for sliding speed `vs` and slip fraction `sigma`: vs (1 - sigma) / sigma.
+pub fn roll_speed_for(vs_mps: f64, sigma: f64) -> f64 {
+    vs_mps * (1.0 - sigma).max(0.0) / sigma.max(1e-12)
+}
 
 /// Smallest rise stored (ln is taken), K.
 const RISE_FLOOR_K: f64 = 1e-9;
 
-/// Flash-rise table over (ln F_z, ln v_slide, ln(v_roll + V0), T_start).
+/// Flash-rise table.
+///
+/// Melting caps the rise at dtm = (0 degC - T), which puts a kink into the rise as a function of
+/// ice temperature. To interpolate across it, the table stores, for each (load, sliding speed,
+/// slip fraction) node, the dry (never-melting) rise R0 and, on a fixed grid of w = ln(dtm / R0)
+/// (the kink sits near w = 0 for every node), the ratio G = rise / S of the rise to the smooth
+/// cap S = R0 dtm / (R0 + dtm). G is 1 at both ends (dry: rise = R0; fully capped: rise = dtm) and
+/// smooth between, so it interpolates well. Above the w range the rise is held at its last-node
+/// value (dry); below it the rise is proportional to dtm (capped).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlashTable {
+    /// ln F_z.
     pub load: Axis,
+    /// ln v_slide.
     pub slide: Axis,
+    /// ln sigma, sigma = v_slide / (v_roll + v_slide).
     pub roll: Axis,
-    pub temp: Axis,
-    /// ln(rise in K), index ((il * ns + is) * nr + ir) * nt + it.
-    pub ln_rise: Vec<f64>,
+    /// w = ln((0 degC - T) / R0).
+    pub w: Axis,
+    /// ln R0 (K), index (il * ns + is) * nr + ir.
+    pub ln_r0: Vec<f64>,
+    /// ln G, index ((il * ns + is) * nr + ir) * nw + iw.
+    pub ln_g: Vec<f64>,
 }
 
 /// Ranges and resolution of the table.
@@ -82,10 +119,13 @@ pub struct TableRanges {
     pub load_n: (f64, f64, usize),
     /// Sliding-speed range, m/s (> 0), and nodes (log-spaced).
     pub slide_mps: (f64, f64, usize),
-    /// Largest rolling speed, m/s, and nodes (log-spaced in v + 0.3 from 0).
-    pub roll_max_mps: (f64, usize),
-    /// Ice-temperature range, degC (<= 0), and nodes.
-    pub temp_c: (f64, f64, usize),
+    /// Smallest slip fraction sigma = v_slide / (v_roll + v_slide) (0 < sigma < 0.1; 1e-4 covers
+    /// 0.01 % slip) and the number of log-spaced nodes from it up to 0.1; above 0.1 fixed nodes
+    /// 0.2, 0.35, 0.5 (where the transit speed switches from rolling to sliding), 0.65, 0.8, 0.9,
+    /// 0.97 and 1 (locked) resolve the approach to a locked wheel.
+    pub sigma_min: (f64, usize),
+    /// Range of w = ln((0 degC - T) / R0) and nodes (about -2.5 .. 2.5, 8 nodes).
+    pub w: (f64, f64, usize),
     /// Patch grid of the table (rows along travel, cols across).
     pub grid: (usize, usize),
 }
@@ -93,11 +133,11 @@ pub struct TableRanges {
 impl Default for TableRanges {
     fn default() -> Self {
         TableRanges {
-            load_n: (1000.0, 12000.0, 6),
-            slide_mps: (0.01, 30.0, 9),
-            roll_max_mps: (60.0, 8),
-            temp_c: (-30.0, 0.0, 7),
-            grid: (24, 12),
+            load_n: (2000.0, 12000.0, 5),
+            slide_mps: (0.01, 30.0, 6),
+            sigma_min: (1e-4, 5),
+            w: (-2.0, 2.0, 6),
+            grid: (16, 12),
         }
     }
 }
@@ -112,14 +152,30 @@ pub struct TyreBuild {
     pub params: PatchParams,
 }
 
+/// ln(S / R0) for w = ln(dtm / R0), where S = R0 dtm / (R0 + dtm) is a smooth stand-in for the
+/// melting cap min(R0, dtm): w - ln(1 + e^w), computed without overflow.
+#[inline]
+fn soft_cap(w: f64) -> f64 {
+    if w > 0.0 {
+        -(-w).exp().ln_1p()
+    } else {
+        w - w.exp().ln_1p()
+    }
+}
+
+/// Ice temperature used for the dry (never-melting) rise, degC.
+const DRY_ICE_C: f64 = -1e6;
+
 impl FlashTable {
-    /// Build the table: one synthesized patch per load node, one patch solve per node.
+    /// Build the table: one synthesized patch per load node, (1 + w nodes) patch solves per
+    /// (load, sliding speed, slip fraction) node, in parallel (rayon).
     pub fn build(file: &Path, tyre: &TyreBuild, rg: &TableRanges) -> Result<Self> {
         let load = Axis::new(rg.load_n.0.ln(), rg.load_n.1.ln(), rg.load_n.2);
         let slide = Axis::new(rg.slide_mps.0.ln(), rg.slide_mps.1.ln(), rg.slide_mps.2);
-        let roll = Axis::new(ROLL_OFFSET_MPS.ln(), (rg.roll_max_mps.0 + ROLL_OFFSET_MPS).ln(), rg.roll_max_mps.1);
-        let temp = Axis::new(rg.temp_c.0, rg.temp_c.1, rg.temp_c.2);
-        let grids = (0..load.n)
+        let mut roll = Axis::new(rg.sigma_min.0.min(0.05).ln(), 0.1f64.ln(), rg.sigma_min.1);
+        roll.nodes.extend([0.2f64, 0.35, 0.5, 0.65, 0.8, 0.9, 0.97, 1.0].iter().map(|v| v.ln()));
+        let w = Axis::new(rg.w.0, rg.w.1, rg.w.2);
+        let grids = (0..load.n())
             .map(|il| {
                 synthesize(
                     file,
@@ -136,54 +192,98 @@ impl FlashTable {
                 )
             })
             .collect::<Result<Vec<_>>>()?;
-        let per_load = slide.n * roll.n * temp.n;
-        let ln_rise: Vec<f64> = (0..load.n * per_load)
+        // The table is built with the whole patch sliding (no brush adhesion zone): the brush's
+        // sliding onset makes the rise a steep, grid-lumpy function of slip and load at small slip,
+        // where the flash is negligible anyway (an upper bound there).
+        let mut params = tyre.params;
+        params.brush = false;
+        let per_load = slide.n() * roll.n();
+        let cells: Vec<(f64, Vec<f64>)> = (0..load.n() * per_load)
             .into_par_iter()
             .map(|k| {
                 let il = k / per_load;
-                let rem = k % per_load;
-                let is = rem / (roll.n * temp.n);
-                let ir = (rem / temp.n) % roll.n;
-                let it = rem % temp.n;
-                let op = Operating {
-                    roll_speed_mps: (roll.node(ir).exp() - ROLL_OFFSET_MPS).max(0.0),
-                    slide_speed_mps: slide.node(is).exp(),
-                    ice_temp_c: temp.node(it),
+                let is = (k % per_load) / roll.n();
+                let ir = k % roll.n();
+                let vs = slide.node(is).exp();
+                let vr = roll_speed_for(vs, roll.node(ir).exp());
+                let solve = |t: f64| {
+                    let op = Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t };
+                    solve_patch(&grids[il], &op, &params).summary.mean_rise_k
                 };
-                let r = solve_patch(&grids[il], &op, &tyre.params);
-                r.summary.mean_rise_k.max(RISE_FLOOR_K).ln()
+                let r0 = solve(DRY_ICE_C).max(RISE_FLOOR_K);
+                let g = (0..w.n())
+                    .map(|iw| {
+                        let wk = w.node(iw);
+                        let rise = solve(MELT_C - r0 * wk.exp()).max(RISE_FLOOR_K);
+                        (rise / r0).ln() - soft_cap(wk)
+                    })
+                    .collect();
+                (r0.ln(), g)
             })
             .collect();
-        Ok(FlashTable { load, slide, roll, temp, ln_rise })
+        let mut ln_r0 = Vec::with_capacity(cells.len());
+        let mut ln_g = Vec::with_capacity(cells.len() * w.n());
+        for (r, g) in cells {
+            ln_r0.push(r);
+            ln_g.extend(g);
+        }
+        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g })
     }
 
     /// Interpolated patch-average rise, K, at load `fz_n`, sliding speed `vs_mps`, rolling speed
-    /// `vr_mps` and start temperature `t_c`. Never NaN; 0 for non-positive load or sliding speed.
+    /// `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive load or sliding
+    /// speed or for t_c >= 0 degC.
     #[inline]
     pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
-        if !(fz_n > 0.0 && vs_mps > 0.0) || !vs_mps.is_finite() {
+        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C) || !vs_mps.is_finite() {
             return 0.0;
         }
-        let vs_min = self.slide.x0.exp();
+        let vs_min = self.slide.nodes[0].exp();
         let (scale, vs) = if vs_mps < vs_min { (vs_mps / vs_min, vs_min) } else { (1.0, vs_mps) };
         let (il, fl) = self.load.locate(fz_n.ln());
         let (is, fs) = self.slide.locate(vs.ln());
-        let (ir, fr) = self.roll.locate((vr_mps.max(0.0) + ROLL_OFFSET_MPS).ln());
-        let (it, ft) = self.temp.locate(t_c);
-        let (ns, nr, nt) = (self.slide.n, self.roll.n, self.temp.n);
-        let mut acc = 0.0;
+        let (ir, fr) = self.roll.locate(slip_fraction(vs_mps, if vr_mps.is_finite() { vr_mps } else { 0.0 }).ln());
+        // below the smallest sliding-speed node the rise scales with v_slide, so the cap does too
+        let ln_dtm = ((MELT_C - t_c) / scale).ln();
+        let (ns, nr) = (self.slide.n(), self.roll.n());
+        // ln R0 trilinear in (ln F_z, ln v_slide, ln sigma) (with the whole patch sliding the dry
+        // rise is close to a power law in each); then ln G at the resulting w, trilinear likewise.
+        let mut corners = [(0usize, 0.0f64); 8];
+        let mut lr0 = 0.0;
+        let mut n = 0;
         for a in 0..2 {
             let wa = if a == 0 { 1.0 - fl } else { fl };
             for b in 0..2 {
                 let wb = wa * if b == 0 { 1.0 - fs } else { fs };
                 for c in 0..2 {
                     let wc = wb * if c == 0 { 1.0 - fr } else { fr };
-                    let base = (((il + a) * ns + is + b) * nr + ir + c) * nt + it;
-                    acc += wc * ((1.0 - ft) * self.ln_rise[base] + ft * self.ln_rise[base + 1]);
+                    let cell = ((il + a) * ns + is + b) * nr + ir + c;
+                    lr0 += wc * self.ln_r0[cell];
+                    corners[n] = (cell, wc);
+                    n += 1;
                 }
             }
         }
-        let r = acc.exp() * scale;
+        let wq = ln_dtm - lr0;
+        let (k, f) = self.w.locate(wq);
+        let nw = self.w.n();
+        let mut lg = 0.0;
+        for (cell, wt) in corners {
+            let g = &self.ln_g[cell * nw..(cell + 1) * nw];
+            lg += wt * ((1.0 - f) * g[k] + f * g[k + 1]);
+        }
+        // outside the w range: dry above it (rise = its value at the last node), melting-capped
+        // below it (rise proportional to dtm)
+        let (w0, w1) = (self.w.nodes[0], self.w.nodes[nw - 1]);
+        let ln_ratio = if wq >= w1 {
+            soft_cap(w1)
+        } else if wq <= w0 {
+            soft_cap(w0) + (wq - w0)
+        } else {
+            soft_cap(wq)
+        };
+        let acc = (lr0 + ln_ratio + lg).exp();
+        let r = (acc * scale).min(MELT_C - t_c);
         if r.is_finite() && r > RISE_FLOOR_K * 10.0 {
             r
         } else {

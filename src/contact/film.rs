@@ -78,7 +78,10 @@ pub fn implicit_step(s_n: f64, dt: f64, k: &FilmCoeffs) -> f64 {
     if rhs <= 0.0 {
         return 0.0;
     }
-    let mut s = rhs.sqrt(); // g(s) >= 0 here: start right of the root, Newton decreases monotonically
+    // g is increasing and convex on s >= 0, so Newton from any start lands right of the root after
+    // one step and then decreases monotonically to it. Start from the previous value (close to
+    // the root over a small step) unless g' vanishes there.
+    let mut s = if s_n > 0.0 && s_n.is_finite() { s_n.min(rhs.sqrt()) } else { rhs.sqrt() };
     for _ in 0..60 {
         let g = s * s + dt * k.b * s + dt * k.c * s.powi(4) - rhs;
         let dg = 2.0 * s + dt * k.b + 4.0 * dt * k.c * s.powi(3);
@@ -86,7 +89,7 @@ pub fn implicit_step(s_n: f64, dt: f64, k: &FilmCoeffs) -> f64 {
             break;
         }
         let next = (s - g / dg).max(0.0);
-        if (s - next).abs() <= 1e-14 * s.max(1e-30) {
+        if (s - next).abs() <= 1e-12 * s.max(1e-30) {
             s = next;
             break;
         }

@@ -4,7 +4,8 @@
 //! Per track (one column of the grid), pixel by pixel in the order the surface meets them:
 //! 1. Brush adhesion: an element at distance xi behind the track's first loaded pixel carries
 //!    k_b s xi (s = slide speed / roll speed, k_b from Gent's E); it slides once that reaches
-//!    mu_dry p and keeps sliding (simple brush model). Adhering pixels generate no heat.
+//!    mu_dry p and keeps sliding (simple brush model). Adhering pixels generate no heat; in the
+//!    pixel where sliding starts, only the sliding part of its length heats (sub-pixel onset).
 //! 2. Dry sliding pixel: flux q = mu_dry p v_slide into tread + ice (`heat.rs`); if the interface
 //!    would reach 0 degC by the pixel's end, the pixel is wet instead.
 //! 3. Wet pixel: the interface is pinned at 0 degC. The conducted flux q_c is the flux that keeps
@@ -208,27 +209,39 @@ pub fn solve_patch(grid: &PressureGrid, op: &Operating, pp: &PatchParams) -> Pat
             }
             let i0 = *first.get_or_insert(i);
             let xi = (i - i0) as f64 * grid.dx_m + 0.5 * grid.dx_m;
+            // Fraction of this pixel's length that slides: the onset xi_s = mu p / (k s) may fall
+            // inside the pixel (sub-pixel onset keeps the result continuous in the slip).
+            let mut frac = 1.0;
+            let mut tau_adh = 0.0;
             if !sliding {
-                let tau = brush_stress_pa(kb, slip.min(1e6), xi);
-                if tau >= pp.mu_dry * p || !slip.is_finite() {
+                let xi_s = if slip.is_finite() && slip > 0.0 { pp.mu_dry * p / (kb * slip) } else { f64::INFINITY };
+                let xi_end = xi + 0.5 * grid.dx_m;
+                frac = ((xi_end - xi_s) / grid.dx_m).clamp(0.0, 1.0);
+                if !slip.is_finite() {
+                    frac = 1.0;
+                }
+                // mean adhesion stress over the adhering part of the pixel
+                let xa = 0.5 * (xi - 0.5 * grid.dx_m + xi_end.min(xi_s.max(xi - 0.5 * grid.dx_m)));
+                tau_adh = brush_stress_pa(kb, slip.min(1e6), xa).min(pp.mu_dry * p);
+                if frac > 0.0 {
                     sliding = true;
                 } else {
-                    r.mu[idx] = tau / p;
+                    r.mu[idx] = tau_adh / p;
                     r.rise_k[idx] = if heating { (k_rise * s_mid / e).min(dtm) } else { 0.0 };
                     continue;
                 }
             }
             r.sliding[idx] = true;
             if !heating {
-                r.mu[idx] = pp.mu_dry;
+                r.mu[idx] = (frac * pp.mu_dry * p + (1.0 - frac) * tau_adh) / p;
                 continue;
             }
-            let q_dry = pp.mu_dry * p * vs;
+            let q_dry = frac * pp.mu_dry * p * vs;
             let rise_end_dry = k_rise * (s_end + q_dry * wend[0]) / e;
             if !(wet_prev || h > 0.0) && rise_end_dry < dtm {
                 q[i] = q_dry;
                 r.rise_k[idx] = k_rise * (s_mid + q_dry * wc[0]) / e;
-                r.mu[idx] = pp.mu_dry;
+                r.mu[idx] = (frac * pp.mu_dry * p + (1.0 - frac) * tau_adh) / p;
                 r.q_gen[idx] = q_dry;
                 r.q_tread[idx] = ft_row[i] * q_dry;
                 r.q_ice[idx] = q_dry - r.q_tread[idx];

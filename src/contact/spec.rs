@@ -203,12 +203,12 @@ pub struct ContactSpec {
     pub skin_depth_m: Option<f64>,
     /// Air temperature, degC; default: the surface temperature.
     pub air_temp_c: Option<f64>,
-    /// Table ranges: load N, sliding speed m/s, largest rolling speed m/s, ice temperature degC.
+    /// Table ranges: load N, sliding speed m/s, smallest slip fraction v_slide / (v_roll +
+    /// v_slide) (1e-6 – 0.1). The ice temperature needs no range (see `FlashTable`).
     pub load_range_n: Option<[f64; 2]>,
     pub slide_speed_range_mps: Option<[f64; 2]>,
-    pub roll_speed_max_mps: Option<f64>,
-    pub ice_temp_range_c: Option<[f64; 2]>,
-    /// Table nodes per axis [load, slide, roll, temperature] (each 2–32).
+    pub slip_fraction_min: Option<f64>,
+    /// Table nodes per axis [load, slide, slip fraction, melting-cap coordinate w] (each 2–32).
     pub table_nodes: Option<[usize; 4]>,
     /// Patch grid of the table [rows, cols] (each 8–128).
     pub table_grid: Option<[usize; 2]>,
@@ -235,14 +235,9 @@ impl ContactSpec {
             ck.require("contact.slide_speed_range_mps[1]", b, b > a && b <= 200.0, "expected lo < hi <= 200")?;
             r.slide_mps = (a, b, r.slide_mps.2);
         }
-        if let Some(v) = self.roll_speed_max_mps {
-            ck.range("contact.roll_speed_max_mps", v, 1.0, 200.0)?;
-            r.roll_max_mps.0 = v;
-        }
-        if let Some([a, b]) = self.ice_temp_range_c {
-            ck.range("contact.ice_temp_range_c[0]", a, -60.0, -0.1)?;
-            ck.require("contact.ice_temp_range_c[1]", b, b > a && b <= 0.0, "expected lo < hi <= 0")?;
-            r.temp_c = (a, b, r.temp_c.2);
+        if let Some(v) = self.slip_fraction_min {
+            ck.range("contact.slip_fraction_min", v, 1e-6, 0.1)?;
+            r.sigma_min.0 = v;
         }
         if let Some(n) = self.table_nodes {
             for (i, v) in n.iter().enumerate() {
@@ -250,8 +245,8 @@ impl ContactSpec {
             }
             r.load_n.2 = n[0];
             r.slide_mps.2 = n[1];
-            r.roll_max_mps.1 = n[2];
-            r.temp_c.2 = n[3];
+            r.sigma_min.1 = n[2];
+            r.w.2 = n[3];
         }
         if let Some([a, b]) = self.table_grid {
             ck.range("contact.table_grid[0]", a as f64, 8.0, 128.0)?;
