@@ -42,10 +42,34 @@ fn bench(c: &mut Criterion) {
     let mut est = spec.build_atiim(Path::new("bench.toml"), 4, -5.0).expect("table builds");
     eprintln!("estimator table build: {:?}", t0.elapsed());
     let tyres = [
-        TyreContact { fz_n: 4200.0, roll_speed_mps: 20.0, slide_speed_mps: 0.3, friction_force_n: 500.0, surface_temp_c: -5.0 },
-        TyreContact { fz_n: 3900.0, roll_speed_mps: 19.5, slide_speed_mps: 0.8, friction_force_n: 550.0, surface_temp_c: -5.0 },
-        TyreContact { fz_n: 3600.0, roll_speed_mps: 20.5, slide_speed_mps: 0.1, friction_force_n: 300.0, surface_temp_c: -5.0 },
-        TyreContact { fz_n: 3300.0, roll_speed_mps: 21.0, slide_speed_mps: 1.5, friction_force_n: 480.0, surface_temp_c: -5.0 },
+        TyreContact {
+            fz_n: 4200.0,
+            roll_speed_mps: 20.0,
+            slide_speed_mps: 0.3,
+            friction_force_n: 500.0,
+            surface_temp_c: -5.0,
+        },
+        TyreContact {
+            fz_n: 3900.0,
+            roll_speed_mps: 19.5,
+            slide_speed_mps: 0.8,
+            friction_force_n: 550.0,
+            surface_temp_c: -5.0,
+        },
+        TyreContact {
+            fz_n: 3600.0,
+            roll_speed_mps: 20.5,
+            slide_speed_mps: 0.1,
+            friction_force_n: 300.0,
+            surface_temp_c: -5.0,
+        },
+        TyreContact {
+            fz_n: 3300.0,
+            roll_speed_mps: 21.0,
+            slide_speed_mps: 1.5,
+            friction_force_n: 480.0,
+            surface_temp_c: -5.0,
+        },
     ];
     let mut out = [0.0; 4];
     use vehsim::contact::ContactTemperature;

@@ -47,7 +47,6 @@ fn table_agrees_with_full_model_at_and_between_nodes() {
     let table = FlashTable::build(Path::new("t"), &tb, &rg).unwrap();
     eprintln!("table build {:?} ({} nodes)", t0.elapsed(), table.ln_g.len() + table.ln_r0.len());
     let (la, sa, ra) = (table.load.clone(), table.slide.clone(), table.roll.clone());
-    let temps = [-30.0, -10.0, -5.0, -3.0, -2.0, -1.0, -0.5, -0.2];
     let val = |a: &vehsim::contact::estimator::Axis, u: f64| {
         let k = (u.floor() as usize).min(a.n() - 1);
         let f = u - k as f64;

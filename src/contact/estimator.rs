@@ -69,7 +69,7 @@ impl Axis {
             let k = (u as usize).min(n - 2);
             return (k, u - k as f64);
         }
-        if !(x > v[0]) {
+        if x.is_nan() || x <= v[0] {
             return (0, 0.0);
         }
         if x >= v[n - 1] {
@@ -272,7 +272,7 @@ impl FlashTable {
     /// speed or for t_c >= 0 degC.
     #[inline]
     pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
-        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C) || !vs_mps.is_finite() {
+        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C && vs_mps.is_finite()) {
             return 0.0;
         }
         let vs_min = self.vs_min;

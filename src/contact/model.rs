@@ -10,7 +10,7 @@
 //!    would reach 0 degC by the pixel's end, the pixel is wet instead.
 //! 3. Wet pixel: the interface is pinned at 0 degC. The conducted flux q_c is the flux that keeps
 //!    the Duhamel sum at exactly (0 - T_ice) at the pixel end (discrete Abel inversion, clamped
-//!    >= 0); the film then follows `film.rs` with viscous heating kappa eta v^2 / h, and the heat
+//!    at zero from below); the film then follows `film.rs` with viscous heating kappa eta v^2 / h, and the heat
 //!    generated is the viscous heat (time-averaged 1/h). Excess over q_c melts ice.
 //! 4. Friction per pixel: adhesion stress / p; dry sliding mu_dry; wet: eq. 2.1 with the floor
 //!    mu_F = min(viscous mu (eq. 4.13), mu_dry) and dmu = mu_dry - mu_F. The patch drawbar-pull

@@ -287,7 +287,7 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
         }
     }
     let total: f64 = p.iter().sum::<f64>() * dx * dy;
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Err(Error::input(file, "synthesized patch is empty; check load, width and void ratio"));
     }
     let k = s.load_n / total;
