@@ -105,17 +105,20 @@ fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
     let kpa: Vec<f64> = g.p_pa.iter().map(|p| p * 1e-3).collect();
     let wet: Vec<f64> = r.wet.iter().map(|w| if *w { 1.0 } else { 0.0 }).collect();
     let film_nm: Vec<f64> = r.film_m.iter().map(|h| h * 1e9).collect();
-    let maps: [(&str, &Vec<f64>, &str, &str, usize); 6] = [
-        ("pressure", &kpa, "contact pressure", "p (kPa)", 2),
-        ("rise", &r.rise_k, "temperature rise", "dT (K)", 4),
-        ("wet", &wet, "wet (1) / dry (0)", "wet", 0),
-        ("film", &film_nm, "water-film height", "h (nm)", 2),
-        ("friction", &r.mu, "friction coefficient tau/p", "mu (-)", 4),
-        ("mu_visc", &r.mu_visc, "viscous friction eq. 4.13 (wet pixels)", "mu_visc (-)", 4),
+    // eq. 4.13 diverges in low-pressure edge pixels (partly groove, partly rubber): the map's colour
+    // scale is capped at 1 so the patch stays readable; the CSV keeps the raw values.
+    let mu_visc_shown: Vec<f64> = r.mu_visc.iter().map(|m| m.min(1.0)).collect();
+    let maps: [(&str, &Vec<f64>, &str, &str, usize, &Vec<f64>); 6] = [
+        ("pressure", &kpa, "contact pressure", "p (kPa)", 2, &kpa),
+        ("rise", &r.rise_k, "temperature rise", "dT (K)", 4, &r.rise_k),
+        ("wet", &wet, "wet (1) / dry (0)", "wet", 0, &wet),
+        ("film", &film_nm, "water-film height", "h (nm)", 2, &film_nm),
+        ("friction", &r.mu, "friction coefficient tau/p", "mu (-)", 4, &r.mu),
+        ("mu_visc", &r.mu_visc, "viscous friction eq. 4.13, wet pixels (shown <= 1)", "mu_visc (-)", 4, &mu_visc_shown),
     ];
     let xr = (-0.5 * g.cols as f64 * g.dy_m * 1e3, 0.5 * g.cols as f64 * g.dy_m * 1e3);
     let yr = (0.0, g.rows as f64 * g.dx_m * 1e3);
-    for (stem, vals, what, unit, digits) in maps {
+    for (stem, vals, what, unit, digits, shown) in maps {
         write_atomic(&dir.join(format!("{stem}.csv")), csv_grid(vals, cols, digits).as_bytes())?;
         heat_map(
             &dir.join(stem),
@@ -126,7 +129,7 @@ fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
                 value_label: unit.into(),
                 x_range: xr,
                 y_range: yr,
-                values: nested(vals, cols),
+                values: nested(shown, cols),
             },
         )?;
     }
