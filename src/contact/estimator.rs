@@ -198,6 +198,9 @@ pub fn soft_cap(w: f64) -> f64 {
     }
 }
 
+/// Reference patch grid (rows, cols) whose rise the table reproduces (see `FlashTable::build`).
+pub const REFERENCE_GRID: (usize, usize) = (64, 48);
+
 /// Ice temperature used for the dry (never-melting) rise, degC.
 const DRY_ICE_C: f64 = -1e6;
 
@@ -257,10 +260,38 @@ impl FlashTable {
                 (r0.ln(), g)
             })
             .collect();
+        // Grid correction: the table grid is coarse (cost); its patch-average rise is biased low by
+        // partly covered edge pixels. Per load node, the dry rise at a reference point (1 m/s
+        // sliding at 20 m/s rolling) on the 64 x 48 reference grid over that on the table grid
+        // rescales every R0 of that load (the melting-cap ratio G is left as is).
+        let corr: Vec<f64> = (0..load.n())
+            .into_par_iter()
+            .map(|il| {
+                let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
+                let fine = synthesize(
+                    file,
+                    &SynthInputs {
+                        load_n: load.node(il).exp(),
+                        inflation_pa: tyre.inflation_pa,
+                        tread_width_m: tyre.tread_width_m,
+                        rated_load_n: tyre.rated_load_n,
+                        camber_deg: 0.0,
+                        pattern: tyre.pattern,
+                        rows: REFERENCE_GRID.0,
+                        cols: REFERENCE_GRID.1,
+                    },
+                );
+                let coarse = solve_patch(&grids[il], &op, &params).summary.mean_rise_k;
+                match fine {
+                    Ok(g) if coarse > 0.0 => (solve_patch(&g, &op, &params).summary.mean_rise_k / coarse).ln(),
+                    _ => 0.0,
+                }
+            })
+            .collect();
         let mut ln_r0 = Vec::with_capacity(cells.len());
         let mut ln_g = Vec::with_capacity(cells.len() * w.n());
-        for (r, g) in cells {
-            ln_r0.push(r);
+        for (k, (r, g)) in cells.into_iter().enumerate() {
+            ln_r0.push(r + corr[k / per_load]);
             ln_g.extend(g);
         }
         let vs_min = slide.node(0).exp();
