@@ -99,6 +99,9 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     Ok(dir)
 }
 
+/// (file stem, values for the CSV, title, colour-scale label, CSV decimals, values shown).
+type MapRow<'a> = (&'a str, &'a Vec<f64>, &'a str, &'a str, usize, &'a Vec<f64>);
+
 fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
     let g = &sc.grid;
     let cols = g.cols;
@@ -108,7 +111,7 @@ fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
     // eq. 4.13 diverges in low-pressure edge pixels (partly groove, partly rubber): the map's colour
     // scale is capped at 1 so the patch stays readable; the CSV keeps the raw values.
     let mu_visc_shown: Vec<f64> = r.mu_visc.iter().map(|m| m.min(1.0)).collect();
-    let maps: [(&str, &Vec<f64>, &str, &str, usize, &Vec<f64>); 6] = [
+    let maps: [MapRow; 6] = [
         ("pressure", &kpa, "contact pressure", "p (kPa)", 2, &kpa),
         ("rise", &r.rise_k, "temperature rise", "dT (K)", 4, &r.rise_k),
         ("wet", &wet, "wet (1) / dry (0)", "wet", 0, &wet),
