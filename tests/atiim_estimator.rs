@@ -20,7 +20,7 @@ fn tyre() -> TyreBuild {
     }
 }
 
-fn full(tb: &TyreBuild, rg: &TableRanges, fz: f64, vs: f64, vr: f64, t: f64) -> f64 {
+fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64) -> f64 {
     let g = synthesize(
         Path::new("t"),
         &SynthInputs {
@@ -65,10 +65,10 @@ fn table_agrees_with_full_model_at_and_between_nodes() {
             for ir in [0, 3, ra.n() - 1] {
                 let (fz, vs) = (val(&la, il as f64).exp(), val(&sa, is as f64).exp());
                 let vr = roll_speed_for(vs, val(&ra, ir as f64).exp());
-                let r0 = full(&tb, &rg, fz, vs, vr, -1e6);
+                let r0 = full(&tb, fz, vs, vr, -1e6);
                 for iw in [0, 3, table.w.n() - 1] {
                     let t = -r0 * val(&table.w, iw as f64).exp();
-                    let f = full(&tb, &rg, fz, vs, vr, t);
+                    let f = full(&tb, fz, vs, vr, t);
                     let e = table.rise_k(fz, vs, vr, t);
                     if f > 0.05 {
                         worst_node = worst_node.max(((e - f) / f).abs());
@@ -93,7 +93,7 @@ fn table_agrees_with_full_model_at_and_between_nodes() {
                     if vr > 60.0 {
                         continue;
                     }
-                    let f = full(&tb, &rg, fz, vs, vr, t);
+                    let f = full(&tb, fz, vs, vr, t);
                     let e = table.rise_k(fz, vs, vr, t);
                     if f < 0.05 {
                         // negligible rises: absolute agreement
