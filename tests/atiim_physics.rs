@@ -260,3 +260,27 @@ fn synthesized_patch_carries_the_load_and_changes_shape_with_load_and_camber() {
     };
     assert!(half(24, 48) < half(0, 24));
 }
+
+#[test]
+fn degenerate_inputs_give_finite_cold_results() {
+    let pp = params();
+    let g = uniform_grid(10, 4, 0.1, 200e3);
+    for op in [
+        Operating { roll_speed_mps: 0.0, slide_speed_mps: 0.0, ice_temp_c: -5.0 },
+        Operating { roll_speed_mps: f64::NAN, slide_speed_mps: f64::INFINITY, ice_temp_c: f64::NAN },
+        Operating { roll_speed_mps: 10.0, slide_speed_mps: 1.0, ice_temp_c: 0.0 },
+        Operating { roll_speed_mps: -3.0, slide_speed_mps: -1.0, ice_temp_c: -5.0 },
+    ] {
+        let r = solve_patch(&g, &op, &pp);
+        for v in r.rise_k.iter().chain(&r.film_m).chain(&r.mu).chain(&r.q_gen) {
+            assert!(v.is_finite(), "{op:?}");
+        }
+    }
+    // zero speeds: no heat at all
+    let r = solve_patch(&g, &Operating { roll_speed_mps: 0.0, slide_speed_mps: 0.0, ice_temp_c: -5.0 }, &pp);
+    assert!(r.rise_k.iter().all(|v| *v == 0.0));
+    // a hand-built grid whose data does not match its shape is treated as empty, not a panic
+    let bad = PressureGrid { rows: 10, cols: 4, dx_m: 0.01, dy_m: 0.01, p_pa: vec![1e5; 7] };
+    let r = solve_patch(&bad, &Operating { roll_speed_mps: 10.0, slide_speed_mps: 1.0, ice_temp_c: -5.0 }, &pp);
+    assert!(r.rise_k.is_empty());
+}

@@ -134,7 +134,9 @@ pub struct PatchSummary {
 /// Solve the patch model on `grid` at `op`. Never panics; degenerate inputs (zero speeds) give a
 /// cold, dry patch.
 pub fn solve_patch(grid: &PressureGrid, op: &Operating, pp: &PatchParams) -> PatchResult {
-    let (rows, cols) = (grid.rows, grid.cols);
+    // a grid whose shape does not match its data (possible only when built by hand, since every
+    // reader validates) is treated as empty
+    let (rows, cols) = if grid.p_pa.len() == grid.rows * grid.cols { (grid.rows, grid.cols) } else { (0, 0) };
     let n = rows * cols;
     let mut r = PatchResult {
         rows,
@@ -191,7 +193,7 @@ pub fn solve_patch(grid: &PressureGrid, op: &Operating, pp: &PatchParams) -> Pat
         let mut wet_prev = false;
         for i in 0..rows {
             let idx = i * cols + c;
-            let p = grid.p(i, c);
+            let p = grid.p_pa[i * grid.cols + c];
             // history sums of earlier pixels: at this pixel's end and centre
             let (mut s_end, mut s_mid) = (0.0, 0.0);
             if heating {
