@@ -63,7 +63,17 @@ pub fn read_input(path: &Path) -> Result<String> {
 /// Parse TOML text into `T` (unknown keys are rejected by `T`'s serde attributes); the message
 /// carries the line, the column and the key as reported by the toml crate.
 pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
-    toml::from_str(text).map_err(|e| Error::input(path, format!("invalid spec: {}", e.to_string().trim_end())))
+    let de = toml::Deserializer::new(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let key = e.path().to_string();
+        let inner = e.into_inner().to_string();
+        let inner = inner.trim_end();
+        if key.is_empty() || key == "." {
+            Error::input(path, format!("invalid spec: {inner}"))
+        } else {
+            Error::input(path, format!("invalid spec at key '{key}': {inner}"))
+        }
+    })
 }
 
 /// Checks on one spec file's numeric values. Each check returns the first violation as a

@@ -1,7 +1,9 @@
 //! Linear tyre: force proportional to slip, stiffness proportional to load.
 //!
-//! Fx = C_kappa(Fz) kappa, Fy = C_alpha(Fz) alpha with C(Fz) = C_nominal Fz / Fz_nominal, so the force
-//! is zero at zero load. As in the dissertation's linear model (section 6.1) there is no saturation by
+//! Fx = C_kappa(Fz) kappa, Fy = C_alpha(Fz) alpha with C(Fz) = C_nominal (Fz / Fz_nominal)^p, so the
+//! force is zero at zero load. p = 1 makes the stiffness proportional to load (a bicycle model on
+//! such tyres is exactly neutral-steer); real tyres are degressive (p < 1, typically 0.7–0.9 near the
+//! nominal load), which is what makes a front-heavy car understeer. As in the dissertation's linear model (section 6.1) there is no saturation by
 //! default; with `saturate = true` the combined force is scaled back onto the friction circle
 //! |F| <= mu Fz (a friction ellipse with equal semi-axes).
 
@@ -16,8 +18,24 @@ pub struct LinearTyre {
     pub longitudinal_stiffness_n: f64,
     /// Nominal load, N, at which the stiffnesses are given.
     pub nominal_load_n: f64,
+    /// Load exponent p of the stiffness, dimensionless, in (0, 1] (1 = proportional to load).
+    pub load_exponent: f64,
     /// Scale the force back to mu Fz when it exceeds it.
     pub saturate: bool,
+}
+
+impl LinearTyre {
+    /// Stiffness scale factor (Fz / Fz_nominal)^p at load `fz_n`.
+    fn load_factor(&self, fz_n: f64) -> f64 {
+        let r = fz_n.max(0.0) / self.nominal_load_n;
+        if r <= 0.0 {
+            0.0
+        } else if self.load_exponent == 1.0 {
+            r
+        } else {
+            r.powf(self.load_exponent)
+        }
+    }
 }
 
 impl TyreModel for LinearTyre {
@@ -27,9 +45,9 @@ impl TyreModel for LinearTyre {
 
     fn forces(&self, i: &TyreInput) -> TyreForces {
         let fz = i.fz_n.max(0.0);
-        let fx = self.longitudinal_stiffness(i) * i.kappa;
-        let fy = self.cornering_stiffness(i) * i.alpha_rad;
-        let (mut fx, mut fy) = (fx, fy);
+        let load = self.load_factor(fz);
+        let mut fx = self.longitudinal_stiffness_n * load * i.kappa;
+        let mut fy = self.cornering_stiffness_n_per_rad * load * i.alpha_rad;
         if self.saturate {
             let cap = i.mu_surface * fz;
             let mag = fx.hypot(fy);
@@ -51,10 +69,10 @@ impl TyreModel for LinearTyre {
     }
 
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        self.longitudinal_stiffness_n * i.fz_n.max(0.0) / self.nominal_load_n
+        self.longitudinal_stiffness_n * self.load_factor(i.fz_n)
     }
 
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
-        self.cornering_stiffness_n_per_rad * i.fz_n.max(0.0) / self.nominal_load_n
+        self.cornering_stiffness_n_per_rad * self.load_factor(i.fz_n)
     }
 }

@@ -63,9 +63,16 @@ pub struct LinearSection {
     pub cornering_stiffness_n_per_rad: f64,
     /// Longitudinal slip stiffness at the nominal load, N per unit slip.
     pub longitudinal_stiffness_n: f64,
+    /// Load exponent p of the stiffness, C(Fz) = C_nominal (Fz/Fz_nominal)^p, in (0, 1]; default 1.
+    #[serde(default = "one")]
+    pub load_exponent: f64,
     /// Saturate the combined force at mu Fz (default false, as in the dissertation).
     #[serde(default)]
     pub saturate: bool,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 fn default_relaxation_x() -> f64 {
@@ -135,10 +142,17 @@ impl TyreFileSpec {
                 let s = self.linear.as_ref().ok_or_else(|| missing(path, "linear"))?;
                 c.positive("linear.cornering_stiffness_n_per_rad", s.cornering_stiffness_n_per_rad)?;
                 c.positive("linear.longitudinal_stiffness_n", s.longitudinal_stiffness_n)?;
+                c.require(
+                    "linear.load_exponent",
+                    s.load_exponent,
+                    s.load_exponent > 0.0 && s.load_exponent <= 1.0,
+                    "expected 0 < load_exponent <= 1",
+                )?;
                 Arc::new(LinearTyre {
                     cornering_stiffness_n_per_rad: s.cornering_stiffness_n_per_rad,
                     longitudinal_stiffness_n: s.longitudinal_stiffness_n,
                     nominal_load_n: self.nominal_load_n,
+                    load_exponent: s.load_exponent,
                     saturate: s.saturate,
                 })
             }
