@@ -24,13 +24,13 @@
 
 use std::f64::consts::PI;
 
-/// Duhamel weights w[m] = sqrt(m + 1) - sqrt(m), m = 0..n (dimensionless; multiply by sqrt(dt)).
+/// Duhamel weights `w[m] = sqrt(m + 1) - sqrt(m)`, m = 0..n (dimensionless; multiply by sqrt(dt)).
 pub fn duhamel_weights(n: usize) -> Vec<f64> {
     (0..n).map(|m| ((m + 1) as f64).sqrt() - (m as f64).sqrt()).collect()
 }
 
 /// Centre weights: contribution of pixel k to the rise at the centre of pixel i = k + m:
-/// c[0] = sqrt(1/2), c[m] = sqrt(m + 1/2) - sqrt(m - 1/2).
+/// `c[0] = sqrt(1/2)`, `c[m] = sqrt(m + 1/2) - sqrt(m - 1/2)`.
 pub fn centre_weights(n: usize) -> Vec<f64> {
     (0..n).map(|m| if m == 0 { 0.5f64.sqrt() } else { (m as f64 + 0.5).sqrt() - (m as f64 - 0.5).sqrt() }).collect()
 }
