@@ -163,3 +163,46 @@ fn contact_spec_rejects_bad_values_with_key_names() {
     }
     assert!(toml::from_str::<ContactSpec>("model = \"atiim\"\nbogus = 1").is_err());
 }
+
+#[test]
+fn full_contact_table_with_every_key_parses_and_builds() {
+    #[derive(serde::Deserialize)]
+    struct M {
+        contact: ContactSpec,
+    }
+    let text = r#"
+[contact]
+model = "atiim"
+rolling_radius_m = 0.328
+skin_depth_m = 0.002
+air_temp_c = -5.0
+load_range_n = [2000.0, 12000.0]
+slide_speed_range_mps = [0.01, 30.0]
+slip_fraction_min = 1e-4
+table_nodes = [3, 3, 3, 3]
+table_grid = [8, 8]
+
+[contact.tyre]
+inflation_kpa = 241.3
+tread_width_m = 0.18
+rated_load_n = 7000.0
+compound = "tire_d"
+void_ratio = 0.3
+ribs = 5
+block_pitch_m = 0.03
+tread_depth_m = 0.00797
+mu_dry = 0.15
+kappa = 1.0
+asperity_d_m = 2e-4
+critical_film_nm = 50.0
+brush = true
+lock_time_s = 1.0
+film_substeps = 8
+"#;
+    let m: M = toml::from_str(text).unwrap();
+    let mut est = m.contact.build(Path::new("m.toml"), 4, -3.0).unwrap();
+    let mut out = [0.0; 4];
+    est.update(0.01, &[contact(4000.0, 20.0, 1.0, 600.0, -3.0); 4], &mut out);
+    assert!(out.iter().all(|t| *t > -3.0 && *t <= 0.0), "{out:?}");
+    assert_eq!(ContactSpec::default().model, "isothermal");
+}
