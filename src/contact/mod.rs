@@ -5,6 +5,21 @@
 //! returns is held over the step and fills `TyreInput::contact_temp_c`. The Advanced Tire-Ice
 //! Interface Model (dissertation chapter 4) lives in the submodules; [`Isothermal`] is the estimator
 //! that does no heating (contact temperature = surface temperature).
+//!
+//! Submodules: [`patch`] (pressure grids), [`thermal`] (materials, Shore A), [`heat`] (temperature
+//! rise), [`film`] (water film), [`friction`] (friction laws), [`model`] (the coupled patch solve),
+//! [`estimator`] (the per-step [`ContactTemperature`] for the engine), [`spec`] (the `[contact]`
+//! table and scenario files) and [`command`] (`vehsim atiim`).
+
+pub mod command;
+pub mod estimator;
+pub mod film;
+pub mod friction;
+pub mod heat;
+pub mod model;
+pub mod patch;
+pub mod spec;
+pub mod thermal;
 
 /// Operating conditions of one tyre at the start of a step (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

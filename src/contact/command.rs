@@ -1,0 +1,140 @@
+//! `vehsim atiim FILE [--out DIR]`: run one ATIIM scenario and write its maps, the drawbar-pull
+//! curve and a summary into `out_root/<name>/` (every file through a temporary name and a rename).
+//!
+//! Files: `pressure.csv` (kPa), `rise.csv` (K), `wet.csv` (1 = melting), `film.csv` (nm),
+//! `friction.csv` (tau / p), `mu_visc.csv` (eq. 4.13, wet pixels), each row one grid row along
+//! travel (leading edge first); a heat map `<same stem>.png/.svg` of each; `drawbar.csv` and
+//! `drawbar.png/.svg`; `summary.json`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::friction::severe_slip_factor;
+use super::model::{drawbar_curve, solve_patch, Operating, PatchResult};
+use super::spec::{Scenario, ScenarioSpec};
+use crate::error::{Error, Result};
+use crate::output::{create_dir, write_atomic};
+use crate::plot::{heat_map, line_chart, HeatMap, LineChart, Series};
+
+/// Operating point of a scenario: roll speed V (1 + kappa) (>= 0), slide speed
+/// V (sin^2 alpha + kappa^2)^0.5 (eq. 2.12).
+pub fn operating(sc: &Scenario) -> Operating {
+    Operating {
+        roll_speed_mps: (sc.speed_mps * (1.0 + sc.slip_ratio)).max(0.0),
+        slide_speed_mps: sc.speed_mps * severe_slip_factor(sc.slip_angle_rad, sc.slip_ratio),
+        ice_temp_c: sc.ice_temp_c,
+    }
+}
+
+fn csv_grid(values: &[f64], cols: usize, digits: usize) -> String {
+    let mut s = String::new();
+    for row in values.chunks(cols.max(1)) {
+        let line: Vec<String> = row.iter().map(|v| format!("{v:.digits$}")).collect();
+        let _ = writeln!(s, "{}", line.join(","));
+    }
+    s
+}
+
+fn nested(values: &[f64], cols: usize) -> Vec<Vec<f64>> {
+    values.chunks(cols.max(1)).map(|r| r.to_vec()).collect()
+}
+
+/// Run the scenario in `spec` and write results into `out_root/<name>/`; returns that folder.
+pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
+    let sc = ScenarioSpec::load(spec)?;
+    let dir = out_root.join(&sc.name);
+    create_dir(&dir)?;
+    let op = operating(&sc);
+    let res = solve_patch(&sc.grid, &op, &sc.params);
+    write_maps(&dir, &sc, &res)?;
+    let curve = drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);
+    let mut csv = String::from("slip_ratio,drawbar_coeff,wet_fraction,sliding_fraction,max_film_nm,mean_rise_k\n");
+    for (k, s) in &curve {
+        let _ = writeln!(
+            csv,
+            "{k:.4},{:.5},{:.4},{:.4},{:.2},{:.4}",
+            s.drawbar_coeff,
+            s.wet_fraction,
+            s.sliding_fraction,
+            s.max_film_m * 1e9,
+            s.mean_rise_k
+        );
+    }
+    write_atomic(&dir.join("drawbar.csv"), csv.as_bytes())?;
+    line_chart(
+        &dir.join("drawbar"),
+        &LineChart {
+            title: format!(
+                "{}: drawbar pull vs slip at {:.1} m/s, ice {:.0} °C",
+                sc.name, sc.drawbar_speed_mps, sc.ice_temp_c
+            ),
+            x_label: "slip ratio (%)".into(),
+            y_label: "drawbar-pull coefficient (-)".into(),
+            series: vec![Series {
+                label: "ATIIM (sum of tau dA / Fz)".into(),
+                points: curve.iter().map(|(k, s)| (k * 100.0, s.drawbar_coeff)).collect(),
+            }],
+        },
+    )?;
+    let summary = serde_json::json!({
+        "name": sc.name,
+        "title": sc.title,
+        "spec_file": spec.display().to_string(),
+        "grid": { "rows": sc.grid.rows, "cols": sc.grid.cols, "pixel_length_m": sc.grid.dx_m, "pixel_width_m": sc.grid.dy_m },
+        "operating": {
+            "speed_mps": sc.speed_mps, "slip_ratio": sc.slip_ratio, "slip_angle_deg": sc.slip_angle_rad.to_degrees(),
+            "ice_temp_c": sc.ice_temp_c, "roll_speed_mps": op.roll_speed_mps, "slide_speed_mps": op.slide_speed_mps,
+        },
+        "params": {
+            "shore_a": sc.params.compound.shore_a, "youngs_modulus_mpa": sc.params.compound.youngs_modulus_pa() * 1e-6,
+            "mu_dry": sc.params.mu_dry, "kappa": sc.params.film.kappa, "asperity_d_m": sc.params.film.asperity_d_m,
+            "critical_film_m": sc.params.critical_film_m, "brush": sc.params.brush, "lock_time_s": sc.params.lock_time_s,
+        },
+        "summary": res.summary,
+        "max_film_nm": res.summary.max_film_m * 1e9,
+        "drawbar": curve.iter().map(|(k, s)| serde_json::json!({"slip_ratio": k, "coeff": s.drawbar_coeff, "wet_fraction": s.wet_fraction})).collect::<Vec<_>>(),
+    });
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
+    write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    Ok(dir)
+}
+
+/// (file stem, values for the CSV, title, colour-scale label, CSV decimals, values shown).
+type MapRow<'a> = (&'a str, &'a Vec<f64>, &'a str, &'a str, usize, &'a Vec<f64>);
+
+fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
+    let g = &sc.grid;
+    let cols = g.cols;
+    let kpa: Vec<f64> = g.p_pa.iter().map(|p| p * 1e-3).collect();
+    let wet: Vec<f64> = r.wet.iter().map(|w| if *w { 1.0 } else { 0.0 }).collect();
+    let film_nm: Vec<f64> = r.film_m.iter().map(|h| h * 1e9).collect();
+    // eq. 4.13 diverges in low-pressure edge pixels (partly groove, partly rubber): the map's colour
+    // scale is capped at 1 so the patch stays readable; the CSV keeps the raw values.
+    let mu_visc_shown: Vec<f64> = r.mu_visc.iter().map(|m| m.min(1.0)).collect();
+    let maps: [MapRow; 6] = [
+        ("pressure", &kpa, "contact pressure", "p (kPa)", 2, &kpa),
+        ("rise", &r.rise_k, "temperature rise", "dT (K)", 4, &r.rise_k),
+        ("wet", &wet, "wet (1) / dry (0)", "wet", 0, &wet),
+        ("film", &film_nm, "water-film height", "h (nm)", 2, &film_nm),
+        ("friction", &r.mu, "friction coefficient tau/p", "mu (-)", 4, &r.mu),
+        ("mu_visc", &r.mu_visc, "viscous friction eq. 4.13, wet pixels (shown <= 1)", "mu_visc (-)", 4, &mu_visc_shown),
+    ];
+    let xr = (-0.5 * g.cols as f64 * g.dy_m * 1e3, 0.5 * g.cols as f64 * g.dy_m * 1e3);
+    let yr = (0.0, g.rows as f64 * g.dx_m * 1e3);
+    for (stem, vals, what, unit, digits, shown) in maps {
+        write_atomic(&dir.join(format!("{stem}.csv")), csv_grid(vals, cols, digits).as_bytes())?;
+        heat_map(
+            &dir.join(stem),
+            &HeatMap {
+                title: format!("{}: {what}", sc.name),
+                x_label: "lateral position y (mm)".into(),
+                y_label: "distance behind leading edge (mm)".into(),
+                value_label: unit.into(),
+                x_range: xr,
+                y_range: yr,
+                values: nested(shown, cols),
+            },
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,489 @@
+//! Per-step contact-temperature estimator for the engine ([`AtiimEstimator`]).
+//!
+//! Contact temperature of tyre i = min(0 degC, T_start + flash), where
+//! - T_b is a bulk tread-surface temperature state (one per tyre), heated by the tread's share of
+//!   the sliding power F v_slide and cooled toward the ice (conduction through the patch) and the
+//!   air (convection over the tread band): C dT_b/dt = f_t F v - G_ice (T_b - T_ice) - G_air (T_b - T_air).
+//!   The ODE is linear over a step and is advanced exactly (exponential), so any step size is stable;
+//! - T_start = (e_tread T_b + e_ice T_ice) / (e_tread + e_ice) is the temperature two semi-infinite
+//!   bodies take on first contact;
+//! - flash = the patch-average interface rise of the full patch model ([`super::model::solve_patch`])
+//!   (with the whole patch sliding, see [`FlashTable::build`])
+//!   at (load, sliding speed, rolling speed, T_start), read from a table built once per run and
+//!   interpolated trilinearly on ln(rise) in (ln F_z, ln v_slide, ln sigma), with the ice temperature handled through the melting cap (see [`FlashTable`]);
+//!   the rolling
+//!   speed enters through the slip fraction sigma = v_slide / (v_roll + v_slide) (0 free rolling,
+//!   1 locked). In these coordinates the dry-regime rise, about mu p v_slide sqrt(L / v_roll), is
+//!   nearly linear, and the brush model's sliding onset, a function of the slip alone, lies along
+//!   one axis. Below the smallest sliding-speed node the rise is scaled linearly with v_slide (dry
+//!   regime); outside the other ranges the inputs are clamped.
+//!
+//! The flash table uses the spec's dry friction mu_dry for heat generation (as the patch model
+//! does); the actual friction force enters through the bulk state.
+
+use super::heat::effective_effusivity;
+use super::model::{solve_patch, Operating, PatchParams};
+use super::patch::{synthesize, SynthInputs, TreadPattern};
+use super::thermal::{ICE, MELT_C};
+use super::{ContactTemperature, TyreContact};
+use crate::error::Result;
+use rayon::prelude::*;
+use std::path::Path;
+
+/// An axis of table nodes in a transformed coordinate (strictly increasing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    /// Node coordinates, >= 2, strictly increasing.
+    pub nodes: Vec<f64>,
+    /// (first node, 1 / spacing) when the nodes are uniform: direct cell lookup.
+    uniform: Option<(f64, f64)>,
+}
+
+impl Axis {
+    /// Uniform axis from `lo` to `hi` with `n` nodes.
+    pub fn new(lo: f64, hi: f64, n: usize) -> Self {
+        let n = n.max(2);
+        let dx = ((hi - lo) / (n - 1) as f64).max(1e-12);
+        Axis { nodes: (0..n).map(|k| lo + dx * k as f64).collect(), uniform: Some((lo, 1.0 / dx)) }
+    }
+    /// Axis through explicit nodes (must be strictly increasing, >= 2).
+    pub fn from_nodes(nodes: Vec<f64>) -> Self {
+        Axis { nodes, uniform: None }
+    }
+    /// Number of nodes.
+    pub fn n(&self) -> usize {
+        self.nodes.len()
+    }
+    /// Node k.
+    pub fn node(&self, k: usize) -> f64 {
+        self.nodes[k.min(self.nodes.len() - 1)]
+    }
+    /// Cell index and fraction for x (clamped to the axis).
+    #[inline]
+    fn locate(&self, x: f64) -> (usize, f64) {
+        let v = &self.nodes;
+        let n = v.len();
+        if let Some((x0, inv)) = self.uniform {
+            let u = (x - x0) * inv;
+            let u = if u.is_finite() { u.clamp(0.0, (n - 1) as f64) } else { 0.0 };
+            let k = (u as usize).min(n - 2);
+            return (k, u - k as f64);
+        }
+        if x.is_nan() || x <= v[0] {
+            return (0, 0.0);
+        }
+        if x >= v[n - 1] {
+            return (n - 2, 1.0);
+        }
+        let k = v.partition_point(|&t| t <= x).saturating_sub(1).min(n - 2);
+        (k, (x - v[k]) / (v[k + 1] - v[k]))
+    }
+}
+
+/// Slip fraction sigma = v_slide / (v_roll + v_slide), in (0, 1]; 1 for v_roll = v_slide = 0.
+#[inline]
+pub fn slip_fraction(vs_mps: f64, vr_mps: f64) -> f64 {
+    let d = vr_mps.max(0.0) + vs_mps.max(0.0);
+    if d > 0.0 {
+        vs_mps.max(0.0) / d
+    } else {
+        1.0
+    }
+}
+
+/// Rolling speed for sliding speed `vs` and slip fraction `sigma`: vs (1 - sigma) / sigma.
+pub fn roll_speed_for(vs_mps: f64, sigma: f64) -> f64 {
+    vs_mps * (1.0 - sigma).max(0.0) / sigma.max(1e-12)
+}
+
+/// Natural logarithm for table coordinates, absolute error < 1e-9 for finite x > 0 (x = m 2^e
+/// with m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh((m-1)/(m+1)) by its series to s^11), about a
+/// third of the cost of `f64::ln`; non-positive, subnormal or non-finite x fall back to `f64::ln`.
+#[inline]
+pub fn fast_ln(x: f64) -> f64 {
+    if !(x.is_normal() && x > 0.0) {
+        return x.ln();
+    }
+    let bits = x.to_bits();
+    let mut e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    if m > std::f64::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let s = (m - 1.0) / (m + 1.0);
+    let s2 = s * s;
+    let p = 1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 * (1.0 / 9.0 + s2 * (1.0 / 11.0)))));
+    e as f64 * std::f64::consts::LN_2 + 2.0 * s * p
+}
+
+/// Smallest rise stored (ln is taken), K.
+const RISE_FLOOR_K: f64 = 1e-9;
+
+/// Flash-rise table.
+///
+/// Melting caps the rise at dtm = (0 degC - T), which puts a kink into the rise as a function of
+/// ice temperature. To interpolate across it, the table stores, for each (load, sliding speed,
+/// slip fraction) node, the dry (never-melting) rise R0 and, on a fixed grid of w = ln(dtm / R0)
+/// (the kink sits near w = 0 for every node), the ratio G = rise / S of the rise to the smooth
+/// cap S = R0 dtm / (R0 + dtm). G is 1 at both ends (dry: rise = R0; fully capped: rise = dtm) and
+/// smooth between, so it interpolates well. Above the w range the rise is held at its last-node
+/// value (dry); below it the rise is proportional to dtm (capped).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlashTable {
+    /// ln F_z.
+    pub load: Axis,
+    /// ln v_slide.
+    pub slide: Axis,
+    /// ln sigma, sigma = v_slide / (v_roll + v_slide).
+    pub roll: Axis,
+    /// w = ln((0 degC - T) / R0).
+    pub w: Axis,
+    /// ln R0 (K), index (il * ns + is) * nr + ir.
+    pub ln_r0: Vec<f64>,
+    /// ln G, index ((il * ns + is) * nr + ir) * nw + iw.
+    pub ln_g: Vec<f64>,
+    /// Smallest tabulated sliding speed, m/s (cached).
+    vs_min: f64,
+}
+
+/// Ranges and resolution of the table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TableRanges {
+    /// Load range, N, and nodes (log-spaced).
+    pub load_n: (f64, f64, usize),
+    /// Sliding-speed range, m/s (> 0), and nodes (log-spaced).
+    pub slide_mps: (f64, f64, usize),
+    /// Smallest slip fraction sigma = v_slide / (v_roll + v_slide) (0 < sigma < 0.1; 1e-4 covers
+    /// 0.01 % slip) and the number of log-spaced nodes from it up to 0.1; above 0.1 fixed nodes
+    /// 0.2, 0.35, 0.5 (where the transit speed switches from rolling to sliding), 0.65, 0.8, 0.9,
+    /// 0.97 and 1 (locked) resolve the approach to a locked wheel.
+    pub sigma_min: (f64, usize),
+    /// Range of w = ln((0 degC - T) / R0) and nodes (about -2.5 .. 2.5, 8 nodes).
+    pub w: (f64, f64, usize),
+    /// Patch grid of the table (rows along travel, cols across).
+    pub grid: (usize, usize),
+}
+
+impl Default for TableRanges {
+    fn default() -> Self {
+        TableRanges {
+            load_n: (2000.0, 12000.0, 5),
+            slide_mps: (0.01, 30.0, 6),
+            sigma_min: (1e-4, 5),
+            w: (-2.0, 2.0, 6),
+            grid: (16, 12),
+        }
+    }
+}
+
+/// What the table is built from: the tyre (synthesized patches) and the patch-model parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TyreBuild {
+    pub inflation_pa: f64,
+    pub tread_width_m: f64,
+    pub rated_load_n: f64,
+    pub pattern: TreadPattern,
+    pub params: PatchParams,
+}
+
+/// ln(S / R0) for w = ln(dtm / R0), where S = R0 dtm / (R0 + dtm) is a smooth stand-in for the
+/// melting cap min(R0, dtm): w - ln(1 + e^w), computed without overflow.
+#[inline]
+pub fn soft_cap(w: f64) -> f64 {
+    if w > 0.0 {
+        -(-w).exp().ln_1p()
+    } else {
+        w - w.exp().ln_1p()
+    }
+}
+
+/// Reference patch grid (rows, cols) whose rise the table reproduces (see `FlashTable::build`).
+pub const REFERENCE_GRID: (usize, usize) = (64, 48);
+
+/// Ice temperature used for the dry (never-melting) rise, degC.
+const DRY_ICE_C: f64 = -1e6;
+
+impl FlashTable {
+    /// Build the table: one synthesized patch per load node, (1 + w nodes) patch solves per
+    /// (load, sliding speed, slip fraction) node, in parallel (rayon).
+    pub fn build(file: &Path, tyre: &TyreBuild, rg: &TableRanges) -> Result<Self> {
+        let load = Axis::new(rg.load_n.0.ln(), rg.load_n.1.ln(), rg.load_n.2);
+        let slide = Axis::new(rg.slide_mps.0.ln(), rg.slide_mps.1.ln(), rg.slide_mps.2);
+        let mut nodes = Axis::new(rg.sigma_min.0.min(0.05).ln(), 0.1f64.ln(), rg.sigma_min.1).nodes;
+        nodes.extend([0.2f64, 0.35, 0.5, 0.65, 0.8, 0.9, 0.97, 1.0].iter().map(|v| v.ln()));
+        let roll = Axis::from_nodes(nodes);
+        let w = Axis::new(rg.w.0, rg.w.1, rg.w.2);
+        let grids = (0..load.n())
+            .map(|il| {
+                synthesize(
+                    file,
+                    &SynthInputs {
+                        load_n: load.node(il).exp(),
+                        inflation_pa: tyre.inflation_pa,
+                        tread_width_m: tyre.tread_width_m,
+                        rated_load_n: tyre.rated_load_n,
+                        camber_deg: 0.0,
+                        pattern: tyre.pattern,
+                        rows: rg.grid.0,
+                        cols: rg.grid.1,
+                    },
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        // The table is built with the whole patch sliding (no brush adhesion zone): the brush's
+        // sliding onset makes the rise a steep, grid-lumpy function of slip and load at small slip,
+        // where the flash is negligible anyway (an upper bound there).
+        let mut params = tyre.params;
+        params.brush = false;
+        let per_load = slide.n() * roll.n();
+        let cells: Vec<(f64, Vec<f64>)> = (0..load.n() * per_load)
+            .into_par_iter()
+            .map(|k| {
+                let il = k / per_load;
+                let is = (k % per_load) / roll.n();
+                let ir = k % roll.n();
+                let vs = slide.node(is).exp();
+                let vr = roll_speed_for(vs, roll.node(ir).exp());
+                let solve = |t: f64| {
+                    let op = Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t };
+                    solve_patch(&grids[il], &op, &params).summary.mean_rise_k
+                };
+                let r0 = solve(DRY_ICE_C).max(RISE_FLOOR_K);
+                let g = (0..w.n())
+                    .map(|iw| {
+                        let wk = w.node(iw);
+                        let rise = solve(MELT_C - r0 * wk.exp()).max(RISE_FLOOR_K);
+                        (rise / r0).ln() - soft_cap(wk)
+                    })
+                    .collect();
+                (r0.ln(), g)
+            })
+            .collect();
+        // Grid correction: the table grid is coarse (cost); its patch-average rise is biased low by
+        // partly covered edge pixels. Per load node, the dry rise at a reference point (1 m/s
+        // sliding at 20 m/s rolling) on the 64 x 48 reference grid over that on the table grid
+        // rescales every R0 of that load (the melting-cap ratio G is left as is).
+        let corr: Vec<f64> = (0..load.n())
+            .into_par_iter()
+            .map(|il| {
+                let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
+                let fine = synthesize(
+                    file,
+                    &SynthInputs {
+                        load_n: load.node(il).exp(),
+                        inflation_pa: tyre.inflation_pa,
+                        tread_width_m: tyre.tread_width_m,
+                        rated_load_n: tyre.rated_load_n,
+                        camber_deg: 0.0,
+                        pattern: tyre.pattern,
+                        rows: REFERENCE_GRID.0,
+                        cols: REFERENCE_GRID.1,
+                    },
+                );
+                let coarse = solve_patch(&grids[il], &op, &params).summary.mean_rise_k;
+                match fine {
+                    Ok(g) if coarse > 0.0 => (solve_patch(&g, &op, &params).summary.mean_rise_k / coarse).ln(),
+                    _ => 0.0,
+                }
+            })
+            .collect();
+        let mut ln_r0 = Vec::with_capacity(cells.len());
+        let mut ln_g = Vec::with_capacity(cells.len() * w.n());
+        for (k, (r, g)) in cells.into_iter().enumerate() {
+            ln_r0.push(r + corr[k / per_load]);
+            ln_g.extend(g);
+        }
+        let vs_min = slide.node(0).exp();
+        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min })
+    }
+
+    /// Interpolated patch-average rise, K, at load `fz_n`, sliding speed `vs_mps`, rolling speed
+    /// `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive load or sliding
+    /// speed or for t_c >= 0 degC.
+    #[inline]
+    pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
+        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C && vs_mps.is_finite()) {
+            return 0.0;
+        }
+        let vs_min = self.vs_min;
+        let (scale, vs) = if vs_mps < vs_min { (vs_mps / vs_min, vs_min) } else { (1.0, vs_mps) };
+        let (il, fl) = self.load.locate(fast_ln(fz_n));
+        let (is, fs) = self.slide.locate(fast_ln(vs));
+        let (ir, fr) = self.roll.locate(fast_ln(slip_fraction(vs_mps, if vr_mps.is_finite() { vr_mps } else { 0.0 })));
+        // below the smallest sliding-speed node the rise scales with v_slide, so the cap does too
+        let ln_dtm = fast_ln((MELT_C - t_c) / scale);
+        let (ns, nr) = (self.slide.n(), self.roll.n());
+        // ln R0 trilinear in (ln F_z, ln v_slide, ln sigma) (with the whole patch sliding the dry
+        // rise is close to a power law in each); then ln G at the resulting w, trilinear likewise.
+        let mut corners = [(0usize, 0.0f64); 8];
+        let mut lr0 = 0.0;
+        let mut n = 0;
+        for a in 0..2 {
+            let wa = if a == 0 { 1.0 - fl } else { fl };
+            for b in 0..2 {
+                let wb = wa * if b == 0 { 1.0 - fs } else { fs };
+                for c in 0..2 {
+                    let wc = wb * if c == 0 { 1.0 - fr } else { fr };
+                    let cell = ((il + a) * ns + is + b) * nr + ir + c;
+                    lr0 += wc * self.ln_r0[cell];
+                    corners[n] = (cell, wc);
+                    n += 1;
+                }
+            }
+        }
+        let wq = ln_dtm - lr0;
+        let (k, f) = self.w.locate(wq);
+        let nw = self.w.n();
+        let mut lg = 0.0;
+        for (cell, wt) in corners {
+            let g = &self.ln_g[cell * nw..(cell + 1) * nw];
+            lg += wt * ((1.0 - f) * g[k] + f * g[k + 1]);
+        }
+        // outside the w range: dry above it (rise = its value at the last node), melting-capped
+        // below it (rise proportional to dtm)
+        let (w0, w1) = (self.w.nodes[0], self.w.nodes[nw - 1]);
+        let ln_ratio = if wq >= w1 {
+            soft_cap(w1)
+        } else if wq <= w0 {
+            soft_cap(w0) + (wq - w0)
+        } else {
+            soft_cap(wq)
+        };
+        let acc = (lr0 + ln_ratio + lg).exp();
+        let r = (acc * scale).min(MELT_C - t_c);
+        if r.is_finite() && r > RISE_FLOOR_K * 10.0 {
+            r
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Bulk-state parameters (per tyre).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BulkParams {
+    /// Heat capacity of the heated tread skin around the circumference, J/K
+    /// (rho c x 2 pi R x width x skin depth; ~1500 J/K for 2 mm on a passenger tyre).
+    pub heat_capacity_j_k: f64,
+    /// Tread-band area exposed to air (2 pi R x width), m^2 (~0.37).
+    pub band_area_m2: f64,
+    /// Fraction of sliding power entering the tread, 0–1 (effusivity share ~0.26).
+    pub tread_fraction: f64,
+    /// Air temperature, degC; `None` = the surface (ice) temperature.
+    pub air_temp_c: Option<f64>,
+    /// Patch area per unit load, m^2/N (contact length and conduction area; 1 / (inflation)).
+    pub area_per_n: f64,
+    /// Contact width, m.
+    pub width_m: f64,
+    /// Tread effusivity, W s^0.5/(m^2 K).
+    pub e_tread: f64,
+}
+
+/// The ATIIM per-step estimator: one bulk state per tyre plus the flash table.
+#[derive(Debug, Clone)]
+pub struct AtiimEstimator {
+    pub table: FlashTable,
+    pub bulk: BulkParams,
+    /// Bulk tread-surface temperature per tyre, degC (NaN until the first update).
+    pub t_bulk_c: Vec<f64>,
+    /// Ice effusivity, W s^0.5/(m^2 K) (cached).
+    e_ice: f64,
+}
+
+impl AtiimEstimator {
+    /// New estimator for `n_tyres` tyres; bulk states start at the first update's surface temperature.
+    pub fn new(table: FlashTable, bulk: BulkParams, n_tyres: usize) -> Self {
+        AtiimEstimator { table, bulk, t_bulk_c: vec![f64::NAN; n_tyres], e_ice: ICE.effusivity() }
+    }
+
+    /// Contact temperature for one tyre from its bulk temperature (no state change), degC.
+    #[inline]
+    pub fn contact_temp_c(&self, t_bulk_c: f64, t: &TyreContact) -> f64 {
+        let e_i = self.e_ice;
+        let e_t = self.bulk.e_tread;
+        let t_ice = t.surface_temp_c;
+        let t_start = ((e_t * t_bulk_c + e_i * t_ice) / (e_t + e_i)).min(MELT_C);
+        let flash = self.table.rise_k(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start);
+        (t_start + flash).min(MELT_C)
+    }
+}
+
+fn finite_or(v: f64, d: f64) -> f64 {
+    if v.is_finite() {
+        v
+    } else {
+        d
+    }
+}
+
+impl ContactTemperature for AtiimEstimator {
+    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
+        let b = self.bulk;
+        let e_i = self.e_ice;
+        let e_s = b.e_tread * e_i / (b.e_tread + e_i); // series effusivity for tread-to-ice conduction
+        let h = finite_or(h, 0.0).max(0.0);
+        for (i, (t, o)) in tyres.iter().zip(out.iter_mut()).enumerate() {
+            let t_ice = finite_or(t.surface_temp_c, MELT_C);
+            if self.t_bulk_c.len() <= i {
+                self.t_bulk_c.resize(i + 1, f64::NAN);
+            }
+            let mut tb = self.t_bulk_c[i];
+            if !tb.is_finite() {
+                tb = t_ice;
+            }
+            let fz = finite_or(t.fz_n, 0.0).max(0.0);
+            let vr = finite_or(t.roll_speed_mps, 0.0).abs();
+            let vs = finite_or(t.slide_speed_mps, 0.0).abs();
+            let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
+            // conduction into the ice through the patch: area A, contact time L / v
+            let area = fz * b.area_per_n;
+            let len = area / b.width_m.max(1e-3);
+            let tc = len / vr.max(vs).max(0.1);
+            let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
+            let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
+            let t_air = b.air_temp_c.unwrap_or(t_ice);
+            let g = g_ice + g_air;
+            let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
+            let x = g * h / b.heat_capacity_j_k.max(1e-6);
+            // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
+            let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
+            tb = t_eq + (tb - t_eq) * decay;
+            if !tb.is_finite() {
+                tb = t_ice;
+            }
+            self.t_bulk_c[i] = tb;
+            let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
+            *o = self.contact_temp_c(tb, &tt);
+        }
+    }
+}
+
+/// Effusivity weighting helper kept public for docs/tests: tread share at equal contact times.
+pub fn rolling_tread_fraction(e_tread: f64) -> f64 {
+    let e = effective_effusivity(e_tread, ICE.effusivity(), 1.0, 1.0);
+    (e - ICE.effusivity()) / e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_ln_matches_std_ln() {
+        let mut x = 1e-12;
+        while x < 1e12 {
+            assert!((fast_ln(x) - x.ln()).abs() < 1e-9, "{x}");
+            x *= 1.37;
+        }
+        assert!(fast_ln(0.0) == f64::NEG_INFINITY && fast_ln(-1.0).is_nan());
+    }
+
+    #[test]
+    fn soft_cap_limits() {
+        // S / R0 -> 1 for dtm >> R0 and -> dtm / R0 for dtm << R0
+        assert!(soft_cap(40.0).abs() < 1e-15);
+        assert!((soft_cap(-40.0) + 40.0).abs() < 1e-15);
+        assert!((soft_cap(0.0) + 2f64.ln()).abs() < 1e-15);
+    }
+}
