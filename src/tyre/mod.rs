@@ -14,11 +14,23 @@
 //! load in [0, 3 Fz_nominal], give zero force at zero load, and bound combined slip with a friction
 //! ellipse or the Magic Formula combined-slip functions.
 
+pub mod atiim;
+pub mod combine;
+pub mod dugoff;
 pub mod linear;
+pub mod pacejka;
+pub mod polynomial;
 pub mod spec;
+pub mod sweep;
+pub mod tir;
 
+pub use atiim::{AtiimPacejkaTyre, KShift};
+pub use dugoff::{DugoffThermalTyre, DugoffTyre};
 pub use linear::LinearTyre;
+pub use pacejka::PacejkaTyre;
+pub use polynomial::PolynomialTyre;
 pub use spec::{TyreFileSpec, TyreModelKind};
+pub use sweep::run_tyre_command;
 
 /// Everything a provider may use to compute the force of one tyre at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
