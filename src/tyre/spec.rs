@@ -502,13 +502,15 @@ impl TyreFileSpec {
                 c.finite("atiim_pacejka.k_shift_b", b)?;
                 KShift::Quadratic { a, b }
             }
-            other => return Err(Error::key(
-                path,
-                "atiim_pacejka.k_shift",
-                format!(
+            other => {
+                return Err(Error::key(
+                    path,
+                    "atiim_pacejka.k_shift",
+                    format!(
                     "unknown shift factor '{other}'; allowed: srtt, all_season, directional, average, none, quadratic"
                 ),
-            )),
+                ))
+            }
         };
         if !matches!(k_shift, KShift::Quadratic { .. }) && (s.k_shift_a.is_some() || s.k_shift_b.is_some()) {
             return Err(Error::key(
