@@ -284,7 +284,10 @@ fn tir_errors_are_clear_input_errors() {
     // Missing required coefficient.
     let text = MINI_TIR.replace("PKX1 = 22\n", "");
     let e = input_error(build_text("tirmiss", &tir_toml(), Some(&text), TyreModelKind::Pacejka));
-    assert!(e.contains("missing required Magic Formula coefficient") && e.contains("PKX1") && e.contains("t.tir"), "{e}");
+    assert!(
+        e.contains("missing required Magic Formula coefficient") && e.contains("PKX1") && e.contains("t.tir"),
+        "{e}"
+    );
 
     // Malformed line: the message names the file and the line number.
     let text = MINI_TIR.replace("PDY1 = 1.0", "PDY1 1.0");
@@ -297,7 +300,10 @@ fn tir_errors_are_clear_input_errors() {
     // Unsupported format, listing the supported ones.
     let text = MINI_TIR.replace("'PAC2002'", "'MF_61'");
     let e = input_error(build_text("tirfmt", &tir_toml(), Some(&text), TyreModelKind::Pacejka));
-    assert!(e.contains("unsupported PROPERTY_FILE_FORMAT 'MF_61'") && e.contains("PAC2002") && e.contains("MF_05"), "{e}");
+    assert!(
+        e.contains("unsupported PROPERTY_FILE_FORMAT 'MF_61'") && e.contains("PAC2002") && e.contains("MF_05"),
+        "{e}"
+    );
 
     // Missing file, inline typo, both sources.
     let e = input_error(build_text("tirnone", &tir_toml(), None, TyreModelKind::Pacejka));

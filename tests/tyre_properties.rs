@@ -106,8 +106,16 @@ fn odd_symmetry_in_slip_angle_and_where_symmetric_in_slip_ratio() {
                             let a = c.model.forces(&input(fz, kappa, alpha, mu, dt));
                             let b = c.model.forces(&input(fz, kappa, -alpha, mu, dt));
                             let tol = 1e-9 * fz;
-                            assert!((a.fy_n + b.fy_n).abs() <= tol, "{}: Fy not odd in alpha at {kappa},{alpha}", c.label);
-                            assert!((a.fx_n - b.fx_n).abs() <= tol, "{}: Fx not even in alpha at {kappa},{alpha}", c.label);
+                            assert!(
+                                (a.fy_n + b.fy_n).abs() <= tol,
+                                "{}: Fy not odd in alpha at {kappa},{alpha}",
+                                c.label
+                            );
+                            assert!(
+                                (a.fx_n - b.fx_n).abs() <= tol,
+                                "{}: Fx not even in alpha at {kappa},{alpha}",
+                                c.label
+                            );
                             if c.odd_in_kappa && kappa.abs() <= 1.0 {
                                 let m = c.model.forces(&input(fz, -kappa, alpha, mu, dt));
                                 assert!((a.fx_n + m.fx_n).abs() <= tol, "{}: Fx not odd in kappa at {kappa}", c.label);
@@ -238,8 +246,16 @@ fn slope_at_zero_slip_equals_declared_stiffness() {
                         - c.model.forces(&input(fz, 0.0, -h, mu, dt)).fy_n)
                         / (2.0 * h);
                     assert!(kx > 0.0 && ky > 0.0, "{}: stiffness {kx}, {ky}", c.label);
-                    assert!((sx - kx).abs() <= 0.005 * kx, "{}: dFx/dkappa {sx} vs declared {kx} (Fz {fz}, mu {mu}, dT {dt})", c.label);
-                    assert!((sy - ky).abs() <= 0.005 * ky, "{}: dFy/dalpha {sy} vs declared {ky} (Fz {fz}, mu {mu}, dT {dt})", c.label);
+                    assert!(
+                        (sx - kx).abs() <= 0.005 * kx,
+                        "{}: dFx/dkappa {sx} vs declared {kx} (Fz {fz}, mu {mu}, dT {dt})",
+                        c.label
+                    );
+                    assert!(
+                        (sy - ky).abs() <= 0.005 * ky,
+                        "{}: dFy/dalpha {sy} vs declared {ky} (Fz {fz}, mu {mu}, dT {dt})",
+                        c.label
+                    );
                 }
             }
         }

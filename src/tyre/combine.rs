@@ -19,7 +19,22 @@
 #[inline]
 pub fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    d * (c * (bx - e * (bx - bx.atan())).atan()).sin()
+    // E = 0 is common; skipping the inner atan then is exact.
+    let phi = if e == 0.0 { bx } else { bx - e * (bx - bx.atan()) };
+    d * (c * phi.atan()).sin()
+}
+
+/// cos(C atan(B x - E (B x - atan(B x)))), the Magic Formula weighting shape. With C = 1 it is
+/// evaluated exactly as 1 / sqrt(1 + phi^2).
+#[inline]
+pub fn mf_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
+    let bx = b * x;
+    let phi = if e == 0.0 { bx } else { bx - e * (bx - bx.atan()) };
+    if c == 1.0 {
+        1.0 / (1.0 + phi * phi).sqrt()
+    } else {
+        (c * phi.atan()).cos()
+    }
 }
 
 /// dy/dx of [`mf_sin`] at `x` (E held fixed).

@@ -50,7 +50,7 @@
 
 use std::f64::consts::FRAC_2_PI;
 
-use super::combine::{equivalent, mf_sin, mf_sin_slope, normalised, sgn};
+use super::combine::{equivalent, mf_cos, mf_sin, mf_sin_slope, normalised, sgn};
 use super::{TyreForces, TyreInput, TyreModel};
 
 macro_rules! mf_coefficients {
@@ -213,7 +213,9 @@ pub struct PacejkaTyre {
     pub stiffness_mu_exponent: f64,
     /// Combined-slip method.
     pub combination: Combination,
-    /// Whether the file has aligning-moment coefficients (QCZ1 != 0); Mz = 0 otherwise.
+    /// Whether Mz is computed: the spec asked for it (`aligning_moment = true`) and the file has
+    /// aligning-moment coefficients (QCZ1, QDZ1 != 0); Mz = 0 otherwise. It costs about as much as
+    /// Fx and Fy together (three more transcendental functions), so it is off by default.
     pub has_mz: bool,
     // Precomputed.
     fz0p: f64,
@@ -255,6 +257,7 @@ impl PacejkaTyre {
         mu_reference: f64,
         stiffness_mu_exponent: f64,
         combination: Option<Combination>,
+        aligning_moment: bool,
     ) -> Self {
         let combination = combination.unwrap_or(if coeffs.rbx1 != 0.0 && coeffs.rby1 != 0.0 {
             Combination::MagicFormula
@@ -263,7 +266,7 @@ impl PacejkaTyre {
         });
         let fz0p = coeffs.fnomin * coeffs.lfzo;
         let sign_iso = if coeffs.pky1 < 0.0 { -1.0 } else { 1.0 };
-        let has_mz = coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
+        let has_mz = aligning_moment && coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
         Self { coeffs, mu_reference, stiffness_mu_exponent, combination, has_mz, fz0p, sign_iso }
     }
 
@@ -292,7 +295,8 @@ impl PacejkaTyre {
         let cx = c.pcx1 * c.lcx;
         let dx = (c.pdx1 + c.pdx2 * dfz) * (1.0 - c.pdx3 * gx * gx) * lmux * fz;
         let ex0 = (c.pex1 + c.pex2 * dfz + c.pex3 * dfz * dfz) * c.lex;
-        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * (c.pkx3 * dfz).exp() * c.lkx * rk;
+        let kexp = if c.pkx3 == 0.0 { 1.0 } else { (c.pkx3 * dfz).exp() };
+        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk;
         let bx = safe_div(kx, cx * dx);
         let svx = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx * lmux;
 
@@ -356,18 +360,23 @@ impl PacejkaTyre {
                 let r2 = c.rbx2 * kappa;
                 let bxa = c.rbx1 / (1.0 + r2 * r2).sqrt() * c.lxal;
                 let exa = (c.rex1 + c.rex2 * p.dfz).min(1.0);
-                let gxa0 = if c.rhx1 == 0.0 { 1.0 } else { Self::g0_guard(g_cos(bxa, c.rcx1, exa, c.rhx1)) };
-                let gxa = g_cos(bxa, c.rcx1, exa, a + c.rhx1) / gxa0;
+                let gxa0 = if c.rhx1 == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(bxa, c.rcx1, exa, c.rhx1)) };
+                let gxa = mf_cos(bxa, c.rcx1, exa, a + c.rhx1) / gxa0;
                 // Gyk.
                 let shyk = c.rhy1 + c.rhy2 * p.dfz;
                 let r2 = c.rby2 * (a - c.rby3);
                 let byk = c.rby1 / (1.0 + r2 * r2).sqrt() * c.lyka;
                 let eyk = (c.rey1 + c.rey2 * p.dfz).min(1.0);
-                let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(g_cos(byk, c.rcy1, eyk, shyk)) };
-                let gyk = g_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0;
-                let r4 = c.rvy4 * a;
-                let dvyk = p.muy * fz * (c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy) / (1.0 + r4 * r4).sqrt();
-                let svyk = if dvyk == 0.0 { 0.0 } else { dvyk * (c.rvy5 * (c.rvy6 * kappa).atan()).sin() * c.lvyka };
+                let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(byk, c.rcy1, eyk, shyk)) };
+                let gyk = mf_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0;
+                let rv = c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy;
+                let (dvyk, svyk) = if rv == 0.0 {
+                    (0.0, 0.0)
+                } else {
+                    let r4 = c.rvy4 * a;
+                    let dvyk = p.muy * fz * rv / (1.0 + r4 * r4).sqrt();
+                    (dvyk, dvyk * (c.rvy5 * (c.rvy6 * kappa).atan()).sin() * c.lvyka)
+                };
                 fx = gxa * fx0;
                 fy = gyk * fy0 + svyk;
                 let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
@@ -409,11 +418,11 @@ impl PacejkaTyre {
             * (1.0 + c.qdz3 * gz + c.qdz4 * gz * gz)
             * (c.unloaded_radius / self.fz0p)
             * c.ltr;
-        let et = ((c.qez1 + c.qez2 * dfz + c.qez3 * dfz * dfz)
-            * (1.0 + (c.qez4 + c.qez5 * gz) * FRAC_2_PI * (bt * ct * at).atan()))
-        .min(1.0);
+        let et_asym = c.qez4 + c.qez5 * gz;
+        let et_sign = if et_asym == 0.0 { 1.0 } else { 1.0 + et_asym * FRAC_2_PI * (bt * ct * at).atan() };
+        let et = ((c.qez1 + c.qez2 * dfz + c.qez3 * dfz * dfz) * et_sign).min(1.0);
         let cos_a = a.cos();
-        let t = g_cos(bt, ct, et, at) * dt * cos_a;
+        let t = mf_cos(bt, ct, et, at) * dt * cos_a;
         let br = c.qbz9 * lky_lmuy + c.qbz10 * p.by * p.cy;
         let dr = fz * ((c.qdz6 + c.qdz7 * dfz) * c.lres + (c.qdz8 + c.qdz9 * dfz) * gz) * c.unloaded_radius * p.lmuy;
         let x = br * ar;
@@ -424,13 +433,6 @@ impl PacejkaTyre {
     fn file_angles(&self, i: &TyreInput) -> (f64, f64) {
         (self.sign_iso * i.alpha_rad, self.sign_iso * i.camber_rad)
     }
-}
-
-/// cos(C atan(B x - E (B x - atan(B x)))).
-#[inline]
-fn g_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
-    let bx = b * x;
-    (c * (bx - e * (bx - bx.atan())).atan()).cos()
 }
 
 /// a / b, or 0 when b is 0 (a degenerate coefficient set must not produce NaN).

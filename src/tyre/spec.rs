@@ -159,6 +159,9 @@ pub struct PacejkaSection {
     /// `"auto"` (default: MF functions when RBX1 and RBY1 are given), `"magic_formula"` or `"ellipse"`.
     #[serde(default = "auto")]
     pub combined: String,
+    /// Compute the aligning moment Mz (simplified, see [`PacejkaTyre`]); default false (cost).
+    #[serde(default)]
+    pub aligning_moment: bool,
 }
 
 fn auto() -> String {
@@ -630,7 +633,7 @@ impl TyreFileSpec {
         }
         cs.require("PKY1", coeffs.pky1, coeffs.pky1 != 0.0, "expected a non-zero cornering stiffness factor")?;
         cs.require("PKY2", coeffs.pky2, coeffs.pky2 > 0.0, "expected PKY2 > 0 (load at which Ky peaks, in Fz0')")?;
-        let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination);
+        let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
         if t.combination == Combination::MagicFormula {
             let c2 = &t.coeffs;
             for (n, v) in [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)] {
