@@ -77,3 +77,9 @@ pub fn sgn(x: f64) -> f64 {
 pub fn equivalent(sign: f64, s: f64, reference: f64) -> f64 {
     sign * s.min(1e12) * reference
 }
+
+/// `x > 0` (false for NaN): the guard of every provider against zero or invalid load and friction.
+#[inline]
+pub fn positive(x: f64) -> bool {
+    x > 0.0
+}

@@ -32,6 +32,7 @@
 //! So |Fx| may exceed mu Fz: [`TyreModel::peak_friction`] returns mu max(1, |H|) for the input,
 //! an honest bound (|F|^2 = H^2 Fx^2 + Fy^2 <= max(1, H^2) mu^2 Fz^2).
 
+use super::combine::positive;
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Dugoff parameters, validated.
@@ -100,7 +101,7 @@ impl DugoffTyre {
         let qx = self.longitudinal_stiffness_n * lf * i.kappa;
         let qy = self.cornering_stiffness_n_per_rad * lf * i.alpha_rad.tan();
         let q = qx.hypot(qy);
-        if !(q > 0.0) {
+        if !positive(q) {
             return (0.0, 0.0);
         }
         let om = (1.0 + i.kappa).max(0.0);
@@ -125,14 +126,14 @@ impl TyreModel for DugoffTyre {
     }
 
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        if !(self.mu(i) > 0.0) {
+        if !positive(self.mu(i)) {
             return 0.0;
         }
         self.longitudinal_stiffness_n * self.load_factor(i.fz_n)
     }
 
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
-        if !(self.mu(i) > 0.0) {
+        if !positive(self.mu(i)) {
             return 0.0;
         }
         self.cornering_stiffness_n_per_rad * self.load_factor(i.fz_n)

@@ -50,7 +50,7 @@
 
 use std::f64::consts::FRAC_2_PI;
 
-use super::combine::{equivalent, mf_cos, mf_sin, mf_sin_slope, normalised, sgn};
+use super::combine::{equivalent, mf_cos, mf_sin, mf_sin_slope, normalised, positive, sgn};
 use super::{TyreForces, TyreInput, TyreModel};
 
 macro_rules! mf_coefficients {
@@ -447,7 +447,7 @@ fn safe_div(a: f64, b: f64) -> f64 {
 
 #[inline]
 fn inactive(i: &TyreInput) -> bool {
-    !(i.fz_n > 0.0) || !(i.mu_surface > 0.0) || !i.fz_n.is_finite()
+    !positive(i.fz_n) || !positive(i.mu_surface) || !i.fz_n.is_finite()
 }
 
 impl TyreModel for PacejkaTyre {

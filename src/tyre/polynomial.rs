@@ -23,6 +23,7 @@
 //! 1 + kappa is never formed: u is compared as psi' = sqrt((C_x kappa)^2 + (C_y tan alpha)^2) against
 //! (1 + kappa) F_max, so a locked wheel (kappa = -1) is simply fully sliding.
 
+use super::combine::positive;
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Shape of the normalised polynomial.
@@ -133,7 +134,7 @@ impl TyreModel for PolynomialTyre {
         let qx = self.longitudinal_stiffness_n * lf * i.kappa;
         let qy = self.cornering_stiffness_n_per_rad * lf * i.alpha_rad.tan();
         let q = qx.hypot(qy);
-        if !(q > 0.0) {
+        if !positive(q) {
             return TyreForces::default();
         }
         let fmax = mu * fz;
@@ -149,14 +150,14 @@ impl TyreModel for PolynomialTyre {
     }
 
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        if !(self.mu_scale * i.mu_surface > 0.0) {
+        if !positive(self.mu_scale * i.mu_surface) {
             return 0.0;
         }
         self.longitudinal_stiffness_n * self.load_factor(i.fz_n)
     }
 
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
-        if !(self.mu_scale * i.mu_surface > 0.0) {
+        if !positive(self.mu_scale * i.mu_surface) {
             return 0.0;
         }
         self.cornering_stiffness_n_per_rad * self.load_factor(i.fz_n)
