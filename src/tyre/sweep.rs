@@ -154,7 +154,9 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     }
     let tyres: Vec<(TyreModelKind, Tyre)> =
         all.iter().map(|&k| tyre_spec.build(&tyre_path, k).map(|t| (k, t))).collect::<Result<_>>()?;
-    let tyre_of = |k: TyreModelKind| &tyres.iter().find(|(kk, _)| *kk == k).expect("every kind was built").1;
+    // Every kind in `providers` and `thermal` is in `all` and so was built above; a kind that is
+    // not found yields no curve rather than a panic.
+    let tyre_of = |k: TyreModelKind| tyres.iter().find(|(kk, _)| *kk == k).map(|(_, t)| t);
 
     let input = |fz: f64, dt: f64, kappa: f64, alpha: f64| TyreInput {
         fz_n: fz,
@@ -173,9 +175,9 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         points: s
             .slip_ratio
             .values()
-            .map(|kappa| {
-                let f = tyre_of(k).model.forces(&input(fz, dt, kappa, 0.0));
-                (kappa, f.fx_n, f.fy_n, f.mz_nm)
+            .filter_map(|kappa| {
+                let f = tyre_of(k)?.model.forces(&input(fz, dt, kappa, 0.0));
+                Some((kappa, f.fx_n, f.fy_n, f.mz_nm))
             })
             .collect(),
     };
@@ -186,9 +188,9 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         points: s
             .slip_angle_deg
             .values()
-            .map(|deg| {
-                let f = tyre_of(k).model.forces(&input(fz, dt, 0.0, deg.to_radians()));
-                (deg.to_radians(), f.fx_n, f.fy_n, f.mz_nm)
+            .filter_map(|deg| {
+                let f = tyre_of(k)?.model.forces(&input(fz, dt, 0.0, deg.to_radians()));
+                Some((deg.to_radians(), f.fx_n, f.fy_n, f.mz_nm))
             })
             .collect(),
     };
