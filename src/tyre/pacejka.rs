@@ -346,7 +346,9 @@ impl PacejkaTyre {
     }
 
     /// (Fx, Fy, bound on |F|) in file axes at file slip angle `a` and camber `g`.
-    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, want_mz: bool) -> (f64, f64, f64, f64) {
+    /// With `want_bound` false the returned bound is 0 (it is only needed by `peak_friction`).
+    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, want_bound: bool) -> (f64, f64, f64, f64) {
+        let want_mz = !want_bound;
         let c = &self.coeffs;
         let p = self.pure(fz, mu, g);
         let (fx, fy, bound);
@@ -379,9 +381,13 @@ impl PacejkaTyre {
                 };
                 fx = gxa * fx0;
                 fy = gyk * fy0 + svyk;
-                let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
-                let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
-                bound = xmax.hypot(ymax);
+                bound = if want_bound {
+                    let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
+                    let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
+                    xmax.hypot(ymax)
+                } else {
+                    0.0
+                };
             }
             Combination::Ellipse => {
                 // Pure values at zero slip (ply-steer / conicity offsets); 0 without shifts.
@@ -394,7 +400,11 @@ impl PacejkaTyre {
                 let fye = Self::fy0_core(&p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
                 fx = fx00 + wx * (fxe - fx00);
                 fy = fy00 + wy * (fye - fy00);
-                bound = p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs());
+                bound = if want_bound {
+                    p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
+                } else {
+                    0.0
+                };
             }
         }
         let mz = if want_mz && self.has_mz { self.mz(&p, fz, a, g, fy) } else { 0.0 };
@@ -460,7 +470,7 @@ impl TyreModel for PacejkaTyre {
             return TyreForces::default();
         }
         let (a, g) = self.file_angles(i);
-        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, true);
+        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, false);
         TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
     }
 
@@ -474,7 +484,7 @@ impl TyreModel for PacejkaTyre {
             return 0.0;
         }
         let (a, g) = self.file_angles(i);
-        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, false);
+        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, true);
         bound / i.fz_n
     }
 

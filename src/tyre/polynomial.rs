@@ -133,7 +133,7 @@ impl TyreModel for PolynomialTyre {
         let lf = self.load_factor(fz);
         let qx = self.longitudinal_stiffness_n * lf * i.kappa;
         let qy = self.cornering_stiffness_n_per_rad * lf * i.alpha_rad.tan();
-        let q = qx.hypot(qy);
+        let q = (qx * qx + qy * qy).sqrt(); // |q| <~ 1e21 for alpha up to pi/2: no overflow
         if !positive(q) {
             return TyreForces::default();
         }
