@@ -35,9 +35,9 @@ fn bench(c: &mut Criterion) {
     let mut ell = spec.clone();
     ell.pacejka.as_mut().expect("[pacejka] section").combined = "ellipse".into();
     variants.push(("pacejka_ellipse".into(), ell, TyreModelKind::Pacejka));
-    let mut no_mz = spec.clone();
-    no_mz.pacejka.as_mut().expect("[pacejka] section").aligning_moment = false;
-    variants.push(("pacejka_without_mz".into(), no_mz, TyreModelKind::Pacejka));
+    let mut mz = spec.clone();
+    mz.pacejka.as_mut().expect("[pacejka] section").aligning_moment = true;
+    variants.push(("pacejka_with_mz".into(), mz, TyreModelKind::Pacejka));
     for (label, s, kind) in variants {
         let model = s.build(path, kind).expect("provider builds").model;
         let mut k = 0usize;
