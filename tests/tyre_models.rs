@@ -148,6 +148,28 @@ fn own_tir_matches_independent_values() {
     assert!(rel(got, 594.5345358165815) < 1e-9, "ice Fy {got}");
 }
 
+/// Mz (opt-in): an aligning (restoring) moment, negative for a positive slip angle at small slip,
+/// where the pneumatic trail t > 0 and Mz = -t Fy; zero when not asked for.
+#[test]
+fn pacejka_aligning_moment_is_restoring_and_opt_in() {
+    let p = Path::new(SRTT);
+    let mut spec = TyreFileSpec::load(p).unwrap();
+    let off = spec.build(p, TyreModelKind::Pacejka).unwrap().model;
+    spec.pacejka.as_mut().unwrap().aligning_moment = true;
+    let on = spec.build(p, TyreModelKind::Pacejka).unwrap().model;
+    for mu in [0.15, 1.0] {
+        let i = TyreInput::new(4000.0, 0.0, 0.01, mu);
+        assert_eq!(off.forces(&i).mz_nm, 0.0);
+        let f = on.forces(&i);
+        assert!(f.fy_n > 0.0 && f.mz_nm < 0.0, "{f:?}");
+        // Trail t = -Mz/Fy between 1 and 10 cm for a passenger tyre at small slip.
+        let t = -f.mz_nm / f.fy_n;
+        assert!((0.01..0.10).contains(&t), "trail {t} m");
+        let j = TyreInput::new(4000.0, 0.0, -0.01, mu);
+        assert!((on.forces(&j).mz_nm + f.mz_nm).abs() < 1e-9);
+    }
+}
+
 /// On mu 0.15 ice the SRTT sections give the dissertation's measured drawbar-pull magnitudes
 /// (3.3.5-3.3.6): peak 0.16-0.21 at 5-10 % slip, 0.14-0.17 at 40 % slip (where the curve falls).
 #[test]

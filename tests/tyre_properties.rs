@@ -44,6 +44,13 @@ fn cases() -> Vec<Case> {
         odd_in_kappa: true,
     });
     let mut s = spec.clone();
+    s.pacejka.as_mut().unwrap().aligning_moment = true;
+    out.push(Case {
+        label: "pacejka(mz)".into(),
+        model: s.build(path, TyreModelKind::Pacejka).unwrap().model,
+        odd_in_kappa: true,
+    });
+    let mut s = spec.clone();
     let p = s.polynomial.as_mut().unwrap();
     p.form = "general".into();
     p.a2 = Some(-0.5);
