@@ -10,6 +10,11 @@
 //!   contact-temperature rise Delta-T that the ATIIM-modified providers use. Without a contact
 //!   estimator both are equal.
 //!
+//! Providers (selected by [`TyreModelKind`]): [`linear`], [`polynomial`] (brush), [`pacejka`]
+//! (MF 5.2 / PAC2002, `.tir` files via [`tir`]), [`dugoff`] (plain and thermal), [`atiim`]
+//! (ATIIM-modified Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
+//! [`sweep`] is the `vehsim tyre` command. Equations and conventions: docs/tyres.md.
+//!
 //! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and
 //! load in [0, 3 Fz_nominal], give zero force at zero load, and bound combined slip with a friction
 //! ellipse or the Magic Formula combined-slip functions.

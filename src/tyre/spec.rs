@@ -1,7 +1,11 @@
 //! Tyre spec files (`vehicles/tyres/*.toml`): one physical tyre, with one section per provider.
 //!
 //! A manoeuvre chooses the provider by name (`tyre_model = "linear"`); building a provider whose
-//! section is missing from the tyre file is a bad-input error naming the section.
+//! section is missing from the tyre file is a bad-input error naming the section. Sections:
+//! `[linear]`, `[polynomial]`, `[pacejka]` (a `.tir` file or inline MF coefficients),
+//! `[dugoff]`, `[dugoff_thermal]`, `[atiim_pacejka]` with `[atiim_pacejka.longitudinal]` and
+//! `[atiim_pacejka.lateral]`; every key is documented on its field below and in docs/tyres.md,
+//! and `vehicles/tyres/srtt_p225_60r16.toml` is a complete example.
 //!
 //! ```toml
 //! name = "SRTT P225/60R16 97S"
