@@ -1,15 +1,29 @@
 //! vehsim — a vehicle-dynamics simulation engine for driving on ice.
 //!
 //! Layout (one concept per module):
-//! - [`error`]: the error type and spec-value checks.
+//! - [`spec`]: vehicle and manoeuvre spec files, validated into models before anything runs.
+//! - [`vehicle`]: vehicle models as pure equations (nonlinear bicycle).
 //! - [`tyre`]: tyre-force providers behind [`tyre::TyreModel`] and the tyre spec files.
 //! - [`contact`]: per-step contact-temperature estimate (ATIIM).
-//! - [`output`]: atomic result files; [`plot`]: PNG/SVG charts.
+//! - [`control`]: PID speed controller and path-following driver.
+//! - [`maneuver`]: ISO 3888-2 and open-loop manoeuvres, reference paths.
+//! - [`sim`]: integrators and the engine that owns time.
+//! - [`run`]: one run from a spec to result files; [`cli`]: the command line.
+//! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
 
+pub mod batch;
+pub mod cli;
+pub mod compare;
 pub mod contact;
+pub mod control;
 pub mod error;
+pub mod maneuver;
 pub mod output;
 pub mod plot;
+pub mod run;
+pub mod sim;
+pub mod spec;
 pub mod tyre;
+pub mod vehicle;
 
 pub use error::{Error, Result};

@@ -26,6 +26,12 @@ pub trait ContactTemperature: Send {
     /// Advance the estimate by `h` seconds under `tyres` (one entry per tyre of the vehicle model)
     /// and write each tyre's contact temperature, degC, into `out` (same length as `tyres`).
     fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]);
+
+    /// Whether `update` reads the tyres' operating conditions (if not, the engine skips computing
+    /// them; the surface temperature is still passed).
+    fn needs_conditions(&self) -> bool {
+        true
+    }
 }
 
 /// No heating: the contact temperature equals the surface temperature.
@@ -37,5 +43,9 @@ impl ContactTemperature for Isothermal {
         for (o, t) in out.iter_mut().zip(tyres) {
             *o = t.surface_temp_c;
         }
+    }
+
+    fn needs_conditions(&self) -> bool {
+        false
     }
 }

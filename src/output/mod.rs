@@ -1,5 +1,8 @@
 //! Writing result files safely: everything goes to a temporary name in the destination folder and
-//! is renamed into place, so a reader never sees a half-written file.
+//! is renamed into place, so a reader never sees a half-written file. [`table`] reads numeric
+//! CSV tables back.
+
+pub mod table;
 
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,10 @@
-//! Charts with plotters: line charts and heat maps, each written as PNG and SVG.
+//! Charts with plotters: line charts (optionally with outlines, markers and shaded spans) and heat
+//! maps, each written as PNG and SVG. [`runs`] draws the standard charts of a results folder.
 //!
 //! The font (DejaVu Sans) comes from the `dejavu` crate as bytes, so no system font library is
 //! needed. Files are written under a temporary name and renamed (see [`crate::output`]).
+
+pub mod runs;
 
 use std::path::Path;
 use std::sync::Once;
@@ -38,6 +41,20 @@ pub struct LineChart {
     pub x_label: String,
     pub y_label: String,
     pub series: Vec<Series>,
+}
+
+/// A line chart with extra elements: closed outlines (vehicle bodies), point markers (cones),
+/// highlighted points (cone strikes) and shaded x-spans (time windows).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct XyChart {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    pub outlines: Vec<Vec<(f64, f64)>>,
+    pub markers: Vec<(f64, f64)>,
+    pub highlights: Vec<(f64, f64)>,
+    pub spans: Vec<(f64, f64)>,
 }
 
 /// A heat map of a grid: `values[row][col]`, rows along the vertical axis.
@@ -91,12 +108,18 @@ fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-fn draw_lines<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, c: &LineChart) -> std::result::Result<(), String>
+fn draw_lines<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, c: &XyChart) -> std::result::Result<(), String>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let pts = || c.series.iter().flat_map(|s| s.points.iter());
+    let pts = || {
+        c.series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .chain(c.outlines.iter().flatten().copied())
+            .chain(c.markers.iter().copied())
+    };
     let (x0, x1) = bounds(pts().map(|p| p.0));
     let (y0, y1) = bounds(pts().map(|p| p.1));
     let mut chart = ChartBuilder::on(&root)
@@ -114,6 +137,24 @@ where
         .axis_desc_style(("sans-serif", 18))
         .draw()
         .map_err(|e| e.to_string())?;
+    for &(a, b) in &c.spans {
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(a, y0), (b, y1)],
+                RGBColor(255, 200, 120).mix(0.35).filled(),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    for o in &c.outlines {
+        let mut closed = o.clone();
+        if let Some(first) = o.first() {
+            closed.push(*first);
+        }
+        chart.draw_series(std::iter::once(PathElement::new(closed, BLACK.mix(0.5)))).map_err(|e| e.to_string())?;
+    }
+    chart
+        .draw_series(c.markers.iter().map(|&(x, y)| TriangleMarker::new((x, y), 4, RGBColor(255, 120, 0).filled())))
+        .map_err(|e| e.to_string())?;
     for (i, s) in c.series.iter().enumerate() {
         let color = palette(i);
         let line: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
@@ -123,6 +164,9 @@ where
             .label(&s.label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
     }
+    chart
+        .draw_series(c.highlights.iter().map(|&(x, y)| Cross::new((x, y), 7, RED.stroke_width(3))))
+        .map_err(|e| e.to_string())?;
     if c.series.iter().any(|s| !s.label.is_empty()) {
         chart
             .configure_series_labels()
@@ -243,6 +287,18 @@ fn write_both(
 
 /// Write `chart` to `<stem>.png` and `<stem>.svg`.
 pub fn line_chart(stem: &Path, chart: &LineChart) -> Result<()> {
+    let xy = XyChart {
+        title: chart.title.clone(),
+        x_label: chart.x_label.clone(),
+        y_label: chart.y_label.clone(),
+        series: chart.series.clone(),
+        ..XyChart::default()
+    };
+    xy_chart(stem, &xy)
+}
+
+/// Write `chart` (with its outlines, markers and spans) to `<stem>.png` and `<stem>.svg`.
+pub fn xy_chart(stem: &Path, chart: &XyChart) -> Result<()> {
     write_both(
         stem,
         |p| draw_lines(BitMapBackend::new(p, SIZE).into_drawing_area(), chart),

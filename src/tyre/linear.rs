@@ -30,6 +30,8 @@ impl LinearTyre {
         let r = fz_n.max(0.0) / self.nominal_load_n;
         if r <= 0.0 {
             0.0
+        } else if self.load_exponent == 1.0 {
+            r
         } else {
             r.powf(self.load_exponent)
         }
@@ -43,9 +45,9 @@ impl TyreModel for LinearTyre {
 
     fn forces(&self, i: &TyreInput) -> TyreForces {
         let fz = i.fz_n.max(0.0);
-        let fx = self.longitudinal_stiffness(i) * i.kappa;
-        let fy = self.cornering_stiffness(i) * i.alpha_rad;
-        let (mut fx, mut fy) = (fx, fy);
+        let load = self.load_factor(fz);
+        let mut fx = self.longitudinal_stiffness_n * load * i.kappa;
+        let mut fy = self.cornering_stiffness_n_per_rad * load * i.alpha_rad;
         if self.saturate {
             let cap = i.mu_surface * fz;
             let mag = fx.hypot(fy);

@@ -1,0 +1,263 @@
+//! Command-line interface: parse arguments, validate every input before anything runs, call the
+//! library, print results, and map errors to exit codes (0 success, 1 a run failed, 2 bad input).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand};
+
+use crate::error::Error;
+use crate::output::table::Table;
+use crate::{batch, compare, run};
+
+#[derive(Debug, Parser)]
+#[command(name = "vehsim", version, about = "Vehicle-dynamics simulation for driving on ice")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run manoeuvre specs (with their sweeps) and write results/<name>/.
+    Run {
+        /// Manoeuvre spec files (TOML).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Folder for the results.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Worker threads for the runs of a sweep (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Run only the K-th of N disjoint parts of each sweep (K from 1 to N), into
+        /// results/<name>.shard-K-of-N/; join the parts with `vehsim merge`.
+        #[arg(long)]
+        shard: Option<crate::batch::Shard>,
+        /// No progress bar, no table; print nothing but errors.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Join shard folders (results/<name>.shard-K-of-N) into results/<name>/.
+    Merge {
+        /// Every shard folder of one batch.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+    },
+    /// Draw the standard charts of a results folder (one run or a batch) into <folder>/plots/.
+    Plot {
+        /// A results folder, e.g. results/dlc_ice.
+        folder: PathBuf,
+    },
+    /// Compare two time-series CSV files channel by channel; exit 0 within tolerance, 1 outside.
+    Compare {
+        /// Reference file.
+        a: PathBuf,
+        /// File compared with the reference (interpolated onto its times).
+        b: PathBuf,
+        /// Absolute tolerance of one channel, e.g. --tol yaw_rate_radps=1e-4 (repeatable).
+        #[arg(long = "tol")]
+        tol: Vec<String>,
+        /// Absolute tolerance of every channel not named by --tol.
+        #[arg(long, default_value_t = 1e-6)]
+        default_tol: f64,
+    },
+    /// Check manoeuvre specs (and the vehicle and tyre files they name); run nothing.
+    Validate {
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+    },
+    /// Time repeated runs of one spec (simulation only, no output files); prints median and min.
+    Bench {
+        file: PathBuf,
+        /// Number of timed runs.
+        #[arg(long, default_value_t = 200)]
+        runs: usize,
+    },
+}
+
+fn report(e: &Error) -> ExitCode {
+    eprintln!("error: {e}");
+    ExitCode::from(e.exit_code())
+}
+
+/// Entry point used by the binary.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Validate { files } => {
+            let mut code = ExitCode::SUCCESS;
+            for f in &files {
+                match run::load(f) {
+                    Ok(cfg) => println!(
+                        "{}: ok ({} with {} on {}, tyre model {})",
+                        f.display(),
+                        cfg.kind,
+                        cfg.vehicle.name,
+                        cfg.env.mu,
+                        cfg.tyre_model.as_str()
+                    ),
+                    Err(e) => code = report(&e),
+                }
+            }
+            code
+        }
+        Command::Run { files, out, jobs, shard, quiet } => {
+            let mut batches = Vec::new();
+            for f in &files {
+                match batch::load(f) {
+                    Ok(b) => batches.push(b),
+                    Err(e) => return report(&e),
+                }
+            }
+            let mut names = std::collections::BTreeSet::new();
+            for b in &batches {
+                if !names.insert(b.name.clone()) {
+                    return report(&Error::key(
+                        &b.spec_file,
+                        "name",
+                        format!(
+                            "'{}' is used by more than one spec in this call; results would overwrite each other",
+                            b.name
+                        ),
+                    ));
+                }
+            }
+            if jobs == Some(0) {
+                return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread"));
+            }
+            let mut code = ExitCode::SUCCESS;
+            for b in &batches {
+                let opts = batch::Options { jobs, shard, progress: !quiet };
+                let result = match batch::execute(b, &out, opts) {
+                    Ok(r) => r,
+                    Err(e) => return report(&e),
+                };
+                if result.records.iter().any(|r| r.status != "ok") {
+                    code = ExitCode::from(1);
+                }
+                if quiet {
+                    for r in result.records.iter().filter(|r| r.status != "ok") {
+                        eprintln!("{} {}: {} {}", b.name, batch::run_folder(r.index), r.status, r.message);
+                    }
+                    continue;
+                }
+                if b.is_sweep() {
+                    println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
+                    print!("{}", batch::table(&b.keys, &result.records, 40));
+                    for r in result.records.iter().filter(|r| r.status == "invalid") {
+                        println!("{}: invalid: {}", batch::run_folder(r.index), r.message);
+                    }
+                } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
+                    let verdict = match s.passed {
+                        Some(true) => "passed".to_string(),
+                        Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
+                        None => "no pass rule".to_string(),
+                    };
+                    println!(
+                        "{}: {} at t = {:.2} s, {}; peak yaw rate {:.3} rad/s, peak sideslip {:.2} deg, peak ay {:.2} m/s^2 -> {}",
+                        b.name,
+                        s.end_reason,
+                        s.end_time_s,
+                        verdict,
+                        s.peak_yaw_rate_radps,
+                        s.peak_sideslip_rad.to_degrees(),
+                        s.peak_ay_mps2,
+                        result.dir.display()
+                    );
+                }
+            }
+            code
+        }
+        Command::Merge { shards } => match batch::merge(&shards) {
+            Ok(d) => {
+                println!("merged {} shards -> {}", shards.len(), d.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
+        Command::Plot { folder } => match crate::plot::runs::plot_results(&folder, &folder) {
+            Ok(w) => {
+                for p in w {
+                    println!("{}.png, .svg", p.display());
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
+        Command::Compare { a, b, tol, default_tol } => {
+            let tols = match compare::parse_tolerances(&tol) {
+                Ok(t) => t,
+                Err(e) => return report(&Error::input(std::path::Path::new("--tol"), e)),
+            };
+            if !(default_tol.is_finite() && default_tol >= 0.0) {
+                return report(&Error::input(
+                    std::path::Path::new("--default-tol"),
+                    "expected a finite tolerance >= 0",
+                ));
+            }
+            let (ta, tb) = match (Table::read(&a), Table::read(&b)) {
+                (Ok(x), Ok(y)) => (x, y),
+                (Err(e), _) | (_, Err(e)) => return report(&e),
+            };
+            let r = match compare::compare(&a, &ta, &b, &tb, &tols, default_tol) {
+                Ok(r) => r,
+                Err(e) => return report(&e),
+            };
+            for c in &r.only_in_one {
+                println!("note: channel '{c}' is in only one file; not compared");
+            }
+            if let Some(w) = r.worst() {
+                println!(
+                    "worst channel: {} = {:.3e} at t = {} s (tolerance {:.3e})",
+                    w.channel, w.max_abs_error, w.at_t_s, w.tolerance
+                );
+            }
+            let outside: Vec<_> = r.channels.iter().filter(|c| c.ratio() > 1.0).collect();
+            if outside.is_empty() {
+                println!("within tolerance: {} channels", r.channels.len());
+                ExitCode::SUCCESS
+            } else {
+                for c in &outside {
+                    println!(
+                        "  outside: {} max error {:.3e} at t = {} s (tolerance {:.3e})",
+                        c.channel, c.max_abs_error, c.at_t_s, c.tolerance
+                    );
+                }
+                ExitCode::from(1)
+            }
+        }
+        Command::Bench { file, runs } => {
+            let cfg = match run::load(&file) {
+                Ok(c) => c,
+                Err(e) => return report(&e),
+            };
+            let runs = runs.max(1);
+            let _ = run::execute(&cfg);
+            let mut times: Vec<f64> = (0..runs)
+                .map(|_| {
+                    let t0 = Instant::now();
+                    let o = run::execute(&cfg);
+                    std::hint::black_box(&o);
+                    t0.elapsed().as_secs_f64()
+                })
+                .collect();
+            times.sort_by(|a, b| a.total_cmp(b));
+            let o = run::execute(&cfg);
+            let sim_s = o.summary.end_time_s;
+            let med = times[times.len() / 2];
+            println!(
+                "{}: {} runs of {:.2} s simulated ({} steps): median {:.3} ms, min {:.3} ms, real-time factor {:.0}",
+                cfg.name,
+                runs,
+                sim_s,
+                o.summary.steps,
+                med * 1e3,
+                times[0] * 1e3,
+                sim_s / med
+            );
+            ExitCode::SUCCESS
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! Trajectory comparison: two time-series CSV files channel by channel, with per-channel absolute
+//! tolerances. The second file is interpolated linearly onto the first file's times (`t_s`), so the
+//! two need not share a sampling. Both NaN counts as equal (an empty field, e.g. no speed target
+//! while coasting); one NaN against a number is an infinite error. The time ranges must agree:
+//! a run that ended earlier or later fails the comparison on the `t_s` channel.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::output::table::Table;
+
+/// Worst disagreement of one channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChannelError {
+    pub channel: String,
+    /// Largest |a - b|.
+    pub max_abs_error: f64,
+    /// Time of that error, s.
+    pub at_t_s: f64,
+    pub tolerance: f64,
+}
+
+impl ChannelError {
+    /// Error relative to the tolerance (> 1 means out of tolerance).
+    pub fn ratio(&self) -> f64 {
+        if self.tolerance > 0.0 {
+            self.max_abs_error / self.tolerance
+        } else if self.max_abs_error == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// Result of a comparison: every common channel, worst first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    pub channels: Vec<ChannelError>,
+    /// Channels present in only one of the files.
+    pub only_in_one: Vec<String>,
+}
+
+impl Report {
+    /// True when every channel is within its tolerance.
+    pub fn within(&self) -> bool {
+        self.channels.iter().all(|c| c.ratio() <= 1.0)
+    }
+    /// The channel with the largest error relative to its tolerance.
+    pub fn worst(&self) -> Option<&ChannelError> {
+        self.channels.first()
+    }
+}
+
+/// Parse `channel=value` tolerance arguments.
+pub fn parse_tolerances(args: &[String]) -> std::result::Result<BTreeMap<String, f64>, String> {
+    let mut m = BTreeMap::new();
+    for a in args {
+        let (k, v) = a.split_once('=').ok_or_else(|| format!("--tol '{a}': expected channel=value"))?;
+        let v: f64 = v.trim().parse().map_err(|_| format!("--tol '{a}': '{v}' is not a number"))?;
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(format!("--tol '{a}': expected a finite tolerance >= 0"));
+        }
+        m.insert(k.trim().to_string(), v);
+    }
+    Ok(m)
+}
+
+fn interp(ts: &[f64], ys: &[f64], t: f64) -> f64 {
+    let i = ts.partition_point(|v| *v < t);
+    if i < ts.len() && ts[i] == t {
+        return ys[i];
+    }
+    if i == 0 || i >= ts.len() {
+        return f64::NAN;
+    }
+    let (t0, t1) = (ts[i - 1], ts[i]);
+    let u = (t - t0) / (t1 - t0);
+    ys[i - 1] + u * (ys[i] - ys[i - 1])
+}
+
+/// Compare table `b` against table `a` (reference) with `tolerances` (absolute, per channel) and
+/// `default_tol` for channels not named. `a_path`/`b_path` name the files in errors.
+pub fn compare(
+    a_path: &Path,
+    a: &Table,
+    b_path: &Path,
+    b: &Table,
+    tolerances: &BTreeMap<String, f64>,
+    default_tol: f64,
+) -> Result<Report> {
+    let ta = a.column("t_s").ok_or_else(|| Error::input(a_path, "no 't_s' column"))?;
+    let tb = b.column("t_s").ok_or_else(|| Error::input(b_path, "no 't_s' column"))?;
+    if tb.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(Error::input(b_path, "column 't_s' is not strictly increasing"));
+    }
+    for k in tolerances.keys() {
+        if a.column(k).is_none() && b.column(k).is_none() {
+            return Err(Error::input(a_path, format!("--tol names channel '{k}', which neither file has")));
+        }
+    }
+    let mut channels = Vec::new();
+    // The time channel: the ranges must match within the t_s tolerance.
+    let t_tol = tolerances.get("t_s").copied().unwrap_or(default_tol);
+    let (a0, a1) = (ta.first().copied().unwrap_or(0.0), ta.last().copied().unwrap_or(0.0));
+    let (b0, b1) = (tb.first().copied().unwrap_or(0.0), tb.last().copied().unwrap_or(0.0));
+    let (dt, at) = if (a0 - b0).abs() > (a1 - b1).abs() { ((a0 - b0).abs(), a0) } else { ((a1 - b1).abs(), a1) };
+    channels.push(ChannelError { channel: "t_s".into(), max_abs_error: dt, at_t_s: at, tolerance: t_tol });
+    let mut only_in_one = Vec::new();
+    for name in &a.columns {
+        if name == "t_s" {
+            continue;
+        }
+        let (Some(ya), Some(yb)) = (a.column(name), b.column(name)) else {
+            only_in_one.push(name.clone());
+            continue;
+        };
+        let tol = tolerances.get(name).copied().unwrap_or(default_tol);
+        let mut worst = ChannelError {
+            channel: name.clone(),
+            max_abs_error: 0.0,
+            at_t_s: ta.first().copied().unwrap_or(0.0),
+            tolerance: tol,
+        };
+        for (t, va) in ta.iter().zip(ya) {
+            if *t < b0 || *t > b1 {
+                continue;
+            }
+            let vb = interp(tb, yb, *t);
+            let err = match (va.is_nan(), vb.is_nan()) {
+                (true, true) => 0.0,
+                (false, false) => (va - vb).abs(),
+                _ => f64::INFINITY,
+            };
+            if err > worst.max_abs_error {
+                worst.max_abs_error = err;
+                worst.at_t_s = *t;
+            }
+        }
+        channels.push(worst);
+    }
+    only_in_one.extend(b.columns.iter().filter(|c| a.column(c).is_none()).cloned());
+    channels.sort_by(|p, q| q.ratio().total_cmp(&p.ratio()).then_with(|| p.channel.cmp(&q.channel)));
+    Ok(Report { channels, only_in_one })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(text: &str) -> Table {
+        Table::parse(Path::new("x.csv"), text).unwrap()
+    }
+
+    #[test]
+    fn identical_passes_and_a_perturbation_is_found_with_its_time() {
+        let a = t("t_s,y,z\n0,0,1\n0.1,1,1\n0.2,2,1\n");
+        let p = Path::new("a.csv");
+        let r = compare(p, &a, p, &a, &BTreeMap::new(), 0.0).unwrap();
+        assert!(r.within());
+        let b = t("t_s,y,z\n0,0,1\n0.1,1.5,1\n0.2,2,1\n");
+        let r = compare(p, &a, p, &b, &BTreeMap::new(), 1e-6).unwrap();
+        assert!(!r.within());
+        let w = r.worst().unwrap();
+        assert_eq!((w.channel.as_str(), w.at_t_s), ("y", 0.1));
+        assert!((w.max_abs_error - 0.5).abs() < 1e-12);
+        let tol = parse_tolerances(&["y=0.6".to_string()]).unwrap();
+        assert!(compare(p, &a, p, &b, &tol, 1e-6).unwrap().within());
+    }
+
+    #[test]
+    fn interpolates_the_second_file_and_flags_a_shorter_run() {
+        let a = t("t_s,y\n0,0\n0.1,1\n0.2,2\n");
+        let b = t("t_s,y\n0,0\n0.05,0.5\n0.2,2\n");
+        let p = Path::new("a.csv");
+        assert!(compare(p, &a, p, &b, &BTreeMap::new(), 1e-12).unwrap().within());
+        let short = t("t_s,y\n0,0\n0.1,1\n");
+        let r = compare(p, &a, p, &short, &BTreeMap::new(), 1e-9).unwrap();
+        assert_eq!(r.worst().unwrap().channel, "t_s");
+        assert!(!r.within());
+    }
+}

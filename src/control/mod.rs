@@ -1,0 +1,8 @@
+//! Controllers sampled by the engine once per step and held over it: the PID speed controller and
+//! the path-following driver. They see only the vehicle's kinematics, never its internal state.
+
+pub mod driver;
+pub mod pid;
+
+pub use driver::{Driver, DriverParams};
+pub use pid::{Pid, PidParams};

@@ -1,0 +1,69 @@
+//! Manoeuvres: what the driver is asked to do (steer and speed commands), when the run is over,
+//! and the manoeuvre's own pass/fail rule. A manoeuvre sees the vehicle's kinematics only.
+
+pub mod iso3888_2;
+pub mod open_loop;
+pub mod path;
+
+use serde::Serialize;
+
+use crate::vehicle::Kinematics;
+
+/// What the manoeuvre asks of the vehicle for the next step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Command {
+    /// Desired road-wheel steer angle, rad (the engine applies the steering limits).
+    pub steer_rad: f64,
+    /// Speed target for the PID, m/s; `None` releases the throttle and brake (coasting).
+    pub speed_target_mps: Option<f64>,
+}
+
+/// Something that happened during a run, with its time.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Event {
+    /// Time, s.
+    pub t_s: f64,
+    /// `cone_strike`, `spin_out`, `diverged`, `course_complete`, ...
+    pub kind: String,
+    /// Human-readable detail (which gate and side, which state went non-finite, ...).
+    pub detail: String,
+}
+
+/// A manoeuvre's verdict at the end of a run.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Outcome {
+    /// Pass/fail where the manoeuvre has a rule (ISO 3888-2: no cone hit), else `None`.
+    pub passed: Option<bool>,
+    /// Number of distinct gate boundaries struck.
+    pub cones_hit: usize,
+}
+
+/// Starting pose and speed: CG position (m), yaw (rad) and forward speed (m/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Start {
+    pub x_m: f64,
+    pub y_m: f64,
+    pub yaw_rad: f64,
+    pub speed_mps: f64,
+}
+
+/// A manoeuvre, driven by the engine once per step.
+pub trait Maneuver: Send {
+    /// Where and how fast the vehicle starts.
+    fn start(&self) -> Start;
+    /// Command for the step starting at `t` with the vehicle at `kin`.
+    fn command(&mut self, t: f64, kin: &Kinematics) -> Command;
+    /// Signed lateral deviation of the CG from the reference path at the last command, m
+    /// (`None` for open-loop manoeuvres).
+    fn path_error_m(&self) -> Option<f64>;
+    /// Called after each step with the new kinematics; pushes events; returns true when the
+    /// manoeuvre is complete and the run should stop.
+    fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool;
+    /// Verdict so far.
+    fn outcome(&self) -> Outcome;
+
+    /// The course for plots (gates, reference path, body outline), as JSON; `None` if there is none.
+    fn layout(&self) -> Option<serde_json::Value> {
+        None
+    }
+}

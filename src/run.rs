@@ -1,0 +1,241 @@
+//! One run from a manoeuvre spec: build the model and manoeuvre from a validated [`RunConfig`],
+//! simulate (no I/O), and write `results/<name>/timeseries.csv` and `summary.json` atomically
+//! (into a temporary folder renamed into place).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::contact::Isothermal;
+use crate::error::{Error, Result};
+use crate::maneuver::iso3888_2::{Body, Iso3888_2};
+use crate::maneuver::open_loop::OpenLoop;
+use crate::maneuver::Maneuver;
+use crate::output::{create_dir, write_atomic};
+use crate::sim::{simulate, Controls, Recorder, Row, Summary};
+use crate::spec::maneuver::ManeuverConfig;
+use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
+use crate::spec::{ManeuverFile, RunConfig};
+use crate::vehicle::Bicycle;
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    pub summary: Summary,
+    pub rows: Vec<Row>,
+}
+
+/// Load and validate a manoeuvre spec (with its vehicle and tyre files).
+pub fn load(path: &Path) -> Result<RunConfig> {
+    ManeuverFile::load(path)?.build(path)
+}
+
+/// Torque at the wheels that holds `speed` against drag and rolling resistance, N m.
+pub fn cruise_torque_nm(v: &Vehicle, speed: f64) -> f64 {
+    let f = 0.5 * AIR_DENSITY * v.drag_area_m2 * speed * speed + v.rolling_resistance * v.mass_kg * GRAVITY;
+    f * v.tyre.rolling_radius_m
+}
+
+/// Actuator limits and controller gains of a run.
+pub fn controls(cfg: &RunConfig, start_speed: f64) -> Controls {
+    let v = &cfg.vehicle;
+    Controls {
+        pid: cfg.pid,
+        drive_max_nm: v.drive_torque_max_nm,
+        brake_max_nm: v.brake_torque_max_nm,
+        preload_nm: cruise_torque_nm(v, start_speed),
+        steer_max_rad: v.steer_max_rad,
+        steer_rate_max_radps: v.steer_rate_max_radps,
+    }
+}
+
+/// The manoeuvre of a run, ready to drive.
+pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
+    let v = &cfg.vehicle;
+    match &cfg.maneuver {
+        ManeuverConfig::Iso3888_2(p) => {
+            let body = Body {
+                width_m: v.body_width_m,
+                front_m: v.a_m + v.front_overhang_m,
+                rear_m: v.b_m + v.rear_overhang_m(),
+                wheelbase_m: v.wheelbase_m(),
+            };
+            Box::new(Iso3888_2::new(*p, body, cfg.driver))
+        }
+        ManeuverConfig::OpenLoop { steer, speed } => Box::new(OpenLoop { steer: steer.clone(), speed: speed.clone() }),
+    }
+}
+
+/// Simulate a validated run (no I/O).
+pub fn execute(cfg: &RunConfig) -> RunOutput {
+    let model = Bicycle::new(cfg.vehicle.clone());
+    let mut maneuver = build_maneuver(cfg);
+    let ctl = controls(cfg, maneuver.start().speed_mps);
+    let mut recorder = Recorder::default();
+    let mut contact = Isothermal;
+    let summary = simulate(&model, cfg.env, maneuver.as_mut(), &mut contact, &ctl, &cfg.settings, &mut recorder);
+    RunOutput { summary, rows: recorder.rows }
+}
+
+/// `summary.json`: the run's identity plus the engine's figures.
+#[derive(Debug, Serialize)]
+struct SummaryFile<'a> {
+    name: &'a str,
+    spec: String,
+    /// Swept parameters of this run within its batch (empty for a single run).
+    params: serde_json::Map<String, serde_json::Value>,
+    vehicle: &'a str,
+    tyre: &'a str,
+    tyre_model: &'static str,
+    maneuver: &'static str,
+    mu: f64,
+    surface_temperature_c: f64,
+    integrator: &'static str,
+    step_s: f64,
+    #[serde(flatten)]
+    summary: &'a Summary,
+}
+
+/// Column names of timeseries.csv, units in the names.
+pub const COLUMNS: &[&str] = &[
+    "t_s",
+    "x_m",
+    "y_m",
+    "yaw_rad",
+    "vx_mps",
+    "vy_mps",
+    "yaw_rate_radps",
+    "sideslip_rad",
+    "ax_mps2",
+    "ay_mps2",
+    "steer_rad",
+    "alpha_front_rad",
+    "alpha_rear_rad",
+    "kappa_front",
+    "kappa_rear",
+    "fx_front_n",
+    "fy_front_n",
+    "fx_rear_n",
+    "fy_rear_n",
+    "omega_front_radps",
+    "omega_rear_radps",
+    "drive_torque_nm",
+    "brake_torque_nm",
+    "speed_target_mps",
+    "path_error_m",
+    "contact_temp_front_c",
+    "contact_temp_rear_c",
+];
+
+fn row_values(r: &Row) -> [f64; 27] {
+    let o = &r.obs;
+    let k = &o.kin;
+    [
+        r.t_s,
+        k.x_m,
+        k.y_m,
+        k.yaw_rad,
+        k.vx_mps,
+        k.vy_mps,
+        k.yaw_rate_radps,
+        k.sideslip_rad(),
+        o.ax_mps2,
+        o.ay_mps2,
+        r.inputs.steer_rad,
+        o.alpha_rad[0],
+        o.alpha_rad[1],
+        o.kappa[0],
+        o.kappa[1],
+        o.fx_n[0],
+        o.fy_n[0],
+        o.fx_n[1],
+        o.fy_n[1],
+        o.omega_radps[0],
+        o.omega_radps[1],
+        r.inputs.drive_torque_nm,
+        r.inputs.brake_torque_nm,
+        r.speed_target_mps,
+        r.path_error_m,
+        r.inputs.contact_temp_c[0],
+        r.inputs.contact_temp_c[1],
+    ]
+}
+
+/// The CSV text of a run's rows (non-finite values, e.g. no speed target while coasting, are empty).
+pub fn timeseries_csv(rows: &[Row]) -> String {
+    let mut s = String::with_capacity(rows.len() * 400);
+    s.push_str(&COLUMNS.join(","));
+    s.push('\n');
+    for r in rows {
+        for (i, v) in row_values(r).iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            if v.is_finite() {
+                let _ = write!(s, "{v}");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Write a run's files into the existing folder `dir`: timeseries.csv (unless switched off),
+/// summary.json and, for manoeuvres with a course, layout.json. `params` are the swept values.
+pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -> Result<()> {
+    if cfg.output.timeseries {
+        write_atomic(&dir.join("timeseries.csv"), timeseries_csv(&out.rows).as_bytes())?;
+    }
+    let sf = SummaryFile {
+        name: &cfg.name,
+        spec: cfg.spec_file.display().to_string(),
+        params: params.iter().map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone()))).collect(),
+        vehicle: &cfg.vehicle.name,
+        tyre: &cfg.vehicle.tyre.name,
+        tyre_model: cfg.tyre_model.as_str(),
+        maneuver: cfg.kind,
+        mu: cfg.env.mu,
+        surface_temperature_c: cfg.env.surface_temp_c,
+        integrator: cfg.settings.method.name(),
+        step_s: cfg.settings.step_s,
+        summary: &out.summary,
+    };
+    let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
+    write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;
+    if let Some(layout) = build_maneuver(cfg).layout() {
+        let json = serde_json::to_string_pretty(&layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
+        write_atomic(&dir.join("layout.json"), (json + "\n").as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Fill a fresh temporary folder next to `final_dir` with `fill`, then replace `final_dir` by it.
+/// On any error the temporary folder is removed and `final_dir` is left as it was.
+pub fn write_dir_atomic(final_dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let parent = final_dir.parent().unwrap_or_else(|| Path::new("."));
+    create_dir(parent)?;
+    let name = final_dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = parent.join(format!(".{name}.tmp{}", std::process::id()));
+    if tmp.exists() {
+        std::fs::remove_dir_all(&tmp).map_err(|e| Error::Io { path: tmp.clone(), source: e })?;
+    }
+    create_dir(&tmp)?;
+    let result = fill(&tmp).and_then(|_| {
+        if final_dir.exists() {
+            std::fs::remove_dir_all(final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })?;
+        }
+        std::fs::rename(&tmp, final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    result
+}
+
+/// Write a single run's files into `out_root/<name>/` atomically; returns the folder.
+pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Result<PathBuf> {
+    let final_dir = out_root.join(&cfg.name);
+    write_dir_atomic(&final_dir, |tmp| write_run_files(tmp, cfg, out, &[]))?;
+    Ok(final_dir)
+}

@@ -1,0 +1,10 @@
+//! Time stepping: the integrators and the engine that owns time, samples the controllers, updates
+//! the contact temperature, advances the state and notifies observers.
+
+pub mod engine;
+pub mod integrator;
+pub mod observer;
+
+pub use engine::{simulate, Controls, SimSettings, Summary};
+pub use integrator::Method;
+pub use observer::{Observer, Recorder, Row};

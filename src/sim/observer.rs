@@ -1,0 +1,37 @@
+//! Observers: what the engine tells the outside world after each recorded step. Output files,
+//! progress and plots subscribe here; the engine itself does no I/O.
+
+use crate::vehicle::{Inputs, Observation};
+
+/// One recorded instant: the state at `t_s` and the inputs held over the following step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    pub t_s: f64,
+    pub obs: Observation,
+    pub inputs: Inputs,
+    /// Speed target of the PID, m/s (NaN while coasting).
+    pub speed_target_mps: f64,
+    /// Signed lateral deviation from the reference path, m (NaN for open-loop manoeuvres).
+    pub path_error_m: f64,
+}
+
+/// Receives recorded rows. All methods have no-op defaults.
+pub trait Observer {
+    fn record(&mut self, _row: &Row) {}
+}
+
+/// Observer that does nothing.
+pub struct NoOutput;
+impl Observer for NoOutput {}
+
+/// Keeps every recorded row in memory.
+#[derive(Debug, Default, Clone)]
+pub struct Recorder {
+    pub rows: Vec<Row>,
+}
+
+impl Observer for Recorder {
+    fn record(&mut self, row: &Row) {
+        self.rows.push(*row);
+    }
+}

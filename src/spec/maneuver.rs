@@ -1,0 +1,528 @@
+//! Manoeuvre spec (`maneuvers/*.toml`) and the validated [`RunConfig`].
+//!
+//! ```toml
+//! name = "dlc_ice"                      # output folder results/<name>
+//! vehicle = "../vehicles/sedan.toml"    # relative to this file
+//! tyre_model = "linear"                 # a provider with a section in the vehicle's tyre file
+//! duration_s = 15.0                     # longest simulated time, s
+//! [surface]
+//! mu = 0.15                             # peak friction coefficient
+//! temperature_c = -3.0                  # ice surface temperature, degC
+//! [maneuver]
+//! kind = "iso3888_2"                    # or sine_steer, step_steer, straight
+//! speed_mps = 10.0
+//! speed_mode = "hold"                   # or "coast" (ISO: throttle released at the entry gate)
+//! [speed_control]                       # PID, N m per m/s
+//! kp = 2000.0
+//! ki = 1000.0
+//! [driver]
+//! preview_time_s = 0.55
+//! [integrator]
+//! method = "rk4"                        # or dopri5, dop853
+//! step_s = 0.001
+//! [output]
+//! interval_s = 0.01
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::vehicle::{Vehicle, VehicleFile};
+use crate::control::{DriverParams, PidParams};
+use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
+use crate::maneuver::iso3888_2::{Iso3888_2Params, SpeedMode};
+use crate::maneuver::open_loop::{SpeedSchedule, SteerProfile};
+use crate::sim::{Method, SimSettings};
+use crate::tyre::TyreModelKind;
+use crate::vehicle::Environment;
+
+/// `[surface]`: the road.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSection {
+    /// Peak friction coefficient, (0, 2] (ice 0.05–0.2, snow 0.2–0.4, dry asphalt 0.9–1.1).
+    pub mu: f64,
+    /// Surface (ice) temperature, degC, in [-60, 40].
+    #[serde(default = "minus_three")]
+    pub temperature_c: f64,
+}
+
+fn minus_three() -> f64 {
+    -3.0
+}
+
+/// ISO 3888-2 speed mode as written in specs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpeedModeSpec {
+    Hold,
+    Coast,
+}
+
+fn default_approach() -> f64 {
+    30.0
+}
+fn default_exit() -> f64 {
+    20.0
+}
+fn default_lane5() -> f64 {
+    3.0
+}
+fn default_clearance() -> f64 {
+    0.1
+}
+fn default_period() -> f64 {
+    10.0
+}
+fn default_ramp() -> f64 {
+    0.2
+}
+
+/// `[maneuver]` with `kind = "iso3888_2"`: ISO 3888-2 severe lane change with the path-following driver.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Iso3888_2Spec {
+    /// Entry speed, m/s (> 0).
+    pub speed_mps: f64,
+    /// `hold` (PID all the way) or `coast` (throttle released at the entry gate).
+    #[serde(default = "hold")]
+    pub speed_mode: SpeedModeSpec,
+    /// Straight run-up before the entry gate, m (default 30).
+    #[serde(default = "default_approach")]
+    pub approach_m: f64,
+    /// Distance after the exit gate before the run ends, m (default 20).
+    #[serde(default = "default_exit")]
+    pub exit_m: f64,
+    /// Lower bound on the lane-5 width, m (default 3.0, our reading of the standard).
+    #[serde(default = "default_lane5")]
+    pub lane5_min_width_m: f64,
+    /// Clearance the reference path keeps between the body and the gate boundaries, m (default 0.1).
+    #[serde(default = "default_clearance")]
+    pub clearance_m: f64,
+}
+
+/// `[maneuver]` with `kind = "sine_steer"`: open-loop sine steer at a held speed (dissertation Fig. 6.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SineSteerSpec {
+    pub speed_mps: f64,
+    /// Road-wheel amplitude, degrees.
+    pub steer_amplitude_deg: f64,
+    /// Sine period, s (default 10).
+    #[serde(default = "default_period")]
+    pub period_s: f64,
+    /// Start of the sine, s (default 0).
+    #[serde(default)]
+    pub start_s: f64,
+}
+
+/// `[maneuver]` with `kind = "step_steer"`: open-loop ramped step steer at a held speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepSteerSpec {
+    pub speed_mps: f64,
+    /// Road-wheel angle, degrees.
+    pub steer_amplitude_deg: f64,
+    /// Start of the ramp, s (default 0).
+    #[serde(default)]
+    pub start_s: f64,
+    /// Ramp duration, s (default 0.2).
+    #[serde(default = "default_ramp")]
+    pub ramp_s: f64,
+}
+
+/// `[maneuver]` with `kind = "straight"`: straight running following a speed schedule.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StraightSpec {
+    /// [[t_s, v_mps], ...], piecewise linear, held beyond the ends.
+    pub speed_schedule: Vec<[f64; 2]>,
+}
+
+/// A parsed `[maneuver]` table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ManeuverSpec {
+    Iso3888_2(Iso3888_2Spec),
+    SineSteer(SineSteerSpec),
+    StepSteer(StepSteerSpec),
+    Straight(StraightSpec),
+}
+
+/// The manoeuvre kinds accepted in `[maneuver] kind`.
+pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight"];
+
+impl ManeuverSpec {
+    /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
+    /// checked with their full path (`maneuver.speed_mps`) in any message.
+    pub fn from_table(path: &Path, table: &toml::Table) -> Result<Self> {
+        let kind = match table.get("kind") {
+            Some(toml::Value::String(k)) => k.clone(),
+            Some(_) => return Err(Error::key(path, "maneuver.kind", "expected a string")),
+            None => {
+                return Err(Error::key(
+                    path,
+                    "maneuver.kind",
+                    format!("missing; allowed: {}", MANEUVER_KINDS.join(", ")),
+                ))
+            }
+        };
+        let mut rest = table.clone();
+        rest.remove("kind");
+        fn parse<T: serde::de::DeserializeOwned>(path: &Path, t: toml::Table) -> Result<T> {
+            serde_path_to_error::deserialize(toml::Value::Table(t)).map_err(|e| {
+                let key = e.path().to_string();
+                let key = if key.is_empty() || key == "." { "maneuver".to_string() } else { format!("maneuver.{key}") };
+                // The toml value deserializer appends "in `key`" on a second line; the key is named already.
+                let msg = e.into_inner().to_string();
+                Error::key(path, &key, msg.lines().next().unwrap_or_default())
+            })
+        }
+        Ok(match kind.as_str() {
+            "iso3888_2" => ManeuverSpec::Iso3888_2(parse(path, rest)?),
+            "sine_steer" => ManeuverSpec::SineSteer(parse(path, rest)?),
+            "step_steer" => ManeuverSpec::StepSteer(parse(path, rest)?),
+            "straight" => ManeuverSpec::Straight(parse(path, rest)?),
+            other => {
+                return Err(Error::key(
+                    path,
+                    "maneuver.kind",
+                    format!("unknown kind '{other}'; allowed: {}", MANEUVER_KINDS.join(", ")),
+                ))
+            }
+        })
+    }
+}
+
+fn hold() -> SpeedModeSpec {
+    SpeedModeSpec::Hold
+}
+
+/// `[integrator]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSection {
+    /// `rk4` (fixed step), `dopri5` or `dop853` (adaptive between controller samples).
+    #[serde(default = "rk4")]
+    pub method: String,
+    /// Step and controller sample period, s, in (0, 0.01] (default 0.001).
+    #[serde(default = "ms")]
+    pub step_s: f64,
+    /// Controller sample period, s: a whole multiple of step_s (default: step_s).
+    #[serde(default)]
+    pub control_period_s: Option<f64>,
+    /// Relative and absolute tolerance of the adaptive methods.
+    #[serde(default = "rtol")]
+    pub rtol: f64,
+    #[serde(default = "atol")]
+    pub atol: f64,
+}
+
+fn rk4() -> String {
+    "rk4".into()
+}
+fn ms() -> f64 {
+    0.001
+}
+fn rtol() -> f64 {
+    1e-8
+}
+fn atol() -> f64 {
+    1e-10
+}
+
+impl Default for IntegratorSection {
+    fn default() -> Self {
+        Self { method: rk4(), step_s: ms(), control_period_s: None, rtol: rtol(), atol: atol() }
+    }
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Interval between rows of timeseries.csv, s (rounded to whole steps; default 0.01).
+    #[serde(default = "cs")]
+    pub interval_s: f64,
+    /// Write timeseries.csv (default true; large sweeps may want only the summaries).
+    #[serde(default = "yes")]
+    pub timeseries: bool,
+    /// Draw the comparison plots after a run or batch (default true; skipped above 24 runs).
+    #[serde(default = "yes")]
+    pub plots: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn cs() -> f64 {
+    0.01
+}
+
+impl Default for OutputSection {
+    fn default() -> Self {
+        Self { interval_s: cs(), timeseries: true, plots: true }
+    }
+}
+
+/// Raw manoeuvre file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManeuverFile {
+    /// Run name: the output folder `results/<name>`; letters, digits, `_`, `-`, `.`.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: Option<String>,
+    /// Vehicle file, relative to this file.
+    pub vehicle: String,
+    /// Tyre provider name.
+    pub tyre_model: String,
+    /// Longest simulated time, s (ISO 3888-2: default from the course length and speed).
+    #[serde(default)]
+    pub duration_s: Option<f64>,
+    pub surface: SurfaceSection,
+    /// The manoeuvre table; its `kind` selects the parameter set (see [`ManeuverSpec`]).
+    pub maneuver: toml::Table,
+    #[serde(default)]
+    pub speed_control: PidParams,
+    #[serde(default)]
+    pub driver: DriverParams,
+    #[serde(default)]
+    pub integrator: IntegratorSection,
+    #[serde(default)]
+    pub output: OutputSection,
+    /// Sweeps: dotted spec paths (`tyre_model`, `"surface.mu"`, `"maneuver.speed_mps"`, `vehicle`,
+    /// any numeric key) mapped to lists of values; the batch runs their full product.
+    #[serde(default)]
+    pub sweep: Option<toml::Table>,
+}
+
+/// The validated manoeuvre, ready to instantiate.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ManeuverConfig {
+    Iso3888_2(Iso3888_2Params),
+    OpenLoop { steer: SteerProfile, speed: SpeedSchedule },
+}
+
+/// A fully validated run.
+#[derive(Debug, Clone)]
+pub struct RunConfig {
+    pub spec_file: PathBuf,
+    pub name: String,
+    pub vehicle_file: PathBuf,
+    pub vehicle: Vehicle,
+    pub tyre_model: TyreModelKind,
+    pub env: Environment,
+    pub maneuver: ManeuverConfig,
+    pub kind: &'static str,
+    pub pid: PidParams,
+    pub driver: DriverParams,
+    pub settings: SimSettings,
+    /// Output switches.
+    pub output: OutputSection,
+}
+
+/// Is `name` usable as a results folder name?
+fn valid_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.len() <= 100
+        && !name.starts_with('.')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+}
+
+impl ManeuverFile {
+    pub fn load(path: &Path) -> Result<Self> {
+        parse_toml(path, &read_input(path)?)
+    }
+
+    /// Parse an already-read TOML table (used for sweep combinations), naming keys by their path.
+    pub fn from_table(path: &Path, table: toml::Table) -> Result<Self> {
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let key = e.path().to_string();
+            let msg = e.into_inner().to_string();
+            Error::key(path, &key, msg.lines().next().unwrap_or_default())
+        })
+    }
+
+    /// Validate everything (the vehicle and tyre files included) into a [`RunConfig`].
+    pub fn build(&self, path: &Path) -> Result<RunConfig> {
+        let c = Checker::new(path);
+        if !valid_name(&self.name) {
+            return Err(Error::key(
+                path,
+                "name",
+                format!(
+                    "'{}' is not a usable folder name; use 1-100 letters, digits, '_', '-', '.', not starting with '.'",
+                    self.name
+                ),
+            ));
+        }
+        let tyre_model: TyreModelKind =
+            self.tyre_model.parse().map_err(|e: String| Error::key(path, "tyre_model", e))?;
+        c.require(
+            "surface.mu",
+            self.surface.mu,
+            self.surface.mu > 0.0 && self.surface.mu <= 2.0,
+            "expected 0 < mu <= 2",
+        )?;
+        c.range("surface.temperature_c", self.surface.temperature_c, -60.0, 40.0)?;
+        let p = &self.speed_control;
+        c.non_negative("speed_control.kp", p.kp)?;
+        c.non_negative("speed_control.ki", p.ki)?;
+        c.non_negative("speed_control.kd", p.kd)?;
+        let d = &self.driver;
+        c.range("driver.preview_time_s", d.preview_time_s, 0.0, 5.0)?;
+        c.range("driver.preview_min_m", d.preview_min_m, 0.5, 100.0)?;
+        c.range("driver.gain", d.gain, 0.0, 5.0)?;
+        let i = &self.integrator;
+        c.require(
+            "integrator.step_s",
+            i.step_s,
+            i.step_s > 0.0 && i.step_s <= 0.01,
+            "expected 0 < step_s <= 0.01 (s)",
+        )?;
+        let control_period_s = match i.control_period_s {
+            None => i.step_s,
+            Some(cp) => {
+                let m = (cp / i.step_s).round();
+                c.require(
+                    "integrator.control_period_s",
+                    cp,
+                    cp > 0.0 && cp <= 1.0 && m >= 1.0 && ((m * i.step_s - cp).abs() <= 1e-9 * cp),
+                    "expected a whole multiple of step_s, at most 1 s",
+                )?
+            }
+        };
+        let method = match i.method.as_str() {
+            "rk4" => Method::Rk4,
+            "dopri5" | "dop853" => {
+                c.require("integrator.rtol", i.rtol, i.rtol > 0.0 && i.rtol < 1.0, "expected 0 < rtol < 1")?;
+                c.require("integrator.atol", i.atol, i.atol > 0.0 && i.atol < 1.0, "expected 0 < atol < 1")?;
+                if i.method == "dopri5" {
+                    Method::Dopri5 { rtol: i.rtol, atol: i.atol }
+                } else {
+                    Method::Dop853 { rtol: i.rtol, atol: i.atol }
+                }
+            }
+            other => {
+                return Err(Error::key(
+                    path,
+                    "integrator.method",
+                    format!("unknown method '{other}'; allowed: rk4, dopri5, dop853"),
+                ))
+            }
+        };
+        c.require(
+            "output.interval_s",
+            self.output.interval_s,
+            self.output.interval_s > 0.0 && self.output.interval_s <= 10.0,
+            "expected 0 < interval_s <= 10 (s)",
+        )?;
+        let (maneuver, kind, default_duration) = self.build_maneuver(&c)?;
+        let duration_s = match self.duration_s {
+            Some(v) => c.require("duration_s", v, v > 0.0 && v <= 3600.0, "expected 0 < duration_s <= 3600 (s)")?,
+            None => default_duration
+                .ok_or_else(|| Error::key(path, "duration_s", "required for this manoeuvre kind (s)"))?,
+        };
+        let vehicle_file = resolve(path, &self.vehicle);
+        let vehicle = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+        Ok(RunConfig {
+            spec_file: path.to_path_buf(),
+            name: self.name.clone(),
+            vehicle_file,
+            vehicle,
+            tyre_model,
+            env: Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c },
+            maneuver,
+            kind,
+            pid: *p,
+            driver: *d,
+            settings: SimSettings {
+                method,
+                step_s: i.step_s,
+                control_period_s,
+                duration_s,
+                output_interval_s: self.output.interval_s,
+            },
+            output: self.output.clone(),
+        })
+    }
+
+    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, &'static str, Option<f64>)> {
+        let speed =
+            |v: f64| c.require("maneuver.speed_mps", v, v > 0.0 && v <= 100.0, "expected 0 < speed_mps <= 100 (m/s)");
+        let steer = |v: f64| c.range("maneuver.steer_amplitude_deg", v, -60.0, 60.0);
+        Ok(match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
+            ManeuverSpec::Iso3888_2(Iso3888_2Spec {
+                speed_mps,
+                speed_mode,
+                approach_m,
+                exit_m,
+                lane5_min_width_m,
+                clearance_m,
+            }) => {
+                let v = speed(*speed_mps)?;
+                c.range("maneuver.approach_m", *approach_m, 5.0, 1000.0)?;
+                c.range("maneuver.exit_m", *exit_m, 0.0, 1000.0)?;
+                c.range("maneuver.lane5_min_width_m", *lane5_min_width_m, 0.0, 10.0)?;
+                c.range("maneuver.clearance_m", *clearance_m, 0.0, 0.5)?;
+                let mode = match speed_mode {
+                    SpeedModeSpec::Hold => SpeedMode::Hold,
+                    SpeedModeSpec::Coast => SpeedMode::Coast,
+                };
+                let dist = approach_m + 61.0 + exit_m;
+                let params = Iso3888_2Params {
+                    speed_mps: v,
+                    mode,
+                    approach_m: *approach_m,
+                    exit_m: *exit_m,
+                    lane5_min_width_m: *lane5_min_width_m,
+                    clearance_m: *clearance_m,
+                };
+                (ManeuverConfig::Iso3888_2(params), "iso3888_2", Some(2.0 * dist / v + 5.0))
+            }
+            ManeuverSpec::SineSteer(SineSteerSpec { speed_mps, steer_amplitude_deg, period_s, start_s }) => {
+                let v = speed(*speed_mps)?;
+                let a = steer(*steer_amplitude_deg)?;
+                c.range("maneuver.period_s", *period_s, 0.05, 1000.0)?;
+                c.range("maneuver.start_s", *start_s, 0.0, 3600.0)?;
+                let steer =
+                    SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: *period_s, start_s: *start_s };
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "sine_steer", None)
+            }
+            ManeuverSpec::StepSteer(StepSteerSpec { speed_mps, steer_amplitude_deg, start_s, ramp_s }) => {
+                let v = speed(*speed_mps)?;
+                let a = steer(*steer_amplitude_deg)?;
+                c.range("maneuver.start_s", *start_s, 0.0, 3600.0)?;
+                c.range("maneuver.ramp_s", *ramp_s, 0.0, 100.0)?;
+                let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: *start_s, ramp_s: *ramp_s };
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "step_steer", None)
+            }
+            ManeuverSpec::Straight(StraightSpec { speed_schedule }) => {
+                if speed_schedule.is_empty() {
+                    return Err(Error::key(
+                        c.file,
+                        "maneuver.speed_schedule",
+                        "expected at least one [t_s, v_mps] pair",
+                    ));
+                }
+                let mut prev = f64::NEG_INFINITY;
+                for (n, [t, v]) in speed_schedule.iter().enumerate() {
+                    let key = format!("maneuver.speed_schedule[{n}]");
+                    c.require(
+                        &key,
+                        *t,
+                        t.is_finite() && *t >= 0.0 && *t > prev,
+                        "expected times >= 0, strictly increasing",
+                    )?;
+                    c.range(&key, *v, 0.0, 100.0)?;
+                    prev = *t;
+                }
+                let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
+                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, "straight", None)
+            }
+        })
+    }
+}

@@ -1,0 +1,9 @@
+//! Spec files: serde types for `vehicles/*.toml` and `maneuvers/*.toml`, each turned into a
+//! validated model (every number checked, every path resolved) before anything runs.
+//! Unknown keys are rejected; paths inside a spec are relative to the spec file.
+
+pub mod maneuver;
+pub mod vehicle;
+
+pub use maneuver::{ManeuverFile, RunConfig};
+pub use vehicle::{DriveLayout, Vehicle, VehicleFile};

@@ -1,0 +1,240 @@
+//! Nonlinear bicycle (single-track) model with wheel spin and transient longitudinal slip.
+//!
+//! State (10): X, Y (m, ground frame), yaw psi (rad), body-frame vx, vy (m/s), yaw rate r (rad/s),
+//! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios.
+//! Each axle carries two identical tyres at half the axle load; the axle force is twice the tyre
+//! force. Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
+//! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
+//! Lagrange form eq. 6.1–6.78 written in the inertial frame):
+//!
+//!   m (dvx/dt - r vy) = Fx_f cos(delta) - Fy_f sin(delta) + Fx_r - F_drag
+//!   m (dvy/dt + r vx) = Fx_f sin(delta) + Fy_f cos(delta) + Fy_r
+//!   I_z dr/dt         = a (Fx_f sin(delta) + Fy_f cos(delta)) - b Fy_r + Mz_f + Mz_r
+//!   dX/dt = vx cos(psi) - vy sin(psi),  dY/dt = vx sin(psi) + vy cos(psi),  dpsi/dt = r
+//!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
+//!
+//! with the slips from [`super::wheel`].
+
+use nalgebra::SVector;
+
+use super::wheel::{
+    kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
+};
+use super::{Environment, Inputs, Kinematics, Observation, VehicleModel};
+use crate::contact::TyreContact;
+use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
+use crate::tyre::{TyreForces, TyreInput};
+
+/// State dimension of the bicycle model.
+pub const N: usize = 10;
+/// State indices.
+pub mod ix {
+    pub const X: usize = 0;
+    pub const Y: usize = 1;
+    pub const YAW: usize = 2;
+    pub const VX: usize = 3;
+    pub const VY: usize = 4;
+    pub const R: usize = 5;
+    pub const OMEGA_F: usize = 6;
+    pub const OMEGA_R: usize = 7;
+    pub const KAPPA_F: usize = 8;
+    pub const KAPPA_R: usize = 9;
+}
+
+/// The bicycle model: a validated vehicle plus precomputed constants.
+#[derive(Debug, Clone)]
+pub struct Bicycle {
+    pub vehicle: Vehicle,
+    /// Static load per tyre (front, rear), N.
+    fz_tyre: [f64; 2],
+    /// Spin inertia per axle (two wheels), kg m^2.
+    axle_inertia: f64,
+    /// Maximum brake torque per axle (front, rear), N m.
+    brake_max: [f64; 2],
+}
+
+/// Per-axle intermediate quantities of one evaluation.
+struct Axles {
+    vxw: [f64; 2],
+    alpha: [f64; 2],
+    /// Force per axle (two tyres).
+    f: [TyreForces; 2],
+    /// Wheel torque balance per axle: drive - brake - rolling resistance, N m.
+    torque: [f64; 2],
+    cos_d: f64,
+    sin_d: f64,
+}
+
+impl Bicycle {
+    pub fn new(vehicle: Vehicle) -> Self {
+        let (ff, fr) = vehicle.static_axle_loads_n();
+        let fz_tyre = [ff / 2.0, fr / 2.0];
+        let axle_inertia = 2.0 * vehicle.wheel_inertia_kgm2;
+        let bmax = vehicle.brake_torque_max_nm;
+        let brake_max = [bmax * vehicle.brake_front_share, bmax * (1.0 - vehicle.brake_front_share)];
+        Self { vehicle, fz_tyre, axle_inertia, brake_max }
+    }
+
+    fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
+        let v = &self.vehicle;
+        let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+        let (sin_d, cos_d) = u.steer_rad.sin_cos();
+        let radius = v.tyre.rolling_radius_m;
+        // Wheel-centre velocities in wheel axes.
+        let vf = (vx * cos_d + (vy + v.a_m * r) * sin_d, -vx * sin_d + (vy + v.a_m * r) * cos_d);
+        let vr = (vx, vy - v.b_m * r);
+        let vxw = [vf.0, vr.0];
+        let alpha = [slip_angle(vf.0, vf.1), slip_angle(vr.0, vr.1)];
+        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
+        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
+        let front_share = v.drive_front_share();
+        let drive = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
+        let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
+        let brake = [brake_cmd * v.brake_front_share, brake_cmd * (1.0 - v.brake_front_share)];
+        let mut f = [TyreForces::default(); 2];
+        let mut torque = [0.0; 2];
+        for i in 0..2 {
+            let input = TyreInput {
+                fz_n: self.fz_tyre[i],
+                kappa: kappa[i],
+                alpha_rad: alpha[i],
+                camber_rad: 0.0,
+                vx_mps: vxw[i],
+                mu_surface: env.mu,
+                surface_temp_c: env.surface_temp_c,
+                contact_temp_c: u.contact_temp_c[i],
+            };
+            let t = v.tyre.model.forces(&input);
+            f[i] = TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm };
+            let roll = v.rolling_resistance * 2.0 * self.fz_tyre[i] * radius;
+            let resist_max = self.brake_max[i] + roll;
+            let resist = resisting_torque(brake[i] + roll, resist_max.max(1.0), self.axle_inertia, omega[i]);
+            torque[i] = drive[i] - resist - radius * f[i].fx_n;
+        }
+        Axles { vxw, alpha, f, torque, cos_d, sin_d }
+    }
+
+    /// Body-frame force (x, y) and yaw moment of the tyres, plus drag.
+    fn body_loads(&self, ax: &Axles, vx: f64) -> (f64, f64, f64) {
+        let v = &self.vehicle;
+        let [f, r] = ax.f;
+        let fxf_b = f.fx_n * ax.cos_d - f.fy_n * ax.sin_d;
+        let fyf_b = f.fx_n * ax.sin_d + f.fy_n * ax.cos_d;
+        let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+        let fx = fxf_b + r.fx_n - drag;
+        let fy = fyf_b + r.fy_n;
+        let mz = v.a_m * fyf_b - v.b_m * r.fy_n + f.mz_nm + r.mz_nm;
+        (fx, fy, mz)
+    }
+}
+
+impl VehicleModel<N> for Bicycle {
+    const TYRES: usize = 2;
+
+    fn state_names(&self) -> [&'static str; N] {
+        [
+            "x_m",
+            "y_m",
+            "yaw_rad",
+            "vx_mps",
+            "vy_mps",
+            "yaw_rate_radps",
+            "omega_front_radps",
+            "omega_rear_radps",
+            "kappa_front",
+            "kappa_rear",
+        ]
+    }
+
+    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
+        let v = &self.vehicle;
+        let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
+        let ax = self.axles(x, u, env);
+        let (fx, fy, mz) = self.body_loads(&ax, vx);
+        let (s, c) = yaw.sin_cos();
+        let radius = v.tyre.rolling_radius_m;
+        let sigma = v.tyre.relaxation_length_x_m;
+        let mut d = SVector::<f64, N>::zeros();
+        d[ix::X] = vx * c - vy * s;
+        d[ix::Y] = vx * s + vy * c;
+        d[ix::YAW] = r;
+        d[ix::VX] = fx / v.mass_kg + r * vy;
+        d[ix::VY] = fy / v.mass_kg - r * vx;
+        d[ix::R] = mz / v.yaw_inertia_kgm2;
+        d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
+        d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
+        d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
+        d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
+        d
+    }
+
+    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
+        Kinematics {
+            x_m: x[ix::X],
+            y_m: x[ix::Y],
+            yaw_rad: x[ix::YAW],
+            vx_mps: x[ix::VX],
+            vy_mps: x[ix::VY],
+            yaw_rate_radps: x[ix::R],
+        }
+    }
+
+    fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
+        let mut s = SVector::<f64, N>::zeros();
+        s[ix::X] = x_m;
+        s[ix::Y] = y_m;
+        s[ix::YAW] = yaw_rad;
+        s[ix::VX] = speed_mps;
+        let omega = speed_mps / self.vehicle.tyre.rolling_radius_m;
+        s[ix::OMEGA_F] = omega;
+        s[ix::OMEGA_R] = omega;
+        s
+    }
+
+    fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64) {
+        (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX])
+    }
+
+    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+        let kin = self.kinematics(x);
+        let ax = self.axles(x, u, env);
+        let (fx, fy, _) = self.body_loads(&ax, kin.vx_mps);
+        Observation {
+            kin,
+            ax_mps2: fx / self.vehicle.mass_kg,
+            ay_mps2: fy / self.vehicle.mass_kg,
+            alpha_rad: ax.alpha,
+            kappa: [x[ix::KAPPA_F], x[ix::KAPPA_R]],
+            fx_n: [ax.f[0].fx_n, ax.f[1].fx_n],
+            fy_n: [ax.f[0].fy_n, ax.f[1].fy_n],
+            omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
+            fz_n: [2.0 * self.fz_tyre[0], 2.0 * self.fz_tyre[1], 0.0, 0.0],
+            roll_rad: 0.0,
+        }
+    }
+
+    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
+        let ax = self.axles(x, u, env);
+        let radius = self.vehicle.tyre.rolling_radius_m;
+        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
+        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
+        for (i, o) in out.iter_mut().take(2).enumerate() {
+            *o = TyreContact {
+                fz_n: self.fz_tyre[i],
+                roll_speed_mps: (omega[i] * radius).abs(),
+                slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
+                friction_force_n: 0.5 * ax.f[i].fx_n.hypot(ax.f[i].fy_n),
+                surface_temp_c: env.surface_temp_c,
+            };
+        }
+    }
+}
+
+/// Kinematic slip ratio of an axle for a state (diagnostics and tests).
+pub fn kinematic_slip_of(model: &Bicycle, x: &SVector<f64, N>, steer_rad: f64, axle: usize) -> f64 {
+    let v = &model.vehicle;
+    let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+    let (vxw, _) = if axle == 0 { to_wheel_axes(vx, vy + v.a_m * r, steer_rad) } else { (vx, vy - v.b_m * r) };
+    let omega = if axle == 0 { x[ix::OMEGA_F] } else { x[ix::OMEGA_R] };
+    kinematic_slip(omega, v.tyre.rolling_radius_m, vxw)
+}

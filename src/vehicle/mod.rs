@@ -1,0 +1,124 @@
+//! Vehicle models as pure equations: `derivatives(state, inputs, environment) -> dstate`.
+//!
+//! A model owns no time, no controller and no I/O; the engine ([`crate::sim`]) integrates it.
+//! States are fixed-size `SVector`s; every model exposes its rigid-body kinematics so that drivers,
+//! manoeuvres and output work with any model.
+
+pub mod bicycle;
+pub mod wheel;
+
+use nalgebra::SVector;
+
+use crate::contact::TyreContact;
+
+pub use bicycle::Bicycle;
+
+/// Inputs held constant over one step (sampled from the controllers at the start of the step).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Inputs {
+    /// Road-wheel steer angle of the front wheels, rad, positive left (ISO 8855).
+    pub steer_rad: f64,
+    /// Total drive torque at the driven wheels, N m (>= 0), split by the drive layout.
+    pub drive_torque_nm: f64,
+    /// Total brake torque command, N m (>= 0), split by the brake balance.
+    pub brake_torque_nm: f64,
+    /// Contact-patch temperature per tyre, degC (bicycle: [front, rear, -, -]; four wheels: FL, FR, RL, RR).
+    pub contact_temp_c: [f64; 4],
+}
+
+/// The surface the vehicle drives on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Environment {
+    /// Peak friction coefficient of the surface.
+    pub mu: f64,
+    /// Bulk surface (ice) temperature, degC.
+    pub surface_temp_c: f64,
+}
+
+/// Rigid-body kinematics of the vehicle in the ground frame (ISO 8855).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Kinematics {
+    /// CG position, m.
+    pub x_m: f64,
+    pub y_m: f64,
+    /// Yaw angle, rad, counter-clockwise from the ground x axis.
+    pub yaw_rad: f64,
+    /// Body-frame velocity of the CG, m/s (vx forward, vy left).
+    pub vx_mps: f64,
+    pub vy_mps: f64,
+    /// Yaw rate, rad/s.
+    pub yaw_rate_radps: f64,
+}
+
+impl Kinematics {
+    /// Speed of the CG, m/s.
+    pub fn speed_mps(&self) -> f64 {
+        self.vx_mps.hypot(self.vy_mps)
+    }
+
+    /// Vehicle sideslip angle atan2(vy, vx), rad (0 at standstill).
+    pub fn sideslip_rad(&self) -> f64 {
+        if self.vx_mps == 0.0 && self.vy_mps == 0.0 {
+            0.0
+        } else {
+            self.vy_mps.atan2(self.vx_mps)
+        }
+    }
+
+    /// Ground-frame position of a point at body coordinates (px forward, py left) from the CG.
+    pub fn body_point(&self, px: f64, py: f64) -> (f64, f64) {
+        let (s, c) = self.yaw_rad.sin_cos();
+        (self.x_m + px * c - py * s, self.y_m + px * s + py * c)
+    }
+}
+
+/// Everything an output row or a summary needs from one instant, common to every model.
+/// Axle quantities are sums over the axle's wheels; for four-wheel models the per-wheel arrays
+/// hold FL, FR, RL, RR.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Observation {
+    pub kin: Kinematics,
+    /// Body-frame accelerations of the CG (including the centripetal part), m/s^2.
+    pub ax_mps2: f64,
+    pub ay_mps2: f64,
+    /// Slip angle per axle (front, rear), rad (mean over an axle's wheels).
+    pub alpha_rad: [f64; 2],
+    /// Slip ratio per axle (front, rear) seen by the tyre force (mean over an axle's wheels).
+    pub kappa: [f64; 2],
+    /// Longitudinal and lateral tyre force per axle in wheel axes, N (sum over the axle).
+    pub fx_n: [f64; 2],
+    pub fy_n: [f64; 2],
+    /// Wheel spin speed per axle (front, rear), rad/s (mean over the axle).
+    pub omega_radps: [f64; 2],
+    /// Normal load per wheel, N (bicycle: per axle in [0], [1]; [2], [3] zero).
+    pub fz_n: [f64; 4],
+    /// Roll angle, rad (0 for models without roll).
+    pub roll_rad: f64,
+}
+
+/// A vehicle model with an N-dimensional state.
+pub trait VehicleModel<const N: usize>: Sync {
+    /// Number of tyres whose contact temperature the model uses (2 for the bicycle, 4 for 4-DOF).
+    const TYRES: usize;
+
+    /// Names of the state components, for diagnostics.
+    fn state_names(&self) -> [&'static str; N];
+
+    /// Time derivative of the state; pure.
+    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N>;
+
+    /// Rigid-body kinematics of a state.
+    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics;
+
+    /// Steady straight running at `speed_mps` from pose (x, y, yaw): wheels rolling, no slip.
+    fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N>;
+
+    /// Body-frame acceleration (ax, ay) of the CG, m/s^2, from a state and its derivative.
+    fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64);
+
+    /// Full observation (forces, slips, accelerations) of a state under inputs.
+    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation;
+
+    /// Operating conditions of every tyre (for the contact-temperature estimator), in `out[..TYRES]`.
+    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]);
+}
