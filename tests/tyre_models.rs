@@ -122,6 +122,54 @@ fn public_pac2002_file_matches_independent_values() {
     }
 }
 
+/// The public file has shifts (so no zero force at zero slip and no symmetry), and no combined-slip
+/// coefficients (so the ellipse fallback): over the whole input box it must still be finite,
+/// bounded by its declared peak friction, and free of jumps (step bound as in the property suite).
+#[test]
+fn public_pac2002_file_is_finite_bounded_and_continuous() {
+    if !Path::new(SHARED_TIR).exists() {
+        println!("SKIPPED: {SHARED_TIR} is absent (a user's clone has no ../shared); nothing checked");
+        return;
+    }
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"{SHARED_TIR}\"\naligning_moment = true\n");
+    let (m, _) = build_text("publicbox", &toml, None, TyreModelKind::Pacejka).unwrap();
+    let n = 2001;
+    for mu in [0.15, 1.0] {
+        for fz in [0.0, 1000.0, 4850.0, 14550.0] {
+            let i0 = TyreInput::new(fz, 0.0, 0.0, mu);
+            let cmax = m.longitudinal_stiffness(&i0).max(m.cornering_stiffness(&i0));
+            for alpha in [-1.5707963267948966, -0.2, -0.01, 0.0, 0.01, 0.3, 1.5707963267948966] {
+                let mut prev: Option<(f64, f64)> = None;
+                for k in 0..n {
+                    let kappa = -1.0 + 11.0 * k as f64 / (n - 1) as f64;
+                    let i = TyreInput::new(fz, kappa, alpha, mu);
+                    let f = m.forces(&i);
+                    assert!(f.fx_n.is_finite() && f.fy_n.is_finite() && f.mz_nm.is_finite(), "{f:?} at {i:?}");
+                    let p = m.peak_friction(&i);
+                    assert!(f.fx_n.hypot(f.fy_n) <= p * fz * (1.0 + 1e-9), "{f:?} above {p} Fz at {i:?}");
+                    if let Some((px, py)) = prev {
+                        let d = (f.fx_n - px).hypot(f.fy_n - py);
+                        assert!(d <= 3.0 * cmax * 11.0 / (n - 1) as f64 + 1e-6 * fz, "jump {d} at {i:?}");
+                    }
+                    prev = Some((f.fx_n, f.fy_n));
+                }
+            }
+            for kappa in [-1.0, -0.05, 0.0, 0.001, 0.05, 10.0] {
+                let mut prev: Option<(f64, f64)> = None;
+                for k in 0..n {
+                    let alpha = -1.5707963267948966 + 3.141592653589793 * k as f64 / (n - 1) as f64;
+                    let f = m.forces(&TyreInput::new(fz, kappa, alpha, mu));
+                    if let Some((px, py)) = prev {
+                        let d = (f.fx_n - px).hypot(f.fy_n - py);
+                        assert!(d <= 3.0 * cmax * 3.141592653589793 / (n - 1) as f64 + 1e-6 * fz, "jump {d}");
+                    }
+                    prev = Some((f.fx_n, f.fy_n));
+                }
+            }
+        }
+    }
+}
+
 /// vehsim's own SRTT .tir against tests/data/pac2002_reference.py: pure slip, MF combined slip
 /// (Gxa = cos(atan(Bxa alpha)), Bxa = RBX1 cos(atan(RBX2 kappa)); Gyk likewise) and the ice scaling
 /// (LMU x 0.15, LK x sqrt(0.15) with the spec's stiffness_mu_exponent = 0.5).
