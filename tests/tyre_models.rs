@@ -2,6 +2,7 @@
 //! values, the ATIIM-modified formula against the dissertation's trends, the thermal Dugoff factor,
 //! and bad input at library level.
 
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
 
 use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
@@ -138,7 +139,7 @@ fn public_pac2002_file_is_finite_bounded_and_continuous() {
         for fz in [0.0, 1000.0, 4850.0, 14550.0] {
             let i0 = TyreInput::new(fz, 0.0, 0.0, mu);
             let cmax = m.longitudinal_stiffness(&i0).max(m.cornering_stiffness(&i0));
-            for alpha in [-1.5707963267948966, -0.2, -0.01, 0.0, 0.01, 0.3, 1.5707963267948966] {
+            for alpha in [-FRAC_PI_2, -0.2, -0.01, 0.0, 0.01, 0.3, FRAC_PI_2] {
                 let mut prev: Option<(f64, f64)> = None;
                 for k in 0..n {
                     let kappa = -1.0 + 11.0 * k as f64 / (n - 1) as f64;
@@ -157,11 +158,11 @@ fn public_pac2002_file_is_finite_bounded_and_continuous() {
             for kappa in [-1.0, -0.05, 0.0, 0.001, 0.05, 10.0] {
                 let mut prev: Option<(f64, f64)> = None;
                 for k in 0..n {
-                    let alpha = -1.5707963267948966 + 3.141592653589793 * k as f64 / (n - 1) as f64;
+                    let alpha = -FRAC_PI_2 + PI * k as f64 / (n - 1) as f64;
                     let f = m.forces(&TyreInput::new(fz, kappa, alpha, mu));
                     if let Some((px, py)) = prev {
                         let d = (f.fx_n - px).hypot(f.fy_n - py);
-                        assert!(d <= 3.0 * cmax * 3.141592653589793 / (n - 1) as f64 + 1e-6 * fz, "jump {d}");
+                        assert!(d <= 3.0 * cmax * PI / (n - 1) as f64 + 1e-6 * fz, "jump {d}");
                     }
                     prev = Some((f.fx_n, f.fy_n));
                 }
