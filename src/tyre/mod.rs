@@ -10,15 +10,32 @@
 //!   contact-temperature rise Delta-T that the ATIIM-modified providers use. Without a contact
 //!   estimator both are equal.
 //!
+//! Providers (selected by [`TyreModelKind`]): [`linear`], [`polynomial`] (brush), [`pacejka`]
+//! (MF 5.2 / PAC2002, `.tir` files via [`tir`]), [`dugoff`] (plain and thermal), [`atiim`]
+//! (ATIIM-modified Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
+//! [`sweep`] is the `vehsim tyre` command. Equations and conventions: docs/tyres.md.
+//!
 //! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and
 //! load in [0, 3 Fz_nominal], give zero force at zero load, and bound combined slip with a friction
 //! ellipse or the Magic Formula combined-slip functions.
 
+pub mod atiim;
+pub mod combine;
+pub mod dugoff;
 pub mod linear;
+pub mod pacejka;
+pub mod polynomial;
 pub mod spec;
+pub mod sweep;
+pub mod tir;
 
+pub use atiim::{AtiimPacejkaTyre, KShift};
+pub use dugoff::{DugoffThermalTyre, DugoffTyre};
 pub use linear::LinearTyre;
+pub use pacejka::PacejkaTyre;
+pub use polynomial::PolynomialTyre;
 pub use spec::{TyreFileSpec, TyreModelKind};
+pub use sweep::run_tyre_command;
 
 /// Everything a provider may use to compute the force of one tyre at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]

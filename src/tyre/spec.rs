@@ -1,7 +1,11 @@
 //! Tyre spec files (`vehicles/tyres/*.toml`): one physical tyre, with one section per provider.
 //!
 //! A manoeuvre chooses the provider by name (`tyre_model = "linear"`); building a provider whose
-//! section is missing from the tyre file is a bad-input error naming the section.
+//! section is missing from the tyre file is a bad-input error naming the section. Sections:
+//! `[linear]`, `[polynomial]`, `[pacejka]` (a `.tir` file or inline MF coefficients),
+//! `[dugoff]`, `[dugoff_thermal]`, `[atiim_pacejka]` with `[atiim_pacejka.longitudinal]` and
+//! `[atiim_pacejka.lateral]`; every key is documented on its field below and in docs/tyres.md,
+//! and `vehicles/tyres/srtt_p225_60r16.toml` is a complete example.
 //!
 //! ```toml
 //! name = "SRTT P225/60R16 97S"
@@ -15,14 +19,19 @@
 //! saturate = false
 //! ```
 
+use std::collections::BTreeMap;
 use std::path::Path;
 use std::str::FromStr;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::atiim::{AtiimAxis, AtiimPacejkaTyre, KShift};
+use super::dugoff::{DugoffThermalTyre, DugoffTyre, ThermalFactor};
+use super::pacejka::{Combination, MfCoefficients, PacejkaTyre};
+use super::polynomial::{PolyShape, PolynomialTyre};
 use super::{LinearTyre, TyreModel};
-use crate::error::{parse_toml, read_input, Checker, Error, Result};
+use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
 
 /// Names of the tyre providers a spec can select.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -31,16 +40,42 @@ use crate::error::{parse_toml, read_input, Checker, Error, Result};
 pub enum TyreModelKind {
     /// Linear in slip, stiffness proportional to load ([`LinearTyre`]).
     Linear,
+    /// Third-order brush polynomial with theoretical-slip combination ([`PolynomialTyre`]).
+    Polynomial,
+    /// Magic Formula MF 5.2 / PAC2002 ([`PacejkaTyre`]).
+    Pacejka,
+    /// Dugoff, eq. 5.2–5.4 with erratum 3 ([`DugoffTyre`]).
+    Dugoff,
+    /// Dugoff with the temperature factor H, eq. 5.5–5.6 ([`DugoffThermalTyre`]).
+    DugoffThermal,
+    /// ATIIM-modified Magic Formula, eq. 5.8–5.17 ([`AtiimPacejkaTyre`]).
+    AtiimPacejka,
 }
 
 impl TyreModelKind {
     /// Every provider name accepted in spec files, for error messages.
-    pub const ALLOWED: &'static [&'static str] = &["linear"];
+    pub const ALLOWED: &'static [&'static str] =
+        &["linear", "polynomial", "pacejka", "dugoff", "dugoff_thermal", "atiim_pacejka"];
+
+    /// Every provider, in the order of [`Self::ALLOWED`].
+    pub const ALL: &'static [TyreModelKind] = &[
+        TyreModelKind::Linear,
+        TyreModelKind::Polynomial,
+        TyreModelKind::Pacejka,
+        TyreModelKind::Dugoff,
+        TyreModelKind::DugoffThermal,
+        TyreModelKind::AtiimPacejka,
+    ];
 
     /// The name used in spec files.
     pub fn as_str(self) -> &'static str {
         match self {
             TyreModelKind::Linear => "linear",
+            TyreModelKind::Polynomial => "polynomial",
+            TyreModelKind::Pacejka => "pacejka",
+            TyreModelKind::Dugoff => "dugoff",
+            TyreModelKind::DugoffThermal => "dugoff_thermal",
+            TyreModelKind::AtiimPacejka => "atiim_pacejka",
         }
     }
 }
@@ -48,10 +83,11 @@ impl TyreModelKind {
 impl FromStr for TyreModelKind {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "linear" => Ok(TyreModelKind::Linear),
-            _ => Err(format!("unknown tyre model '{s}'; allowed: {}", Self::ALLOWED.join(", "))),
-        }
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|k| k.as_str() == s)
+            .ok_or_else(|| format!("unknown tyre model '{s}'; allowed: {}", Self::ALLOWED.join(", ")))
     }
 }
 
@@ -73,6 +109,158 @@ pub struct LinearSection {
 
 fn one() -> f64 {
     1.0
+}
+
+/// Raw `[polynomial]` section (see [`PolynomialTyre`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolynomialSection {
+    /// Longitudinal slip stiffness at the nominal load, N per unit slip.
+    pub longitudinal_stiffness_n: f64,
+    /// Cornering stiffness at the nominal load, N/rad.
+    pub cornering_stiffness_n_per_rad: f64,
+    /// Load exponent of the stiffnesses, in (0, 1]; default 1.
+    #[serde(default = "one")]
+    pub load_exponent: f64,
+    /// Tyre peak friction relative to the surface mu, in (0, 5]; default 1.
+    #[serde(default = "one")]
+    pub mu_scale: f64,
+    /// `"brush"` (default: a2 = -1/3, a3 = 1/27) or `"general"` (give `a2` and `a3`).
+    #[serde(default = "brush")]
+    pub form: String,
+    /// Quadratic coefficient of the general form, dimensionless.
+    #[serde(default)]
+    pub a2: Option<f64>,
+    /// Cubic coefficient of the general form, dimensionless.
+    #[serde(default)]
+    pub a3: Option<f64>,
+}
+
+fn brush() -> String {
+    "brush".into()
+}
+
+/// Raw `[pacejka]` section (see [`PacejkaTyre`]). Exactly one of `tir_file` and `coefficients`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PacejkaSection {
+    /// Path of a `.tir` property file, relative to the tyre file.
+    #[serde(default)]
+    pub tir_file: Option<String>,
+    /// Inline coefficients named as in `.tir` files (PCX1, PDX1, ...). FNOMIN and UNLOADED_RADIUS
+    /// default to the tyre file's `nominal_load_n` and `unloaded_radius_m`.
+    #[serde(default)]
+    pub coefficients: Option<BTreeMap<String, f64>>,
+    /// Coefficients that replace the file's values (for example `LKX = 0.5`).
+    #[serde(default)]
+    pub overrides: BTreeMap<String, f64>,
+    /// Friction of the surface the coefficients were fitted on; default 1.0 (dry road).
+    #[serde(default = "one")]
+    pub mu_reference: f64,
+    /// Exponent p of LKX' = LKX (mu_surface/mu_reference)^p (also LKY), in [0, 2]; default 0.
+    #[serde(default)]
+    pub stiffness_mu_exponent: f64,
+    /// `"auto"` (default: MF functions when RBX1 and RBY1 are given), `"magic_formula"` or `"ellipse"`.
+    #[serde(default = "auto")]
+    pub combined: String,
+    /// Compute the aligning moment Mz (simplified, see [`PacejkaTyre`]); default false (cost).
+    #[serde(default)]
+    pub aligning_moment: bool,
+}
+
+fn auto() -> String {
+    "auto".into()
+}
+
+/// Raw `[dugoff]` section (see [`DugoffTyre`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DugoffSection {
+    /// Longitudinal slip stiffness C_lambda at the nominal load, N per unit slip.
+    pub longitudinal_stiffness_n: f64,
+    /// Cornering stiffness C_alpha at the nominal load, N/rad.
+    pub cornering_stiffness_n_per_rad: f64,
+    /// Load exponent of the stiffnesses, in (0, 1]; default 1.
+    #[serde(default = "one")]
+    pub load_exponent: f64,
+    /// Tyre peak friction relative to the surface mu, in (0, 5]; default 1.
+    #[serde(default = "one")]
+    pub mu_scale: f64,
+}
+
+/// Raw `[dugoff_thermal]` section (see [`DugoffThermalTyre`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DugoffThermalSection {
+    /// Longitudinal slip stiffness C_lambda at the nominal load, N per unit slip.
+    pub longitudinal_stiffness_n: f64,
+    /// Cornering stiffness C_alpha at the nominal load, N/rad.
+    pub cornering_stiffness_n_per_rad: f64,
+    /// Load exponent of the stiffnesses, in (0, 1]; default 1.
+    #[serde(default = "one")]
+    pub load_exponent: f64,
+    /// Tyre peak friction relative to the surface mu, in (0, 5]; default 1.
+    #[serde(default = "one")]
+    pub mu_scale: f64,
+    /// Constant term of H; default 1.27 (eq. 5.6).
+    #[serde(default = "h_offset")]
+    pub h_offset: f64,
+    /// Weight of mu_max in H, K; default 0.75 (eq. 5.6).
+    #[serde(default = "h_mu")]
+    pub h_mu_coefficient: f64,
+}
+
+fn h_offset() -> f64 {
+    1.27
+}
+
+fn h_mu() -> f64 {
+    0.75
+}
+
+/// One axis of `[atiim_pacejka]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AtiimAxisSection {
+    /// Shape factor C, in (1, 2).
+    pub c: f64,
+    /// Curvature factor E, <= 1.
+    pub e: f64,
+    /// Peak friction coefficient at mu_reference and Delta-T = 0.
+    pub mu: f64,
+    /// K0/Fz, per unit slip (longitudinal) or per rad (lateral).
+    pub k_per_fz: f64,
+    /// dmu/dT, 1/K.
+    pub dmu_dt_per_k: f64,
+    /// dC_p/dT, 1/K.
+    pub dc_dt_per_k: f64,
+}
+
+/// Raw `[atiim_pacejka]` section (see [`AtiimPacejkaTyre`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AtiimSection {
+    /// Friction of the surface the coefficients belong to.
+    pub mu_reference: f64,
+    /// `"srtt"`, `"all_season"`, `"directional"`, `"average"`, `"none"` or `"quadratic"`.
+    pub k_shift: String,
+    /// a of the user quadratic a dT^2 + b, 1/K^2 (only with `k_shift = "quadratic"`).
+    #[serde(default)]
+    pub k_shift_a: Option<f64>,
+    /// b of the user quadratic (only with `k_shift = "quadratic"`).
+    #[serde(default)]
+    pub k_shift_b: Option<f64>,
+    /// Floor of the temperature factors, in (0, 1]; default 0.1.
+    #[serde(default = "min_factor")]
+    pub min_factor: f64,
+    /// Longitudinal coefficients.
+    pub longitudinal: AtiimAxisSection,
+    /// Lateral coefficients.
+    pub lateral: AtiimAxisSection,
+}
+
+fn min_factor() -> f64 {
+    0.1
 }
 
 fn default_relaxation_x() -> f64 {
@@ -100,6 +288,21 @@ pub struct TyreFileSpec {
     /// Linear provider coefficients.
     #[serde(default)]
     pub linear: Option<LinearSection>,
+    /// Polynomial (brush) provider coefficients.
+    #[serde(default)]
+    pub polynomial: Option<PolynomialSection>,
+    /// Magic Formula provider: a `.tir` file or inline coefficients.
+    #[serde(default)]
+    pub pacejka: Option<PacejkaSection>,
+    /// Dugoff provider coefficients.
+    #[serde(default)]
+    pub dugoff: Option<DugoffSection>,
+    /// Thermal Dugoff provider coefficients.
+    #[serde(default)]
+    pub dugoff_thermal: Option<DugoffThermalSection>,
+    /// ATIIM-modified Magic Formula coefficients.
+    #[serde(default)]
+    pub atiim_pacejka: Option<AtiimSection>,
 }
 
 /// A validated tyre: geometry plus one built provider.
@@ -126,7 +329,14 @@ impl TyreFileSpec {
     }
 
     /// Validate the common fields and build provider `kind`; `path` is the file the spec came from.
+    /// Warnings (for example unknown `.tir` sections) are dropped; see [`Self::build_with_warnings`].
     pub fn build(&self, path: &Path, kind: TyreModelKind) -> Result<Tyre> {
+        self.build_with_warnings(path, kind).map(|(t, _)| t)
+    }
+
+    /// As [`Self::build`], also returning warnings the caller may print.
+    pub fn build_with_warnings(&self, path: &Path, kind: TyreModelKind) -> Result<(Tyre, Vec<String>)> {
+        let mut warnings = Vec::new();
         let c = Checker::new(path);
         c.range("unloaded_radius_m", self.unloaded_radius_m, 0.05, 2.0)?;
         c.require(
@@ -156,15 +366,290 @@ impl TyreFileSpec {
                     saturate: s.saturate,
                 })
             }
+            TyreModelKind::Polynomial => Arc::new(self.build_polynomial(path)?),
+            TyreModelKind::Pacejka => {
+                let (t, w) = self.build_pacejka(path)?;
+                warnings.extend(w);
+                Arc::new(t)
+            }
+            TyreModelKind::Dugoff => Arc::new(self.build_dugoff(path)?),
+            TyreModelKind::DugoffThermal => Arc::new(self.build_dugoff_thermal(path)?),
+            TyreModelKind::AtiimPacejka => Arc::new(self.build_atiim(path)?),
         };
-        Ok(Tyre {
+        let tyre = Tyre {
             name: self.name.clone(),
             rolling_radius_m: self.rolling_radius_m,
             unloaded_radius_m: self.unloaded_radius_m,
             nominal_load_n: self.nominal_load_n,
             relaxation_length_x_m: self.relaxation_length_x_m,
             model,
+        };
+        Ok((tyre, warnings))
+    }
+
+    fn stiffness_common(c: &Checker, sec: &str, cx: f64, cy: f64, p: f64, mu_scale: f64) -> Result<()> {
+        c.positive(&format!("{sec}.longitudinal_stiffness_n"), cx)?;
+        c.positive(&format!("{sec}.cornering_stiffness_n_per_rad"), cy)?;
+        c.require(&format!("{sec}.load_exponent"), p, p > 0.0 && p <= 1.0, "expected 0 < load_exponent <= 1")?;
+        c.require(
+            &format!("{sec}.mu_scale"),
+            mu_scale,
+            mu_scale > 0.0 && mu_scale <= 5.0,
+            "expected 0 < mu_scale <= 5",
+        )?;
+        Ok(())
+    }
+
+    fn build_polynomial(&self, path: &Path) -> Result<PolynomialTyre> {
+        let s = self.polynomial.as_ref().ok_or_else(|| missing(path, "polynomial"))?;
+        let c = Checker::new(path);
+        Self::stiffness_common(
+            &c,
+            "polynomial",
+            s.longitudinal_stiffness_n,
+            s.cornering_stiffness_n_per_rad,
+            s.load_exponent,
+            s.mu_scale,
+        )?;
+        let shape = match s.form.as_str() {
+            "brush" => {
+                if s.a2.is_some() || s.a3.is_some() {
+                    return Err(Error::key(path, "polynomial.form", "a2/a3 are only used with form = \"general\""));
+                }
+                PolyShape::brush()
+            }
+            "general" => {
+                let (Some(a2), Some(a3)) = (s.a2, s.a3) else {
+                    return Err(Error::key(path, "polynomial.form", "form = \"general\" needs both a2 and a3"));
+                };
+                PolyShape::general(a2, a3).map_err(|m| Error::key(path, "polynomial.a2", m))?
+            }
+            other => {
+                return Err(Error::key(
+                    path,
+                    "polynomial.form",
+                    format!("unknown form '{other}'; allowed: brush, general"),
+                ))
+            }
+        };
+        Ok(PolynomialTyre {
+            longitudinal_stiffness_n: s.longitudinal_stiffness_n,
+            cornering_stiffness_n_per_rad: s.cornering_stiffness_n_per_rad,
+            nominal_load_n: self.nominal_load_n,
+            load_exponent: s.load_exponent,
+            mu_scale: s.mu_scale,
+            shape,
         })
+    }
+
+    fn dugoff_base(&self, path: &Path, sec: &str, cx: f64, cy: f64, p: f64, mu_scale: f64) -> Result<DugoffTyre> {
+        Self::stiffness_common(&Checker::new(path), sec, cx, cy, p, mu_scale)?;
+        Ok(DugoffTyre {
+            longitudinal_stiffness_n: cx,
+            cornering_stiffness_n_per_rad: cy,
+            nominal_load_n: self.nominal_load_n,
+            load_exponent: p,
+            mu_scale,
+        })
+    }
+
+    fn build_dugoff(&self, path: &Path) -> Result<DugoffTyre> {
+        let s = self.dugoff.as_ref().ok_or_else(|| missing(path, "dugoff"))?;
+        self.dugoff_base(
+            path,
+            "dugoff",
+            s.longitudinal_stiffness_n,
+            s.cornering_stiffness_n_per_rad,
+            s.load_exponent,
+            s.mu_scale,
+        )
+    }
+
+    fn build_dugoff_thermal(&self, path: &Path) -> Result<DugoffThermalTyre> {
+        let s = self.dugoff_thermal.as_ref().ok_or_else(|| missing(path, "dugoff_thermal"))?;
+        let base = self.dugoff_base(
+            path,
+            "dugoff_thermal",
+            s.longitudinal_stiffness_n,
+            s.cornering_stiffness_n_per_rad,
+            s.load_exponent,
+            s.mu_scale,
+        )?;
+        let c = Checker::new(path);
+        c.positive("dugoff_thermal.h_offset", s.h_offset)?;
+        c.finite("dugoff_thermal.h_mu_coefficient", s.h_mu_coefficient)?;
+        Ok(DugoffThermalTyre { base, h: ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient } })
+    }
+
+    fn build_atiim(&self, path: &Path) -> Result<AtiimPacejkaTyre> {
+        let s = self.atiim_pacejka.as_ref().ok_or_else(|| missing(path, "atiim_pacejka"))?;
+        let c = Checker::new(path);
+        c.positive("atiim_pacejka.mu_reference", s.mu_reference)?;
+        c.require(
+            "atiim_pacejka.min_factor",
+            s.min_factor,
+            s.min_factor > 0.0 && s.min_factor <= 1.0,
+            "expected 0 < min_factor <= 1",
+        )?;
+        let k_shift = match s.k_shift.as_str() {
+            "srtt" => KShift::Srtt,
+            "all_season" => KShift::AllSeason,
+            "directional" => KShift::Directional,
+            "average" => KShift::Average,
+            "none" => KShift::None,
+            "quadratic" => {
+                let (Some(a), Some(b)) = (s.k_shift_a, s.k_shift_b) else {
+                    return Err(Error::key(
+                        path,
+                        "atiim_pacejka.k_shift",
+                        "k_shift = \"quadratic\" needs k_shift_a and k_shift_b",
+                    ));
+                };
+                c.finite("atiim_pacejka.k_shift_a", a)?;
+                c.finite("atiim_pacejka.k_shift_b", b)?;
+                KShift::Quadratic { a, b }
+            }
+            other => {
+                return Err(Error::key(
+                    path,
+                    "atiim_pacejka.k_shift",
+                    format!(
+                    "unknown shift factor '{other}'; allowed: srtt, all_season, directional, average, none, quadratic"
+                ),
+                ))
+            }
+        };
+        if !matches!(k_shift, KShift::Quadratic { .. }) && (s.k_shift_a.is_some() || s.k_shift_b.is_some()) {
+            return Err(Error::key(
+                path,
+                "atiim_pacejka.k_shift",
+                "k_shift_a/k_shift_b are only used with k_shift = \"quadratic\"",
+            ));
+        }
+        let axis = |name: &str, a: &AtiimAxisSection| -> Result<AtiimAxis> {
+            let k = |f: &str| format!("atiim_pacejka.{name}.{f}");
+            c.require(&k("c"), a.c, a.c > 1.0 && a.c < 2.0, "expected 1 < c < 2 (a curve with a peak)")?;
+            c.require(&k("e"), a.e, a.e <= 1.0, "expected e <= 1")?;
+            c.range(&k("mu"), a.mu, 1e-3, 5.0)?;
+            c.positive(&k("k_per_fz"), a.k_per_fz)?;
+            c.range(&k("dmu_dt_per_k"), a.dmu_dt_per_k, -1.0, 1.0)?;
+            c.range(&k("dc_dt_per_k"), a.dc_dt_per_k, -1.0, 1.0)?;
+            Ok(AtiimAxis {
+                c: a.c,
+                e: a.e,
+                mu: a.mu,
+                k_per_fz: a.k_per_fz,
+                dmu_dt_per_k: a.dmu_dt_per_k,
+                dc_dt_per_k: a.dc_dt_per_k,
+            })
+        };
+        Ok(AtiimPacejkaTyre {
+            x: axis("longitudinal", &s.longitudinal)?,
+            y: axis("lateral", &s.lateral)?,
+            mu_reference: s.mu_reference,
+            k_shift,
+            min_factor: s.min_factor,
+        })
+    }
+
+    /// Build the Magic Formula provider of the `[pacejka]` section, with reader warnings.
+    pub fn build_pacejka(&self, path: &Path) -> Result<(PacejkaTyre, Vec<String>)> {
+        let s = self.pacejka.as_ref().ok_or_else(|| missing(path, "pacejka"))?;
+        let c = Checker::new(path);
+        c.positive("pacejka.mu_reference", s.mu_reference)?;
+        c.range("pacejka.stiffness_mu_exponent", s.stiffness_mu_exponent, 0.0, 2.0)?;
+        let combination = match s.combined.as_str() {
+            "auto" => None,
+            "magic_formula" => Some(Combination::MagicFormula),
+            "ellipse" => Some(Combination::Ellipse),
+            other => {
+                return Err(Error::key(
+                    path,
+                    "pacejka.combined",
+                    format!("unknown method '{other}'; allowed: auto, magic_formula, ellipse"),
+                ))
+            }
+        };
+        for k in s.overrides.keys() {
+            if !MfCoefficients::NAMES.contains(&k.as_str()) {
+                return Err(Error::key(
+                    path,
+                    &format!("pacejka.overrides.{k}"),
+                    "not a Magic Formula coefficient name",
+                ));
+            }
+        }
+        let mut warnings = Vec::new();
+        let (source, base): (std::path::PathBuf, BTreeMap<String, f64>) = match (&s.tir_file, &s.coefficients) {
+            (Some(rel), None) => {
+                let tir_path = resolve(path, rel);
+                let f = super::tir::read_tir(&tir_path)?;
+                warnings.extend(f.warnings.iter().cloned());
+                let map = MfCoefficients::NAMES.iter().filter_map(|n| f.num(n).map(|v| (n.to_string(), v))).collect();
+                (tir_path, map)
+            }
+            (None, Some(map)) => {
+                for k in map.keys() {
+                    if !MfCoefficients::NAMES.contains(&k.as_str()) {
+                        return Err(Error::key(
+                            path,
+                            &format!("pacejka.coefficients.{k}"),
+                            "not a Magic Formula coefficient name",
+                        ));
+                    }
+                }
+                let mut m = map.clone();
+                m.entry("FNOMIN".into()).or_insert(self.nominal_load_n);
+                m.entry("UNLOADED_RADIUS".into()).or_insert(self.unloaded_radius_m);
+                (path.to_path_buf(), m)
+            }
+            _ => {
+                return Err(Error::key(
+                    path,
+                    "pacejka",
+                    "give exactly one of tir_file (a .tir property file) and coefficients (an inline table)",
+                ))
+            }
+        };
+        let mut missing_names = Vec::new();
+        let coeffs = MfCoefficients::from_lookup(
+            |n| s.overrides.get(n).copied().or_else(|| base.get(n).copied()),
+            &mut missing_names,
+        );
+        if !missing_names.is_empty() {
+            return Err(Error::input(
+                &source,
+                format!("missing required Magic Formula coefficient(s): {}", missing_names.join(", ")),
+            ));
+        }
+        let cs = Checker::new(&source);
+        for (n, v) in [("FNOMIN", coeffs.fnomin), ("UNLOADED_RADIUS", coeffs.unloaded_radius), ("LFZO", coeffs.lfzo)] {
+            cs.positive(n, v)?;
+        }
+        for (n, v) in [
+            ("PCX1", coeffs.pcx1),
+            ("PDX1", coeffs.pdx1),
+            ("PCY1", coeffs.pcy1),
+            ("PDY1", coeffs.pdy1),
+            ("PKX1", coeffs.pkx1),
+        ] {
+            cs.positive(n, v)?;
+        }
+        cs.require("PKY1", coeffs.pky1, coeffs.pky1 != 0.0, "expected a non-zero cornering stiffness factor")?;
+        cs.require("PKY2", coeffs.pky2, coeffs.pky2 > 0.0, "expected PKY2 > 0 (load at which Ky peaks, in Fz0')")?;
+        let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
+        if t.combination == Combination::MagicFormula {
+            let c2 = &t.coeffs;
+            for (n, v) in [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)] {
+                cs.require(n, v, v != 0.0, "the Magic Formula combined-slip functions need RBX1, RCX1, RBY1, RCY1 (or set combined = \"ellipse\")")?;
+            }
+        } else if s.combined == "auto" {
+            warnings.push(format!(
+                "{}: no combined-slip coefficients (RBX1/RBY1); combined slip uses the normalised-slip friction ellipse",
+                source.display()
+            ));
+        }
+        Ok((t, warnings))
     }
 }
 

@@ -1,0 +1,185 @@
+//! Dugoff tyre (dissertation eq. 5.2–5.4, with erratum 3) and its thermal variant (eq. 5.5–5.6).
+//!
+//! Slip mapping. The dissertation's slip ratio lambda (eq. 5.1) is 1 - R Omega / u, positive when
+//! braking; vehsim's kappa = (omega R_e - V_x)/|V_x| is positive when driving, so lambda = -kappa and
+//! 1 - lambda = 1 + kappa. In vehsim's signs (force positive forward):
+//!
+//! ```text
+//! Fx = C_k kappa / (1 + kappa) f(z),      Fy = C_a tan(alpha) / (1 + kappa) f(z)
+//! z  = mu Fz (1 + kappa) / (2 sqrt((C_k kappa)^2 + (C_a tan alpha)^2))
+//! f(z) = z (2 - z) for z < 1, 1 otherwise
+//! ```
+//!
+//! Eq. 5.3 as printed uses C_lambda in the lateral force; erratum 3: it is C_alpha tan(alpha).
+//! For z < 1 the product f(z)/(1 + kappa) is evaluated as mu Fz (2 - z) / (2 q) with
+//! q = sqrt((C_k kappa)^2 + (C_a tan alpha)^2), which stays finite at a locked wheel (kappa = -1);
+//! |F| = mu Fz (1 - z/2) <= mu Fz there and |F| = mu Fz / (2 z) <= mu Fz / 2 for z >= 1: the combined
+//! force is bounded by the friction circle mu Fz.
+//!
+//! Thermal variant (eq. 5.5–5.6): Fx is multiplied by
+//! `H = (dT - 0.75 mu_max) S^2 - (dT - 0.75 mu_max) S + 1.27` with dT = `TyreInput::delta_t_k()`
+//! in K, mu_max the tyre's peak friction coefficient and S the slip ratio as the dissertation's
+//! rig measured it: S = kappa / (1 + kappa) (eq. 3.2, driving slip over omega R, in [0, 1)) for
+//! kappa >= 0 and S = -kappa (eq. 2.11, braking slip over V, clamped to [0, 1]) for kappa < 0.
+//! Odd properties of H, kept as published:
+//! - H(S = 0) = H(S = 1) = 1.27 for every dT: the force is 27 % above the Dugoff force at small
+//!   slip, so the longitudinal stiffness is 1.27 C_k, not C_k.
+//! - H is a parabola in S with its extremum 1.27 - (dT - 0.75 mu)/4 at S = 0.5. For dT > 0.75 mu
+//!   (any heating on ice) H dips towards S = 0.5; for dT > 5.08 + 0.75 mu it turns negative there
+//!   and the longitudinal force reverses.
+//! - For dT < 0.75 mu, H > 1.27 in mid-slip.
+//!
+//! So |Fx| may exceed mu Fz: [`TyreModel::peak_friction`] returns mu max(1, |H|) for the input,
+//! an honest bound (|F|^2 = H^2 Fx^2 + Fy^2 <= max(1, H^2) mu^2 Fz^2).
+
+use super::combine::positive;
+use super::{TyreForces, TyreInput, TyreModel};
+
+/// Dugoff parameters, validated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DugoffTyre {
+    /// Longitudinal slip stiffness C_k at the nominal load, N per unit slip (dry 50e3–150e3; on ice
+    /// fitted to the linear range, 15e3–40e3 at 4 kN).
+    pub longitudinal_stiffness_n: f64,
+    /// Cornering stiffness C_a at the nominal load, N/rad (dry 40e3–100e3; ice 10e3–40e3).
+    pub cornering_stiffness_n_per_rad: f64,
+    /// Nominal load, N.
+    pub nominal_load_n: f64,
+    /// Load exponent p: C(Fz) = C_nominal (Fz/Fz_nominal)^p, in (0, 1].
+    pub load_exponent: f64,
+    /// Tyre peak friction relative to the surface's mu, dimensionless (0.5–1.5; 1 = surface mu).
+    pub mu_scale: f64,
+}
+
+/// Coefficients of the dissertation's temperature factor H (eq. 5.6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThermalFactor {
+    /// Constant term, dimensionless (published: 1.27).
+    pub offset: f64,
+    /// Weight of mu_max against dT, K per unit friction (published: 0.75).
+    pub mu_coefficient: f64,
+}
+
+impl Default for ThermalFactor {
+    fn default() -> Self {
+        Self { offset: 1.27, mu_coefficient: 0.75 }
+    }
+}
+
+impl ThermalFactor {
+    /// H at slip ratio `kappa` (vehsim convention), temperature rise `dt_k` and peak friction `mu`.
+    pub fn h(&self, kappa: f64, dt_k: f64, mu: f64) -> f64 {
+        let s = if kappa >= 0.0 { kappa / (1.0 + kappa) } else { (-kappa).min(1.0) };
+        let s = if s.is_finite() { s } else { 0.0 };
+        let a = dt_k - self.mu_coefficient * mu;
+        a * s * s - a * s + self.offset
+    }
+}
+
+impl DugoffTyre {
+    fn load_factor(&self, fz: f64) -> f64 {
+        let r = fz / self.nominal_load_n;
+        if r > 0.0 {
+            r.powf(self.load_exponent)
+        } else {
+            0.0
+        }
+    }
+
+    fn mu(&self, i: &TyreInput) -> f64 {
+        self.mu_scale * i.mu_surface
+    }
+
+    /// Plain Dugoff forces (Fx, Fy).
+    pub fn dugoff(&self, i: &TyreInput) -> (f64, f64) {
+        let fz = i.fz_n;
+        let mu = self.mu(i);
+        if !(fz > 0.0 && fz.is_finite() && mu > 0.0) {
+            return (0.0, 0.0);
+        }
+        let lf = self.load_factor(fz);
+        let qx = self.longitudinal_stiffness_n * lf * i.kappa;
+        let qy = self.cornering_stiffness_n_per_rad * lf * i.alpha_rad.tan();
+        let q = (qx * qx + qy * qy).sqrt(); // |q| <~ 1e21 for alpha up to pi/2: no overflow
+        if !positive(q) {
+            return (0.0, 0.0);
+        }
+        let om = (1.0 + i.kappa).max(0.0);
+        let z = mu * fz * om / (2.0 * q);
+        let factor = if z < 1.0 { mu * fz * (2.0 - z) / (2.0 * q) } else { 1.0 / om };
+        (qx * factor, qy * factor)
+    }
+}
+
+impl TyreModel for DugoffTyre {
+    fn name(&self) -> &'static str {
+        "dugoff"
+    }
+
+    fn forces(&self, i: &TyreInput) -> TyreForces {
+        let (fx, fy) = self.dugoff(i);
+        TyreForces { fx_n: fx, fy_n: fy, mz_nm: 0.0 }
+    }
+
+    fn peak_friction(&self, i: &TyreInput) -> f64 {
+        self.mu(i).max(0.0)
+    }
+
+    fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
+        if !positive(self.mu(i)) {
+            return 0.0;
+        }
+        self.longitudinal_stiffness_n * self.load_factor(i.fz_n)
+    }
+
+    fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
+        if !positive(self.mu(i)) {
+            return 0.0;
+        }
+        self.cornering_stiffness_n_per_rad * self.load_factor(i.fz_n)
+    }
+}
+
+/// Dugoff with the dissertation's temperature factor H on Fx (eq. 5.5–5.6); see the module docs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DugoffThermalTyre {
+    /// The underlying Dugoff tyre.
+    pub base: DugoffTyre,
+    /// The factor H.
+    pub h: ThermalFactor,
+}
+
+impl TyreModel for DugoffThermalTyre {
+    fn name(&self) -> &'static str {
+        "dugoff_thermal"
+    }
+
+    fn forces(&self, i: &TyreInput) -> TyreForces {
+        let (fx, fy) = self.base.dugoff(i);
+        if fx == 0.0 {
+            return TyreForces { fx_n: 0.0, fy_n: fy, mz_nm: 0.0 };
+        }
+        let h = self.h.h(i.kappa, i.delta_t_k(), self.base.mu(i));
+        TyreForces { fx_n: fx * h, fy_n: fy, mz_nm: 0.0 }
+    }
+
+    /// mu max(1, |H|): H may exceed 1 (it is 1.27 at zero slip), see the module docs.
+    fn peak_friction(&self, i: &TyreInput) -> f64 {
+        let mu = self.base.mu(i).max(0.0);
+        let h = self.h.h(i.kappa, i.delta_t_k(), mu);
+        if h.is_finite() {
+            mu * h.abs().max(1.0)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// H(S = 0) C_k = 1.27 C_k for the published H.
+    fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
+        self.base.longitudinal_stiffness(i) * self.h.offset
+    }
+
+    fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
+        self.base.cornering_stiffness(i)
+    }
+}

@@ -1,0 +1,510 @@
+//! Magic Formula tyre (MF 5.2 / PAC2002 equations): pure and combined slip Fx, Fy and a simplified Mz.
+//!
+//! Equations: H. B. Pacejka, *Tyre and Vehicle Dynamics*, 2nd ed., section 4.3.2 (eq. 4.E1–4.E67),
+//! the PAC2002 set that `.tir` files with `PROPERTY_FILE_FORMAT = 'PAC2002'` or `'MF_05'` carry.
+//! With dfz = (Fz - Fz0') / Fz0', Fz0' = FNOMIN * LFZO:
+//!
+//! ```text
+//! pure Fx:  kx = kappa + SHx,  SHx = (PHX1 + PHX2 dfz) LHX
+//!           Dx = (PDX1 + PDX2 dfz)(1 - PDX3 gx^2) LMUX' Fz,   Cx = PCX1 LCX
+//!           Ex = (PEX1 + PEX2 dfz + PEX3 dfz^2)(1 - PEX4 sgn kx) LEX  (<= 1)
+//!           Kx = Fz (PKX1 + PKX2 dfz) exp(PKX3 dfz) LKX',  Bx = Kx / (Cx Dx)
+//!           SVx = Fz (PVX1 + PVX2 dfz) LVX LMUX'
+//!           Fx0 = Dx sin(Cx atan(Bx kx - Ex (Bx kx - atan(Bx kx)))) + SVx
+//! pure Fy:  ay = alpha + SHy,  SHy = (PHY1 + PHY2 dfz) LHY + PHY3 gy
+//!           Dy = (PDY1 + PDY2 dfz)(1 - PDY3 gy^2) LMUY' Fz,  Cy = PCY1 LCY
+//!           Ey = (PEY1 + PEY2 dfz)(1 - (PEY3 + PEY4 gy) sgn ay) LEY  (<= 1)
+//!           Ky = PKY1 Fz0' sin(2 atan(Fz / (PKY2 Fz0'))) (1 - PKY3 |gy|) LKY',  By = Ky / (Cy Dy)
+//!           SVy = Fz ((PVY1 + PVY2 dfz) LVY + (PVY3 + PVY4 dfz) gy) LMUY'
+//! combined: Fx = Gxa Fx0,  Gxa = cos(Cxa atan(Bxa as - Exa(...))) / Gxa0,  as = alpha + RHX1,
+//!           Bxa = RBX1 cos(atan(RBX2 kappa)) LXAL, Cxa = RCX1, Exa = REX1 + REX2 dfz
+//!           Fy = Gyk Fy0 + SVyk,  Gyk likewise with ks = kappa + RHY1 + RHY2 dfz,
+//!           Byk = RBY1 cos(atan(RBY2 (alpha - RBY3))) LYKA, Cyk = RCY1, Eyk = REY1 + REY2 dfz,
+//!           SVyk = mu_y Fz (RVY1 + RVY2 dfz + RVY3 gy) cos(atan(RVY4 alpha)) sin(RVY5 atan(RVY6 kappa)) LVYKA
+//! ```
+//!
+//! gx = camber LGAX, gy = camber LGAY. Mz is the pure-slip pneumatic trail and residual moment
+//! (eq. 4.E31–4.E49) applied to the combined Fy: Mz = -t(alpha) Fy + Mzr(alpha). The s Fx arm and
+//! the equivalent-slip arguments of the full combined Mz are left out (a documented simplification).
+//!
+//! Surface friction: `LMUX' = LMUX mu_surface / mu_reference` (likewise LMUY'), so a coefficient set
+//! fitted on a road of friction `mu_reference` (1.0 for dry-road files) is scaled to the surface.
+//! Optionally the slip stiffnesses follow the friction too, `LKX' = LKX (mu_surface /
+//! mu_reference)^stiffness_mu_exponent` (a vehsim extension, default exponent 0 = plain MF).
+//!
+//! Sign conventions. PAC2002 files are written in the ISO / TYDEX W-axis system (x forward, y
+//! left, z up) with the slip angle tan(alpha_file) = V_y / |V_x|, so the cornering stiffness PKY1 is
+//! negative. vehsim uses alpha = -atan(V_y / |V_x|) (positive alpha gives positive Fy), so a file
+//! with PKY1 < 0 is evaluated at alpha_file = -alpha and its Fy, Fx and Mz are used as they are
+//! (same axes). ISO camber is a right-hand rotation about x (top of the wheel to the right); vehsim's
+//! camber is positive with the top to the left, so camber_file = -camber for such files. A file with
+//! PKY1 > 0 is taken to use vehsim's signs already and is evaluated unchanged. Kappa is positive when
+//! driving in both systems.
+//!
+//! Combined slip without R-coefficients. Files without RBX1/RBY1 (the public Sedan file has none)
+//! would give Gxa = Gyk = 1, a friction square. vehsim then combines with the normalised-slip
+//! friction ellipse of [`super::combine`] instead and says so in a warning: with reference slips
+//! kappa_r = Dx/Kx, alpha_r = Dy/|Ky|, weights w_x, w_y and equivalent slips kappa_eq, alpha_eq,
+//! Fx = Fx0(0) + w_x (Fx0(kappa_eq) - Fx0(0)) and likewise Fy, so pure slip is exact (including the
+//! shifts) and the zero-slip offsets Fx0(0), Fy0(0) keep the result continuous at the origin.
+
+use std::f64::consts::FRAC_2_PI;
+
+use super::combine::{equivalent, mf_cos, mf_sin, mf_sin_slope, normalised, positive, sgn};
+use super::{TyreForces, TyreInput, TyreModel};
+
+macro_rules! mf_coefficients {
+    ($( $field:ident = $name:literal, $default:expr, $doc:literal; )*) => {
+        /// Magic Formula coefficients in SI, named as in `.tir` files (upper case there).
+        ///
+        /// Dimensional ones: `fnomin` (N), `unloaded_radius` (m). All others are dimensionless
+        /// (angles inside them in rad). Absent optional coefficients are 0, absent scaling factors 1.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct MfCoefficients {
+            $( #[doc = $doc] pub $field: f64, )*
+        }
+
+        impl MfCoefficients {
+            /// Every coefficient name read from a `.tir` file or an inline table.
+            pub const NAMES: &'static [&'static str] = &[$($name),*];
+
+            /// Build from a lookup by name; the names of absent required coefficients are pushed to
+            /// `missing`.
+            pub fn from_lookup(get: impl Fn(&str) -> Option<f64>, missing: &mut Vec<&'static str>) -> Self {
+                Self {
+                    $( $field: match get($name) {
+                        Some(v) => v,
+                        None => {
+                            let d: Option<f64> = $default;
+                            match d {
+                                Some(d) => d,
+                                None => { missing.push($name); 0.0 }
+                            }
+                        }
+                    }, )*
+                }
+            }
+        }
+    };
+}
+
+mf_coefficients! {
+    fnomin = "FNOMIN", None, "Nominal load, N (passenger tyres 3000–6000).";
+    unloaded_radius = "UNLOADED_RADIUS", None, "Free tyre radius, m (0.28–0.40).";
+    lfzo = "LFZO", Some(1.0), "Scale of the nominal load.";
+    lcx = "LCX", Some(1.0), "Scale of Cx.";
+    lmux = "LMUX", Some(1.0), "Scale of the longitudinal peak friction.";
+    lex = "LEX", Some(1.0), "Scale of Ex.";
+    lkx = "LKX", Some(1.0), "Scale of Kx.";
+    lhx = "LHX", Some(1.0), "Scale of SHx.";
+    lvx = "LVX", Some(1.0), "Scale of SVx.";
+    lgax = "LGAX", Some(1.0), "Scale of camber for Fx.";
+    lcy = "LCY", Some(1.0), "Scale of Cy.";
+    lmuy = "LMUY", Some(1.0), "Scale of the lateral peak friction.";
+    ley = "LEY", Some(1.0), "Scale of Ey.";
+    lky = "LKY", Some(1.0), "Scale of Ky.";
+    lhy = "LHY", Some(1.0), "Scale of SHy.";
+    lvy = "LVY", Some(1.0), "Scale of SVy.";
+    lgay = "LGAY", Some(1.0), "Scale of camber for Fy.";
+    ltr = "LTR", Some(1.0), "Scale of the peak pneumatic trail.";
+    lres = "LRES", Some(1.0), "Scale of the residual-torque offset.";
+    lgaz = "LGAZ", Some(1.0), "Scale of camber for Mz.";
+    lxal = "LXAL", Some(1.0), "Scale of the alpha influence on Fx.";
+    lyka = "LYKA", Some(1.0), "Scale of the kappa influence on Fy.";
+    lvyka = "LVYKA", Some(1.0), "Scale of the kappa-induced Fy.";
+    pcx1 = "PCX1", None, "Shape factor Cx (1.4–1.8).";
+    pdx1 = "PDX1", None, "Longitudinal friction at Fz0' (dry road 1.0–1.3).";
+    pdx2 = "PDX2", Some(0.0), "Variation of mu_x with load (-0.2–0).";
+    pdx3 = "PDX3", Some(0.0), "Variation of mu_x with camber squared.";
+    pex1 = "PEX1", Some(0.0), "Curvature Ex at Fz0' (-1–1).";
+    pex2 = "PEX2", Some(0.0), "Variation of Ex with load.";
+    pex3 = "PEX3", Some(0.0), "Variation of Ex with load squared.";
+    pex4 = "PEX4", Some(0.0), "Ex asymmetry driving/braking.";
+    pkx1 = "PKX1", None, "Slip stiffness Kx/Fz at Fz0' (dry road 15–30).";
+    pkx2 = "PKX2", Some(0.0), "Variation of Kx/Fz with load.";
+    pkx3 = "PKX3", Some(0.0), "Exponent of Kx/Fz with load.";
+    phx1 = "PHX1", Some(0.0), "Horizontal shift SHx at Fz0'.";
+    phx2 = "PHX2", Some(0.0), "Variation of SHx with load.";
+    pvx1 = "PVX1", Some(0.0), "Vertical shift SVx/Fz at Fz0'.";
+    pvx2 = "PVX2", Some(0.0), "Variation of SVx/Fz with load.";
+    pcy1 = "PCY1", None, "Shape factor Cy (1.2–1.5).";
+    pdy1 = "PDY1", None, "Lateral friction at Fz0' (dry road 0.9–1.2).";
+    pdy2 = "PDY2", Some(0.0), "Variation of mu_y with load.";
+    pdy3 = "PDY3", Some(0.0), "Variation of mu_y with camber squared.";
+    pey1 = "PEY1", Some(0.0), "Curvature Ey at Fz0'.";
+    pey2 = "PEY2", Some(0.0), "Variation of Ey with load.";
+    pey3 = "PEY3", Some(0.0), "Ey asymmetry (sign of alpha).";
+    pey4 = "PEY4", Some(0.0), "Ey asymmetry with camber.";
+    pky1 = "PKY1", None, "Maximum Ky/Fz0' (ISO files: negative, -10 to -25).";
+    pky2 = "PKY2", None, "Load (in Fz0') at which Ky peaks (1.5–3); must not be 0.";
+    pky3 = "PKY3", Some(0.0), "Variation of Ky with camber.";
+    phy1 = "PHY1", Some(0.0), "Horizontal shift SHy at Fz0', rad.";
+    phy2 = "PHY2", Some(0.0), "Variation of SHy with load.";
+    phy3 = "PHY3", Some(0.0), "Variation of SHy with camber.";
+    pvy1 = "PVY1", Some(0.0), "Vertical shift SVy/Fz at Fz0'.";
+    pvy2 = "PVY2", Some(0.0), "Variation of SVy/Fz with load.";
+    pvy3 = "PVY3", Some(0.0), "Variation of SVy/Fz with camber.";
+    pvy4 = "PVY4", Some(0.0), "Variation of SVy/Fz with camber and load.";
+    qbz1 = "QBZ1", Some(0.0), "Trail slope Bt at Fz0'.";
+    qbz2 = "QBZ2", Some(0.0), "Variation of Bt with load.";
+    qbz3 = "QBZ3", Some(0.0), "Variation of Bt with load squared.";
+    qbz4 = "QBZ4", Some(0.0), "Variation of Bt with camber.";
+    qbz5 = "QBZ5", Some(0.0), "Variation of Bt with |camber|.";
+    qbz9 = "QBZ9", Some(0.0), "Slope Br of the residual torque.";
+    qbz10 = "QBZ10", Some(0.0), "Slope Br of the residual torque per By Cy.";
+    qcz1 = "QCZ1", Some(0.0), "Shape Ct of the pneumatic trail.";
+    qdz1 = "QDZ1", Some(0.0), "Peak trail Dt/(R0 Fz/Fz0').";
+    qdz2 = "QDZ2", Some(0.0), "Variation of peak trail with load.";
+    qdz3 = "QDZ3", Some(0.0), "Variation of peak trail with camber.";
+    qdz4 = "QDZ4", Some(0.0), "Variation of peak trail with camber squared.";
+    qdz6 = "QDZ6", Some(0.0), "Peak residual torque Dr/(Fz R0).";
+    qdz7 = "QDZ7", Some(0.0), "Variation of Dr with load.";
+    qdz8 = "QDZ8", Some(0.0), "Variation of Dr with camber.";
+    qdz9 = "QDZ9", Some(0.0), "Variation of Dr with camber and load.";
+    qez1 = "QEZ1", Some(0.0), "Trail curvature Et at Fz0'.";
+    qez2 = "QEZ2", Some(0.0), "Variation of Et with load.";
+    qez3 = "QEZ3", Some(0.0), "Variation of Et with load squared.";
+    qez4 = "QEZ4", Some(0.0), "Variation of Et with the sign of alpha_t.";
+    qez5 = "QEZ5", Some(0.0), "Variation of Et with camber and the sign of alpha_t.";
+    qhz1 = "QHZ1", Some(0.0), "Trail horizontal shift at Fz0'.";
+    qhz2 = "QHZ2", Some(0.0), "Variation of the trail shift with load.";
+    qhz3 = "QHZ3", Some(0.0), "Variation of the trail shift with camber.";
+    qhz4 = "QHZ4", Some(0.0), "Variation of the trail shift with camber and load.";
+    rbx1 = "RBX1", Some(0.0), "Slope of Gxa (5–20); 0 with RBY1 = 0 selects the ellipse fallback.";
+    rbx2 = "RBX2", Some(0.0), "Variation of the Gxa slope with kappa.";
+    rcx1 = "RCX1", Some(0.0), "Shape of Gxa (about 1).";
+    rex1 = "REX1", Some(0.0), "Curvature of Gxa.";
+    rex2 = "REX2", Some(0.0), "Variation of the Gxa curvature with load.";
+    rhx1 = "RHX1", Some(0.0), "Shift of Gxa.";
+    rby1 = "RBY1", Some(0.0), "Slope of Gyk (5–15).";
+    rby2 = "RBY2", Some(0.0), "Variation of the Gyk slope with alpha.";
+    rby3 = "RBY3", Some(0.0), "Alpha shift of the Gyk slope.";
+    rcy1 = "RCY1", Some(0.0), "Shape of Gyk (about 1).";
+    rey1 = "REY1", Some(0.0), "Curvature of Gyk.";
+    rey2 = "REY2", Some(0.0), "Variation of the Gyk curvature with load.";
+    rhy1 = "RHY1", Some(0.0), "Shift of Gyk.";
+    rhy2 = "RHY2", Some(0.0), "Variation of the Gyk shift with load.";
+    rvy1 = "RVY1", Some(0.0), "Kappa-induced side force SVyk/(mu_y Fz).";
+    rvy2 = "RVY2", Some(0.0), "Variation of SVyk with load.";
+    rvy3 = "RVY3", Some(0.0), "Variation of SVyk with camber.";
+    rvy4 = "RVY4", Some(0.0), "Variation of SVyk with alpha.";
+    rvy5 = "RVY5", Some(0.0), "Variation of SVyk with kappa.";
+    rvy6 = "RVY6", Some(0.0), "Variation of SVyk with atan(kappa).";
+}
+
+/// How combined slip is formed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Combination {
+    /// The MF weighting functions Gxa, Gyk (needs RBX1, RCX1, RBY1, RCY1).
+    MagicFormula,
+    /// The normalised-slip friction ellipse of [`super::combine`].
+    Ellipse,
+}
+
+/// A built Magic Formula tyre with per-file constants precomputed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PacejkaTyre {
+    /// The coefficients as read (SI).
+    pub coeffs: MfCoefficients,
+    /// Friction of the surface the coefficients were fitted on (1.0 for dry-road files); the
+    /// surface friction of each input scales LMUX/LMUY by mu_surface / mu_reference.
+    pub mu_reference: f64,
+    /// Exponent p of LKX' = LKX (mu_surface/mu_reference)^p (0 = stiffness independent of surface).
+    pub stiffness_mu_exponent: f64,
+    /// Combined-slip method.
+    pub combination: Combination,
+    /// Whether Mz is computed: the spec asked for it (`aligning_moment = true`) and the file has
+    /// aligning-moment coefficients (QCZ1, QDZ1 != 0); Mz = 0 otherwise. It costs about as much as
+    /// Fx and Fy together (three more transcendental functions), so it is off by default.
+    pub has_mz: bool,
+    // Precomputed.
+    fz0p: f64,
+    /// -1 for ISO files (PKY1 < 0): alpha_file = -alpha, camber_file = -camber.
+    sign_iso: f64,
+}
+
+/// Per-input quantities of the pure-slip formulas.
+#[derive(Debug, Clone, Copy)]
+struct Pure {
+    dfz: f64,
+    lmuy: f64,
+    gy: f64,
+    // Fx0
+    shx: f64,
+    cx: f64,
+    dx: f64,
+    ex0: f64,
+    bx: f64,
+    kx: f64,
+    svx: f64,
+    // Fy0
+    shy: f64,
+    cy: f64,
+    dy: f64,
+    ey0: f64,
+    ey_asym: f64,
+    by: f64,
+    ky: f64,
+    svy: f64,
+    muy: f64,
+}
+
+impl PacejkaTyre {
+    /// Build from validated coefficients. `combination` None picks the MF functions when RBX1 and
+    /// RBY1 are non-zero, else the ellipse.
+    pub fn new(
+        coeffs: MfCoefficients,
+        mu_reference: f64,
+        stiffness_mu_exponent: f64,
+        combination: Option<Combination>,
+        aligning_moment: bool,
+    ) -> Self {
+        let combination = combination.unwrap_or(if coeffs.rbx1 != 0.0 && coeffs.rby1 != 0.0 {
+            Combination::MagicFormula
+        } else {
+            Combination::Ellipse
+        });
+        let fz0p = coeffs.fnomin * coeffs.lfzo;
+        let sign_iso = if coeffs.pky1 < 0.0 { -1.0 } else { 1.0 };
+        let has_mz = aligning_moment && coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
+        Self { coeffs, mu_reference, stiffness_mu_exponent, combination, has_mz, fz0p, sign_iso }
+    }
+
+    /// Scaled nominal load Fz0' = FNOMIN LFZO, N.
+    pub fn scaled_nominal_load(&self) -> f64 {
+        self.fz0p
+    }
+
+    fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64) -> Pure {
+        let c = &self.coeffs;
+        let dfz = (fz - self.fz0p) / self.fz0p;
+        let r = mu_surface / self.mu_reference;
+        let lmux = c.lmux * r;
+        let lmuy = c.lmuy * r;
+        let rk = if self.stiffness_mu_exponent == 0.0 {
+            1.0
+        } else if self.stiffness_mu_exponent == 0.5 {
+            r.sqrt()
+        } else {
+            r.powf(self.stiffness_mu_exponent)
+        };
+        let gx = camber_file * c.lgax;
+        let gy = camber_file * c.lgay;
+
+        let shx = (c.phx1 + c.phx2 * dfz) * c.lhx;
+        let cx = c.pcx1 * c.lcx;
+        let dx = (c.pdx1 + c.pdx2 * dfz) * (1.0 - c.pdx3 * gx * gx) * lmux * fz;
+        let ex0 = (c.pex1 + c.pex2 * dfz + c.pex3 * dfz * dfz) * c.lex;
+        let kexp = if c.pkx3 == 0.0 { 1.0 } else { (c.pkx3 * dfz).exp() };
+        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk;
+        let bx = safe_div(kx, cx * dx);
+        let svx = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx * lmux;
+
+        let shy = (c.phy1 + c.phy2 * dfz) * c.lhy + c.phy3 * gy;
+        let cy = c.pcy1 * c.lcy;
+        let muy = (c.pdy1 + c.pdy2 * dfz) * (1.0 - c.pdy3 * gy * gy) * lmuy;
+        let dy = muy * fz;
+        let ey0 = (c.pey1 + c.pey2 * dfz) * c.ley;
+        let ey_asym = c.pey3 + c.pey4 * gy;
+        // sin(2 atan(x)) = 2x / (1 + x^2).
+        let xk = safe_div(fz, c.pky2 * self.fz0p);
+        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk;
+        let by = safe_div(ky, cy * dy);
+        let svy = fz * ((c.pvy1 + c.pvy2 * dfz) * c.lvy + (c.pvy3 + c.pvy4 * dfz) * gy) * lmuy;
+        Pure { dfz, lmuy, gy, shx, cx, dx, ex0, bx, kx, svx, shy, cy, dy, ey0, ey_asym, by, ky, svy, muy }
+    }
+
+    #[inline]
+    fn ex(&self, p: &Pure, kx: f64) -> f64 {
+        (p.ex0 * (1.0 - self.coeffs.pex4 * sgn(kx))).min(1.0)
+    }
+
+    #[inline]
+    fn ey(p: &Pure, ay: f64) -> f64 {
+        (p.ey0 * (1.0 - p.ey_asym * sgn(ay))).min(1.0)
+    }
+
+    /// Fx0 without SVx at shifted slip kx.
+    #[inline]
+    fn fx0_core(&self, p: &Pure, kx: f64) -> f64 {
+        mf_sin(p.bx, p.cx, p.dx, self.ex(p, kx), kx)
+    }
+
+    /// Fy0 without SVy at shifted slip ay.
+    #[inline]
+    fn fy0_core(p: &Pure, ay: f64) -> f64 {
+        mf_sin(p.by, p.cy, p.dy, Self::ey(p, ay), ay)
+    }
+
+    /// Denominator guard of the G functions: |G0| is kept >= 0.1 (G0 is 1 without shifts).
+    fn g0_guard(g0: f64) -> f64 {
+        if g0.abs() < 0.1 {
+            0.1_f64.copysign(g0)
+        } else {
+            g0
+        }
+    }
+
+    /// (Fx, Fy, bound on |F|) in file axes at file slip angle `a` and camber `g`.
+    /// With `want_bound` false the returned bound is 0 (it is only needed by `peak_friction`).
+    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, want_bound: bool) -> (f64, f64, f64, f64) {
+        let want_mz = !want_bound;
+        let c = &self.coeffs;
+        let p = self.pure(fz, mu, g);
+        let (fx, fy, bound);
+        match self.combination {
+            Combination::MagicFormula => {
+                let kx = kappa + p.shx;
+                let ay = a + p.shy;
+                let fx0 = self.fx0_core(&p, kx) + p.svx;
+                let fy0 = Self::fy0_core(&p, ay) + p.svy;
+                // Gxa. cos(atan(x)) = 1 / sqrt(1 + x^2).
+                let r2 = c.rbx2 * kappa;
+                let bxa = c.rbx1 / (1.0 + r2 * r2).sqrt() * c.lxal;
+                let exa = (c.rex1 + c.rex2 * p.dfz).min(1.0);
+                let gxa0 = if c.rhx1 == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(bxa, c.rcx1, exa, c.rhx1)) };
+                let gxa = mf_cos(bxa, c.rcx1, exa, a + c.rhx1) / gxa0;
+                // Gyk.
+                let shyk = c.rhy1 + c.rhy2 * p.dfz;
+                let r2 = c.rby2 * (a - c.rby3);
+                let byk = c.rby1 / (1.0 + r2 * r2).sqrt() * c.lyka;
+                let eyk = (c.rey1 + c.rey2 * p.dfz).min(1.0);
+                let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(byk, c.rcy1, eyk, shyk)) };
+                let gyk = mf_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0;
+                let rv = c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy;
+                let (dvyk, svyk) = if rv == 0.0 {
+                    (0.0, 0.0)
+                } else {
+                    let r4 = c.rvy4 * a;
+                    let dvyk = p.muy * fz * rv / (1.0 + r4 * r4).sqrt();
+                    (dvyk, dvyk * (c.rvy5 * (c.rvy6 * kappa).atan()).sin() * c.lvyka)
+                };
+                fx = gxa * fx0;
+                fy = gyk * fy0 + svyk;
+                bound = if want_bound {
+                    let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
+                    let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
+                    xmax.hypot(ymax)
+                } else {
+                    0.0
+                };
+            }
+            Combination::Ellipse => {
+                // Pure values at zero slip (ply-steer / conicity offsets); 0 without shifts.
+                let fx00 = if p.shx == 0.0 { p.svx } else { self.fx0_core(&p, p.shx) + p.svx };
+                let fy00 = if p.shy == 0.0 { p.svy } else { Self::fy0_core(&p, p.shy) + p.svy };
+                let kref = safe_div(p.dx, p.kx).abs();
+                let aref = safe_div(p.dy, p.ky).abs();
+                let (s, wx, wy) = normalised(safe_div(kappa, kref), safe_div(a, aref));
+                let fxe = self.fx0_core(&p, equivalent(sgn(kappa), s, kref) + p.shx) + p.svx;
+                let fye = Self::fy0_core(&p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
+                fx = fx00 + wx * (fxe - fx00);
+                fy = fy00 + wy * (fye - fy00);
+                bound = if want_bound {
+                    p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
+                } else {
+                    0.0
+                };
+            }
+        }
+        let mz = if want_mz && self.has_mz { self.mz(&p, fz, a, g, fy) } else { 0.0 };
+        (fx, fy, mz, bound)
+    }
+
+    /// Simplified aligning moment in file axes: -t(alpha) Fy + Mzr(alpha).
+    fn mz(&self, p: &Pure, fz: f64, a: f64, g: f64, fy: f64) -> f64 {
+        let c = &self.coeffs;
+        let dfz = p.dfz;
+        let gz = g * c.lgaz;
+        let lky_lmuy = safe_div(c.lky, p.lmuy);
+        let sht = c.qhz1 + c.qhz2 * dfz + (c.qhz3 + c.qhz4 * dfz) * gz;
+        let at = a + sht;
+        let shf = p.shy + safe_div(p.svy, p.ky);
+        let ar = a + shf;
+        let bt = (c.qbz1 + c.qbz2 * dfz + c.qbz3 * dfz * dfz) * (1.0 + c.qbz4 * gz + c.qbz5 * gz.abs()) * lky_lmuy;
+        let ct = c.qcz1;
+        let dt = fz
+            * (c.qdz1 + c.qdz2 * dfz)
+            * (1.0 + c.qdz3 * gz + c.qdz4 * gz * gz)
+            * (c.unloaded_radius / self.fz0p)
+            * c.ltr;
+        let et_asym = c.qez4 + c.qez5 * gz;
+        let et_sign = if et_asym == 0.0 { 1.0 } else { 1.0 + et_asym * FRAC_2_PI * (bt * ct * at).atan() };
+        let et = ((c.qez1 + c.qez2 * dfz + c.qez3 * dfz * dfz) * et_sign).min(1.0);
+        let cos_a = a.cos();
+        let t = mf_cos(bt, ct, et, at) * dt * cos_a;
+        let br = c.qbz9 * lky_lmuy + c.qbz10 * p.by * p.cy;
+        let dr = fz * ((c.qdz6 + c.qdz7 * dfz) * c.lres + (c.qdz8 + c.qdz9 * dfz) * gz) * c.unloaded_radius * p.lmuy;
+        let x = br * ar;
+        let mzr = dr / (1.0 + x * x).sqrt() * cos_a;
+        -t * fy + mzr
+    }
+
+    fn file_angles(&self, i: &TyreInput) -> (f64, f64) {
+        (self.sign_iso * i.alpha_rad, self.sign_iso * i.camber_rad)
+    }
+}
+
+/// a / b, or 0 when b is 0 (a degenerate coefficient set must not produce NaN).
+#[inline]
+fn safe_div(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        0.0
+    } else {
+        a / b
+    }
+}
+
+#[inline]
+fn inactive(i: &TyreInput) -> bool {
+    !positive(i.fz_n) || !positive(i.mu_surface) || !i.fz_n.is_finite()
+}
+
+impl TyreModel for PacejkaTyre {
+    fn name(&self) -> &'static str {
+        "pacejka"
+    }
+
+    fn forces(&self, i: &TyreInput) -> TyreForces {
+        if inactive(i) {
+            return TyreForces::default();
+        }
+        let (a, g) = self.file_angles(i);
+        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, false);
+        TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
+    }
+
+    /// A guaranteed bound on |F|/Fz at this input. With the MF combined-slip functions it is
+    /// hypot(X, Y)/Fz with X = (|Dx| + |SVx|)/|Gxa0| and Y = (|Dy| + |SVy|)/|Gyk0| + |SVyk| peak: the
+    /// published functions weight Fx and Fy separately and do not enforce an ellipse, so the
+    /// combined force can exceed max(Dx, Dy) (by up to ~40 % in the worst direction). With the
+    /// ellipse fallback the bound is max(|Dx|, |Dy|)/Fz plus the vertical shifts.
+    fn peak_friction(&self, i: &TyreInput) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (a, g) = self.file_angles(i);
+        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, true);
+        bound / i.fz_n
+    }
+
+    /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
+    fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g);
+        mf_sin_slope(p.bx, p.cx, p.dx, self.ex(&p, p.shx), p.shx)
+    }
+
+    /// dFy/dalpha (vehsim alpha) at kappa = 0, alpha = 0.
+    fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g);
+        self.sign_iso * mf_sin_slope(p.by, p.cy, p.dy, Self::ey(&p, p.shy), p.shy)
+    }
+}

@@ -1,0 +1,324 @@
+//! `vehsim tyre FILE`: force curves of tyre providers over slip, load and contact-temperature rise.
+//!
+//! The spec (TOML, unknown keys rejected) names a tyre file and the sweeps:
+//!
+//! ```toml
+//! name = "tyre_curves"                      # output folder name under the output root
+//! tyre_file = "../vehicles/tyres/srtt_p225_60r16.toml"   # relative to this spec
+//! providers = ["pacejka", "atiim_pacejka", "dugoff", "dugoff_thermal"]  # side-by-side comparison
+//! temperature_providers = ["atiim_pacejka"] # providers swept over delta_t_k (Fig. 5.2/5.3)
+//! loads_n = [4000.0]                        # N
+//! delta_t_k = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]    # K, contact-temperature rises
+//! compare_delta_t_k = 0.0                   # K, rise used in the comparison figure
+//! mu_surface = 0.15
+//! surface_temp_c = -3.0                     # degC (Fig. 5.2: ice at -3 degC)
+//! slip_ratio = { min = 0.0, max = 0.4, points = 161 }
+//! slip_angle_deg = { min = 0.0, max = 15.0, points = 151 }
+//! ```
+//!
+//! Output in `<out_root>/<name>/`:
+//! - `fx_vs_slip_ratio.csv`, `fy_vs_slip_angle.csv`: every curve, long format, units in the headers.
+//! - `fx_vs_slip_ratio_<provider>_<load>N.png/.svg` and `fy_vs_slip_angle_<provider>_<load>N.*` for
+//!   each temperature provider, one curve per rise (the dissertation's Fig. 5.2 and 5.3).
+//! - `compare_fx_<load>N.*` and `compare_fy_<load>N.*`: every provider at `compare_delta_t_k`
+//!   (Fig. 5.9/5.10).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use super::spec::{Tyre, TyreFileSpec, TyreModelKind};
+use super::TyreInput;
+use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
+use crate::output::{create_dir, write_atomic};
+use crate::plot::{line_chart, LineChart, Series};
+
+/// A closed range sampled at `points` evenly spaced values.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sweep {
+    /// First value.
+    pub min: f64,
+    /// Last value.
+    pub max: f64,
+    /// Number of samples, 2–100000.
+    pub points: usize,
+}
+
+impl Sweep {
+    fn values(&self) -> impl Iterator<Item = f64> + '_ {
+        let n = self.points.max(2);
+        (0..n).map(move |k| self.min + (self.max - self.min) * k as f64 / (n - 1) as f64)
+    }
+}
+
+fn default_surface_temp() -> f64 {
+    -3.0
+}
+
+/// Raw spec of the tyre command.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TyreSweepSpec {
+    /// Output folder name (letters, digits, `-`, `_`).
+    pub name: String,
+    /// Tyre file, relative to the spec.
+    pub tyre_file: String,
+    /// Providers compared side by side.
+    pub providers: Vec<String>,
+    /// Providers swept over `delta_t_k` (default none).
+    #[serde(default)]
+    pub temperature_providers: Vec<String>,
+    /// Normal loads, N.
+    pub loads_n: Vec<f64>,
+    /// Contact-temperature rises, K.
+    #[serde(default)]
+    pub delta_t_k: Vec<f64>,
+    /// Rise used in the comparison figures, K (default 0).
+    #[serde(default)]
+    pub compare_delta_t_k: f64,
+    /// Surface friction coefficient.
+    pub mu_surface: f64,
+    /// Bulk ice temperature, degC (default -3).
+    #[serde(default = "default_surface_temp")]
+    pub surface_temp_c: f64,
+    /// Slip-ratio sweep (dimensionless).
+    pub slip_ratio: Sweep,
+    /// Slip-angle sweep, degrees.
+    pub slip_angle_deg: Sweep,
+}
+
+struct Curve {
+    provider: &'static str,
+    fz: f64,
+    dt: f64,
+    /// (slip, fx, fy, mz) with slip = kappa or alpha in rad.
+    points: Vec<(f64, f64, f64, f64)>,
+}
+
+fn parse_kinds(path: &Path, key: &str, names: &[String]) -> Result<Vec<TyreModelKind>> {
+    names.iter().map(|n| n.parse::<TyreModelKind>().map_err(|m| Error::key(path, key, m))).collect()
+}
+
+fn check_sweep(c: &Checker, key: &str, s: &Sweep, lo: f64, hi: f64) -> Result<()> {
+    c.range(&format!("{key}.min"), s.min, lo, hi)?;
+    c.range(&format!("{key}.max"), s.max, lo, hi)?;
+    c.require(&format!("{key}.max"), s.max, s.max > s.min, "expected max > min")?;
+    c.require(
+        &format!("{key}.points"),
+        s.points as f64,
+        (2..=100_000).contains(&s.points),
+        "expected 2 <= points <= 100000",
+    )?;
+    Ok(())
+}
+
+/// Run the tyre command on spec `spec`, writing into `out_root/<name>/`; returns that folder.
+pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
+    let s: TyreSweepSpec = parse_toml(spec, &read_input(spec)?)?;
+    let c = Checker::new(spec);
+    if s.name.is_empty() || !s.name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_') {
+        return Err(Error::key(spec, "name", format!("'{}' must be non-empty letters, digits, '-' or '_'", s.name)));
+    }
+    let providers = parse_kinds(spec, "providers", &s.providers)?;
+    let thermal = parse_kinds(spec, "temperature_providers", &s.temperature_providers)?;
+    if providers.is_empty() && thermal.is_empty() {
+        return Err(Error::key(spec, "providers", "name at least one provider"));
+    }
+    if s.loads_n.is_empty() {
+        return Err(Error::key(spec, "loads_n", "give at least one load"));
+    }
+    for &l in &s.loads_n {
+        c.range("loads_n", l, 1.0, 1e6)?;
+    }
+    if !thermal.is_empty() && s.delta_t_k.is_empty() {
+        return Err(Error::key(spec, "delta_t_k", "temperature_providers need at least one rise"));
+    }
+    for &d in &s.delta_t_k {
+        c.range("delta_t_k", d, -50.0, 50.0)?;
+    }
+    c.range("compare_delta_t_k", s.compare_delta_t_k, -50.0, 50.0)?;
+    c.range("mu_surface", s.mu_surface, 0.0, 3.0)?;
+    c.range("surface_temp_c", s.surface_temp_c, -80.0, 80.0)?;
+    check_sweep(&c, "slip_ratio", &s.slip_ratio, -1.0, 10.0)?;
+    check_sweep(&c, "slip_angle_deg", &s.slip_angle_deg, -90.0, 90.0)?;
+
+    let tyre_path = resolve(spec, &s.tyre_file);
+    let tyre_spec = TyreFileSpec::load(&tyre_path)?;
+    let mut all: Vec<TyreModelKind> = providers.clone();
+    for k in &thermal {
+        if !all.contains(k) {
+            all.push(*k);
+        }
+    }
+    let tyres: Vec<(TyreModelKind, Tyre)> =
+        all.iter().map(|&k| tyre_spec.build(&tyre_path, k).map(|t| (k, t))).collect::<Result<_>>()?;
+    // Every kind in `providers` and `thermal` is in `all` and so was built above; a kind that is
+    // not found yields no curve rather than a panic.
+    let tyre_of = |k: TyreModelKind| tyres.iter().find(|(kk, _)| *kk == k).map(|(_, t)| t);
+
+    let input = |fz: f64, dt: f64, kappa: f64, alpha: f64| TyreInput {
+        fz_n: fz,
+        kappa,
+        alpha_rad: alpha,
+        camber_rad: 0.0,
+        vx_mps: 10.0,
+        mu_surface: s.mu_surface,
+        surface_temp_c: s.surface_temp_c,
+        contact_temp_c: s.surface_temp_c + dt,
+    };
+    let long_curve = |k: TyreModelKind, fz: f64, dt: f64| Curve {
+        provider: k.as_str(),
+        fz,
+        dt,
+        points: s
+            .slip_ratio
+            .values()
+            .filter_map(|kappa| {
+                let f = tyre_of(k)?.model.forces(&input(fz, dt, kappa, 0.0));
+                Some((kappa, f.fx_n, f.fy_n, f.mz_nm))
+            })
+            .collect(),
+    };
+    let lat_curve = |k: TyreModelKind, fz: f64, dt: f64| Curve {
+        provider: k.as_str(),
+        fz,
+        dt,
+        points: s
+            .slip_angle_deg
+            .values()
+            .filter_map(|deg| {
+                let f = tyre_of(k)?.model.forces(&input(fz, dt, 0.0, deg.to_radians()));
+                Some((deg.to_radians(), f.fx_n, f.fy_n, f.mz_nm))
+            })
+            .collect(),
+    };
+
+    let out = out_root.join(&s.name);
+    create_dir(&out)?;
+    let mut long_curves = Vec::new();
+    let mut lat_curves = Vec::new();
+    for &fz in &s.loads_n {
+        for &k in &thermal {
+            let lc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| long_curve(k, fz, dt)).collect();
+            let yc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| lat_curve(k, fz, dt)).collect();
+            let stem = format!("{}_{}N", k.as_str(), fz.round());
+            let label = |c: &Curve| format!("ΔT = {} K", c.dt);
+            line_chart(
+                &out.join(format!("fx_vs_slip_ratio_{stem}")),
+                &chart(
+                    format!("{} Fx vs slip ratio, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                    "slip ratio κ (-)",
+                    "Fx (N)",
+                    &lc,
+                    label,
+                    |p| (p.0, p.1),
+                ),
+            )?;
+            line_chart(
+                &out.join(format!("fy_vs_slip_angle_{stem}")),
+                &chart(
+                    format!("{} Fy vs slip angle, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                    "slip angle α (deg)",
+                    "Fy (N)",
+                    &yc,
+                    label,
+                    |p| (p.0.to_degrees(), p.2),
+                ),
+            )?;
+            long_curves.extend(lc);
+            lat_curves.extend(yc);
+        }
+        if !providers.is_empty() {
+            let dt = s.compare_delta_t_k;
+            let lc: Vec<Curve> = providers.iter().map(|&k| long_curve(k, fz, dt)).collect();
+            let yc: Vec<Curve> = providers.iter().map(|&k| lat_curve(k, fz, dt)).collect();
+            let label = |c: &Curve| c.provider.to_string();
+            line_chart(
+                &out.join(format!("compare_fx_{}N", fz.round())),
+                &chart(
+                    format!("Fx vs slip ratio, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                    "slip ratio κ (-)",
+                    "Fx (N)",
+                    &lc,
+                    label,
+                    |p| (p.0, p.1),
+                ),
+            )?;
+            line_chart(
+                &out.join(format!("compare_fy_{}N", fz.round())),
+                &chart(
+                    format!("Fy vs slip angle, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                    "slip angle α (deg)",
+                    "Fy (N)",
+                    &yc,
+                    label,
+                    |p| (p.0.to_degrees(), p.2),
+                ),
+            )?;
+            long_curves.extend(lc);
+            lat_curves.extend(yc);
+        }
+    }
+
+    let mut csv = String::from("provider,fz_n,delta_t_k,mu_surface,kappa,fx_n,fy_n,mz_nm,fx_over_fz\n");
+    for cv in &long_curves {
+        for p in &cv.points {
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{},{}",
+                cv.provider,
+                cv.fz,
+                cv.dt,
+                s.mu_surface,
+                p.0,
+                p.1,
+                p.2,
+                p.3,
+                p.1 / cv.fz
+            );
+        }
+    }
+    write_atomic(&out.join("fx_vs_slip_ratio.csv"), csv.as_bytes())?;
+    let mut csv = String::from("provider,fz_n,delta_t_k,mu_surface,alpha_deg,alpha_rad,fx_n,fy_n,mz_nm,fy_over_fz\n");
+    for cv in &lat_curves {
+        for p in &cv.points {
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{},{},{}",
+                cv.provider,
+                cv.fz,
+                cv.dt,
+                s.mu_surface,
+                p.0.to_degrees(),
+                p.0,
+                p.1,
+                p.2,
+                p.3,
+                p.2 / cv.fz
+            );
+        }
+    }
+    write_atomic(&out.join("fy_vs_slip_angle.csv"), csv.as_bytes())?;
+    Ok(out)
+}
+
+fn chart(
+    title: String,
+    x: &str,
+    y: &str,
+    curves: &[Curve],
+    label: impl Fn(&Curve) -> String,
+    map: impl Fn(&(f64, f64, f64, f64)) -> (f64, f64),
+) -> LineChart {
+    LineChart {
+        title,
+        x_label: x.into(),
+        y_label: y.into(),
+        series: curves
+            .iter()
+            .map(|c| Series { label: label(c), points: c.points.iter().map(&map).collect() })
+            .collect(),
+    }
+}

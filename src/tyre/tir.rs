@@ -1,0 +1,375 @@
+//! Reader for Magic Formula tyre property files (`.tir`, the MSC ADAMS / TNO "TeimOrbit" layout).
+//!
+//! A `.tir` file is a list of `[SECTION]` headers, each followed by `KEY = value` lines. Comments
+//! start with `$` (anywhere on a line) or `!` (at the start of a line). Values are numbers
+//! (`1.2`, `-3.76e-005`) or quoted strings (`'PAC2002'`).
+//!
+//! What this reader does:
+//! - Parses the sections it knows ([`KNOWN_SECTIONS`]); sections holding tables rather than
+//!   `KEY = value` lines (`[SHAPE]`) are skipped. An unknown section is skipped and reported as a
+//!   warning in [`TirFile::warnings`] (library code never prints).
+//! - A line it cannot read (no `=`, a bad key, an unquoted non-number, a duplicate key) is a
+//!   bad-input error naming the file and the 1-based line number.
+//! - Converts the dimensional parameters to SI according to `[UNITS]` ([`dimension_of`]): lengths,
+//!   forces, angles, speeds, stiffness and damping. The Magic Formula coefficients (P*, Q*, R*, L*)
+//!   are dimensionless by definition of the formula (angles inside them are radians) and are not
+//!   converted. A file without `[UNITS]` is read as SI, with a warning.
+//! - Checks `PROPERTY_FILE_FORMAT` in `[MODEL]` against [`SUPPORTED_FORMATS`].
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Property-file formats whose equations [`super::pacejka`] implements (MF 5.2 family).
+pub const SUPPORTED_FORMATS: &[&str] = &["PAC2002", "MF_05"];
+
+/// Sections read as `KEY = value` lines.
+pub const KNOWN_SECTIONS: &[&str] = &[
+    "MDI_HEADER",
+    "UNITS",
+    "MODEL",
+    "DIMENSION",
+    "VERTICAL",
+    "LONG_SLIP_RANGE",
+    "SLIP_ANGLE_RANGE",
+    "INCLINATION_ANGLE_RANGE",
+    "VERTICAL_FORCE_RANGE",
+    "SCALING_COEFFICIENTS",
+    "LONGITUDINAL_COEFFICIENTS",
+    "OVERTURNING_COEFFICIENTS",
+    "LATERAL_COEFFICIENTS",
+    "ROLLING_COEFFICIENTS",
+    "ALIGNING_COEFFICIENTS",
+    "TURNSLIP_COEFFICIENTS",
+    "CONTACT",
+    "STRUCTURAL",
+    "INFLATION_PRESSURE_RANGE",
+    "OPERATING_CONDITIONS",
+];
+
+/// Sections that hold tables (not `KEY = value`); their content is skipped without a warning.
+pub const TABLE_SECTIONS: &[&str] = &["SHAPE"];
+
+/// A value on the right of `=`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TirValue {
+    /// A number (converted to SI if it is a dimensional parameter).
+    Num(f64),
+    /// A quoted string, quotes removed.
+    Str(String),
+}
+
+/// A parsed property file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TirFile {
+    /// Every `KEY = value` of the known sections, keys upper-cased, numbers in SI.
+    pub values: BTreeMap<String, TirValue>,
+    /// `PROPERTY_FILE_FORMAT` as written (upper-cased), one of [`SUPPORTED_FORMATS`].
+    pub format: String,
+    /// Things the caller may want to show the user (unknown sections, missing `[UNITS]`).
+    pub warnings: Vec<String>,
+}
+
+impl TirFile {
+    /// Numeric value of `key` (upper-case name), if present.
+    pub fn num(&self, key: &str) -> Option<f64> {
+        match self.values.get(key) {
+            Some(TirValue::Num(v)) => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// String value of `key`, if present.
+    pub fn string(&self, key: &str) -> Option<&str> {
+        match self.values.get(key) {
+            Some(TirValue::Str(s)) => Some(s.as_str()),
+            _ => None,
+        }
+    }
+}
+
+/// Physical dimension of a dimensional `.tir` parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    Length,
+    Force,
+    Angle,
+    /// Length / time.
+    Speed,
+    /// Force / length.
+    Stiffness,
+    /// Force * time / length.
+    Damping,
+    Mass,
+}
+
+/// The dimension of a known dimensional parameter; `None` for dimensionless ones.
+pub fn dimension_of(key: &str) -> Option<Dimension> {
+    use Dimension::*;
+    Some(match key {
+        "UNLOADED_RADIUS" | "WIDTH" | "RIM_RADIUS" | "RIM_WIDTH" => Length,
+        "FNOMIN" | "FZMIN" | "FZMAX" => Force,
+        "ALPMIN" | "ALPMAX" | "CAMMIN" | "CAMMAX" => Angle,
+        "LONGVL" | "VXLOW" => Speed,
+        "VERTICAL_STIFFNESS" => Stiffness,
+        "VERTICAL_DAMPING" => Damping,
+        "MBELT" => Mass,
+        _ => return None,
+    })
+}
+
+/// SI factors of the five base units of `[UNITS]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Units {
+    length: f64,
+    force: f64,
+    angle: f64,
+    mass: f64,
+    time: f64,
+}
+
+impl Units {
+    fn factor(&self, d: Dimension) -> f64 {
+        match d {
+            Dimension::Length => self.length,
+            Dimension::Force => self.force,
+            Dimension::Angle => self.angle,
+            Dimension::Speed => self.length / self.time,
+            Dimension::Stiffness => self.force / self.length,
+            Dimension::Damping => self.force * self.time / self.length,
+            Dimension::Mass => self.mass,
+        }
+    }
+}
+
+/// SI factor of a unit name in `[UNITS]` for base quantity `key`, or the list of accepted names.
+fn unit_factor(key: &str, name: &str) -> std::result::Result<f64, &'static str> {
+    let n = name.trim().to_ascii_lowercase();
+    let n = n.as_str();
+    match key {
+        "LENGTH" => match n {
+            "meter" | "metre" | "m" => Ok(1.0),
+            "millimeter" | "millimetre" | "mm" => Ok(1e-3),
+            "centimeter" | "centimetre" | "cm" => Ok(1e-2),
+            "kilometer" | "kilometre" | "km" => Ok(1e3),
+            "inch" | "in" => Ok(0.0254),
+            "foot" | "ft" => Ok(0.3048),
+            _ => Err("meter, millimeter, centimeter, kilometer, inch, foot"),
+        },
+        "FORCE" => match n {
+            "newton" | "n" => Ok(1.0),
+            "kilonewton" | "kn" => Ok(1e3),
+            "pound_force" | "lbf" => Ok(4.448_221_615_260_5),
+            "kilogram_force" | "kgf" => Ok(9.806_65),
+            _ => Err("newton, kilonewton, pound_force, kilogram_force"),
+        },
+        "ANGLE" => match n {
+            "radian" | "radians" | "rad" => Ok(1.0),
+            "degree" | "degrees" | "deg" => Ok(std::f64::consts::PI / 180.0),
+            _ => Err("radian, degree"),
+        },
+        "MASS" => match n {
+            "kg" | "kilogram" => Ok(1.0),
+            "gram" | "g" => Ok(1e-3),
+            "tonne" | "megagram" => Ok(1e3),
+            "pound_mass" | "lbm" => Ok(0.453_592_37),
+            _ => Err("kg, gram, tonne, pound_mass"),
+        },
+        "TIME" => match n {
+            "second" | "sec" | "s" => Ok(1.0),
+            "millisecond" | "ms" => Ok(1e-3),
+            "minute" | "min" => Ok(60.0),
+            "hour" | "h" => Ok(3600.0),
+            _ => Err("second, millisecond, minute, hour"),
+        },
+        _ => Ok(1.0),
+    }
+}
+
+/// Read and parse a `.tir` file.
+pub fn read_tir(path: &Path) -> Result<TirFile> {
+    let text = crate::error::read_input(path)?;
+    parse_tir(path, &text)
+}
+
+fn line_err(path: &Path, line_no: usize, msg: impl std::fmt::Display) -> Error {
+    Error::input(path, format!("line {line_no}: {msg}"))
+}
+
+/// Parse the text of a `.tir` file; `path` is used in messages only.
+pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
+    // Raw entries with their line numbers; units are applied after the whole file is read, because
+    // [UNITS] need not come first.
+    let mut raw: Vec<(usize, String, TirValue)> = Vec::new();
+    let mut warnings = Vec::new();
+    let mut section: Option<String> = None;
+    // What to do with the lines of the current section.
+    #[derive(PartialEq)]
+    enum Mode {
+        Read,
+        Skip,
+    }
+    let mut mode = Mode::Skip;
+    for (idx, line) in text.lines().enumerate() {
+        let no = idx + 1;
+        let body = line.split('$').next().unwrap_or("").trim();
+        if body.is_empty() || body.starts_with('!') {
+            continue;
+        }
+        if body.starts_with('[') {
+            let Some(end) = body.find(']') else {
+                return Err(line_err(path, no, format!("malformed section header '{body}' (expected [NAME])")));
+            };
+            let name = body[1..end].trim().to_ascii_uppercase();
+            if name.is_empty() {
+                return Err(line_err(path, no, "empty section name '[]'"));
+            }
+            if KNOWN_SECTIONS.contains(&name.as_str()) {
+                mode = Mode::Read;
+            } else {
+                if !TABLE_SECTIONS.contains(&name.as_str()) {
+                    warnings.push(format!("{}: line {no}: unknown section [{name}] ignored", path.display()));
+                }
+                mode = Mode::Skip;
+            }
+            section = Some(name);
+            continue;
+        }
+        if mode == Mode::Skip {
+            if section.is_none() {
+                return Err(line_err(path, no, format!("'{body}' appears before the first [SECTION] header")));
+            }
+            continue;
+        }
+        let Some((k, v)) = body.split_once('=') else {
+            return Err(line_err(path, no, format!("malformed line '{body}' (expected KEY = value)")));
+        };
+        let key = k.trim().to_ascii_uppercase();
+        let key_ok = key.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !key_ok {
+            return Err(line_err(path, no, format!("malformed key '{}' (expected a name like PCX1)", k.trim())));
+        }
+        let v = v.trim();
+        let value = if let Some(s) = v.strip_prefix('\'') {
+            match s.strip_suffix('\'') {
+                Some(inner) => TirValue::Str(inner.to_string()),
+                None => return Err(line_err(path, no, format!("unterminated string for {key}: {v}"))),
+            }
+        } else if let Some(s) = v.strip_prefix('"') {
+            match s.strip_suffix('"') {
+                Some(inner) => TirValue::Str(inner.to_string()),
+                None => return Err(line_err(path, no, format!("unterminated string for {key}: {v}"))),
+            }
+        } else {
+            match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => TirValue::Num(x),
+                _ => {
+                    return Err(line_err(
+                        path,
+                        no,
+                        format!("value of {key} is not a finite number or a quoted string: '{v}'"),
+                    ))
+                }
+            }
+        };
+        if let Some((first, _, _)) = raw.iter().find(|(_, k2, _)| *k2 == key) {
+            return Err(line_err(path, no, format!("{key} is given twice (first on line {first})")));
+        }
+        raw.push((no, key, value));
+    }
+
+    // Units.
+    let mut units = Units { length: 1.0, force: 1.0, angle: 1.0, mass: 1.0, time: 1.0 };
+    let mut saw_units = false;
+    for (no, key, value) in &raw {
+        if !matches!(key.as_str(), "LENGTH" | "FORCE" | "ANGLE" | "MASS" | "TIME") {
+            continue;
+        }
+        saw_units = true;
+        let TirValue::Str(name) = value else {
+            return Err(line_err(path, *no, format!("{key} in [UNITS] must be a quoted unit name")));
+        };
+        let f = unit_factor(key, name)
+            .map_err(|allowed| line_err(path, *no, format!("unsupported {key} unit '{name}'; supported: {allowed}")))?;
+        match key.as_str() {
+            "LENGTH" => units.length = f,
+            "FORCE" => units.force = f,
+            "ANGLE" => units.angle = f,
+            "MASS" => units.mass = f,
+            _ => units.time = f,
+        }
+    }
+    if !saw_units {
+        warnings.push(format!("{}: no [UNITS] section; values are read as SI", path.display()));
+    }
+
+    let mut values = BTreeMap::new();
+    for (_, key, value) in raw {
+        let value = match (value, dimension_of(&key)) {
+            (TirValue::Num(x), Some(d)) => TirValue::Num(x * units.factor(d)),
+            (v, _) => v,
+        };
+        values.insert(key, value);
+    }
+
+    let format = match values.get("PROPERTY_FILE_FORMAT") {
+        Some(TirValue::Str(s)) => s.trim().to_ascii_uppercase(),
+        Some(TirValue::Num(x)) => format!("{x}"),
+        None => {
+            return Err(Error::input(
+                path,
+                format!("[MODEL] has no PROPERTY_FILE_FORMAT; supported formats: {}", SUPPORTED_FORMATS.join(", ")),
+            ))
+        }
+    };
+    if !SUPPORTED_FORMATS.contains(&format.as_str()) {
+        return Err(Error::input(
+            path,
+            format!(
+                "unsupported PROPERTY_FILE_FORMAT '{format}'; supported formats: {} (Magic Formula 5.2 equations)",
+                SUPPORTED_FORMATS.join(", ")
+            ),
+        ));
+    }
+    Ok(TirFile { values, format, warnings })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> &'static Path {
+        Path::new("t.tir")
+    }
+
+    #[test]
+    fn reads_values_comments_and_converts_units() {
+        let t = "$ header\n[UNITS]\nLENGTH = 'mm' $ c\nFORCE='kilonewton'\n[MODEL]\nPROPERTY_FILE_FORMAT='PAC2002'\n\
+                 [DIMENSION]\nUNLOADED_RADIUS = 344\n[VERTICAL]\nFNOMIN = 4.85\n[SHAPE]\n{radial width}\n 1.0 0.0\n\
+                 [LONGITUDINAL_COEFFICIENTS]\nPCX1 = 1.6 $ shape\nPVX1 = -8.8e-006\n[FOO]\nX = 1\n";
+        let f = parse_tir(p(), t).unwrap();
+        assert_eq!(f.format, "PAC2002");
+        assert!((f.num("UNLOADED_RADIUS").unwrap() - 0.344).abs() < 1e-15);
+        assert!((f.num("FNOMIN").unwrap() - 4850.0).abs() < 1e-9);
+        assert_eq!(f.num("PCX1"), Some(1.6));
+        assert_eq!(f.num("PVX1"), Some(-8.8e-6));
+        assert_eq!(f.num("X"), None);
+        assert_eq!(f.warnings.len(), 1);
+        assert!(f.warnings[0].contains("[FOO]") && f.warnings[0].contains("line 17"), "{:?}", f.warnings);
+    }
+
+    #[test]
+    fn malformed_and_duplicate_lines_name_the_line() {
+        let t = "[MODEL]\nPROPERTY_FILE_FORMAT='PAC2002'\n[LATERAL_COEFFICIENTS]\nPCY1 1.3\n";
+        let e = parse_tir(p(), t).unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("KEY = value"), "{e}");
+        let t = "[MODEL]\nPROPERTY_FILE_FORMAT='PAC2002'\n[LATERAL_COEFFICIENTS]\nPCY1 = 1.3\nPCY1 = 1.4\n";
+        let e = parse_tir(p(), t).unwrap_err().to_string();
+        assert!(e.contains("line 5") && e.contains("twice"), "{e}");
+        let t = "[MODEL]\nPROPERTY_FILE_FORMAT='PAC2002'\n[UNITS]\nLENGTH='furlong'\n";
+        let e = parse_tir(p(), t).unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("furlong") && e.contains("millimeter"), "{e}");
+    }
+}
