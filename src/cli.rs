@@ -68,6 +68,20 @@ pub enum Command {
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
+    /// Sweep tyre forces over slip for the providers, loads and temperature rises of a tyre-curve
+    /// spec; write CSV and PNG/SVG plots into <out>/<name>/.
+    Tyre {
+        file: PathBuf,
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Evaluate the ATIIM contact-patch model for a scenario spec; write grids, heat maps, the
+    /// drawbar-pull curve and summary.json into <out>/<name>/.
+    Atiim {
+        file: PathBuf,
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
     /// Time repeated runs of one spec (simulation only, no output files); prints median and min.
     Bench {
         file: PathBuf,
@@ -170,6 +184,20 @@ pub fn main() -> ExitCode {
             }
             code
         }
+        Command::Tyre { file, out } => match crate::tyre::run_tyre_command(&file, &out) {
+            Ok(d) => {
+                println!("{} -> {}", file.display(), d.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
+        Command::Atiim { file, out } => match crate::contact::command::run_atiim_command(&file, &out) {
+            Ok(d) => {
+                println!("{} -> {}", file.display(), d.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => report(&e),
+        },
         Command::Merge { shards } => match batch::merge(&shards) {
             Ok(d) => {
                 println!("merged {} shards -> {}", shards.len(), d.display());

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::contact::Isothermal;
+use crate::contact::{ContactTemperature, Isothermal};
 use crate::error::{Error, Result};
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::open_loop::OpenLoop;
@@ -18,7 +18,7 @@ use crate::sim::{simulate, Controls, Observer, Recorder, Row, Summary};
 use crate::spec::maneuver::ManeuverConfig;
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
-use crate::vehicle::Bicycle;
+use crate::vehicle::{bicycle, Bicycle, VehicleModel};
 
 /// Everything a run produced.
 #[derive(Debug, Clone)]
@@ -79,8 +79,22 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
     let mut recorder = Recorder::default();
     let mut none = NoOutput;
     let observer: &mut dyn Observer = if cfg.output.timeseries { &mut recorder } else { &mut none };
-    let mut contact = Isothermal;
-    let summary = simulate(&model, cfg.env, maneuver.as_mut(), &mut contact, &ctl, &cfg.settings, observer);
+    // The contact table was validated when the spec was built; should building fail here after
+    // all, the run goes on isothermal and says so in its events.
+    let (mut contact, note): (Box<dyn ContactTemperature>, _) = match cfg.contact.build(
+        &cfg.spec_file,
+        <Bicycle as VehicleModel<{ bicycle::N }>>::TYRES,
+        cfg.env.surface_temp_c,
+    ) {
+        Ok(c) => (c, None),
+        Err(e) => (Box::new(Isothermal), Some(e.to_string())),
+    };
+    let mut summary = simulate(&model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, observer);
+    if let Some(n) = note {
+        summary
+            .events
+            .insert(0, crate::maneuver::Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
+    }
     RunOutput { summary, rows: recorder.rows, layout: maneuver.layout() }
 }
 

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::estimator::{AtiimEstimator, BulkParams, FlashTable, TableRanges, TyreBuild};
 use super::film::FilmParams;
@@ -65,7 +65,7 @@ fn d_radius() -> f64 {
 }
 
 /// Tyre and interface parameters shared by `[contact]` and scenario files (all optional).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct TyreSpec {
     /// Inflation pressure, kPa (100–400; 35 psi = 241.3).
@@ -187,7 +187,7 @@ fn d_model() -> String {
 /// [contact.tyre]               # any TyreSpec key, all optional
 /// inflation_kpa = 241.3
 /// ```
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     /// "isothermal" or "atiim".
@@ -289,7 +289,8 @@ impl ContactSpec {
             pattern: self.tyre.pattern(),
             params,
         };
-        let table = FlashTable::build(file, &tyre, &rg)?;
+        let table =
+            cached_table(&format!("{self:?}|{}", ice_temp_c.to_bits()), || FlashTable::build(file, &tyre, &rg))?;
         let s = params.compound.solid;
         let band = 2.0 * std::f64::consts::PI * self.rolling_radius_m * self.tyre.tread_width_m;
         let bulk = BulkParams {
@@ -303,6 +304,24 @@ impl ContactSpec {
         };
         Ok(AtiimEstimator::new(table, bulk, n_tyres))
     }
+}
+
+/// The flash table for `key` (the contact spec and ice temperature it is built from), built once
+/// per process: a batch of runs with the same `[contact]` table shares it. Building is
+/// deterministic, so a cached table equals a fresh one.
+fn cached_table(key: &str, build: impl FnOnce() -> Result<FlashTable>) -> Result<FlashTable> {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static CACHE: OnceLock<Mutex<HashMap<String, FlashTable>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(t) = cache.lock().ok().and_then(|c| c.get(key).cloned()) {
+        return Ok(t);
+    }
+    let t = build()?;
+    if let Ok(mut c) = cache.lock() {
+        c.insert(key.to_string(), t.clone());
+    }
+    Ok(t)
 }
 
 /// Where the pressure grid of a scenario comes from.

@@ -29,6 +29,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::vehicle::{Vehicle, VehicleFile};
+use crate::contact::spec::ContactSpec;
 use crate::control::{DriverParams, PidParams};
 use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
 use crate::maneuver::iso3888_2::{Iso3888_2Params, SpeedMode};
@@ -293,6 +294,10 @@ pub struct ManeuverFile {
     pub integrator: IntegratorSection,
     #[serde(default)]
     pub output: OutputSection,
+    /// Contact-temperature estimate: `model = "isothermal"` (default) or `"atiim"` with its
+    /// parameters (see docs/atiim.md).
+    #[serde(default)]
+    pub contact: ContactSpec,
     /// Sweeps: dotted spec paths (`tyre_model`, `"surface.mu"`, `"maneuver.speed_mps"`, `vehicle`,
     /// any numeric key) mapped to lists of values; the batch runs their full product.
     #[serde(default)]
@@ -322,6 +327,8 @@ pub struct RunConfig {
     pub settings: SimSettings,
     /// Output switches.
     pub output: OutputSection,
+    /// The contact-temperature estimate (validated; built per run).
+    pub contact: ContactSpec,
 }
 
 /// Is `name` usable as a results folder name?
@@ -426,6 +433,8 @@ impl ManeuverFile {
             None => default_duration
                 .ok_or_else(|| Error::key(path, "duration_s", "required for this manoeuvre kind (s)"))?,
         };
+        // Validate the contact table now (builds and caches the ATIIM flash table once).
+        self.contact.build(path, 4, self.surface.temperature_c)?;
         let vehicle_file = resolve(path, &self.vehicle);
         let vehicle = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
         Ok(RunConfig {
@@ -447,6 +456,7 @@ impl ManeuverFile {
                 output_interval_s: self.output.interval_s,
             },
             output: self.output.clone(),
+            contact: self.contact.clone(),
         })
     }
 
