@@ -336,19 +336,18 @@ impl RollSection {
         let l = a + b;
         let x_s = (self.unsprung_mass_rear_kg * b - self.unsprung_mass_front_kg * a) / m_s;
         let (a_s, b_s) = (a - x_s, b + x_s);
-        let above =
-            |h: f64| format!("expected a roll centre at or below the sprung-mass CG (h_s = {h_s:.3} m; value {h} m)");
+        let above = "expected a roll centre at or below the sprung-mass CG height h_s";
         c.require(
             "roll.roll_centre_height_front_m",
             self.roll_centre_height_front_m,
             self.roll_centre_height_front_m <= h_s,
-            &above(self.roll_centre_height_front_m),
+            &format!("{above} = {h_s:.3} m (m)"),
         )?;
         c.require(
             "roll.roll_centre_height_rear_m",
             self.roll_centre_height_rear_m,
             self.roll_centre_height_rear_m <= h_s,
-            &above(self.roll_centre_height_rear_m),
+            &format!("{above} = {h_s:.3} m (m)"),
         )?;
         let h_ra = (self.roll_centre_height_front_m * b_s + self.roll_centre_height_rear_m * a_s) / l;
         let h_prime = (h_s - h_ra).max(0.0);

@@ -210,6 +210,7 @@ impl VehicleModel<N> for Bicycle {
             omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
             fz_n: [self.fz_tyre[0], self.fz_tyre[0], self.fz_tyre[1], self.fz_tyre[1]],
             roll_rad: 0.0,
+            contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
         }
     }
 

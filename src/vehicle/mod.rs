@@ -97,6 +97,9 @@ pub struct Observation {
     pub fz_n: [f64; 4],
     /// Roll angle, rad (0 for models without roll).
     pub roll_rad: f64,
+    /// Contact temperature per axle (front, rear), degC: the input's per-tyre values, averaged
+    /// over an axle's tyres for four-wheel models.
+    pub contact_temp_axle_c: [f64; 2],
 }
 
 /// A vehicle model with an N-dimensional state.

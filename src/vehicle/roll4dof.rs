@@ -368,6 +368,7 @@ impl VehicleModel<N> for Roll4Dof {
             omega_radps: [mean(omega, 0), mean(omega, 1)],
             fz_n: w.fz,
             roll_rad: x[ix::PHI],
+            contact_temp_axle_c: [mean(u.contact_temp_c, 0), mean(u.contact_temp_c, 1)],
         }
     }
 
