@@ -102,8 +102,8 @@ struct Wheels {
     alpha: [f64; 4],
     /// Tyre forces in wheel axes.
     f: [TyreForces; 4],
-    /// Road-wheel steer angle per wheel, rad.
-    steer: [f64; 4],
+    /// (sin, cos) of the road-wheel steer angle per wheel.
+    steer_sc: [(f64, f64); 4],
     /// Wheel torque balance (drive - resist - R Fx), N m.
     torque: [f64; 4],
 }
@@ -199,17 +199,20 @@ impl Roll4Dof {
         let radius = v.tyre.rolling_radius_m;
         let fz = self.normal_loads(x);
         let (dl, dr) = front_steer_angles(u.steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
-        let steer = [dl, dr, 0.0, 0.0];
+        // Rear wheels are not steered: sin 0 = 0, cos 0 = 1 exactly, no trigonometry needed.
+        let steer_sc = [dl.sin_cos(), dr.sin_cos(), (0.0, 1.0), (0.0, 1.0)];
         let front_share = v.drive_front_share();
         let drive_axle = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
         let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
         let brake_axle = [brake_cmd * v.brake_front_share, brake_cmd * (1.0 - v.brake_front_share)];
         let mut w =
-            Wheels { fz, vxw: [0.0; 4], alpha: [0.0; 4], f: [TyreForces::default(); 4], steer, torque: [0.0; 4] };
+            Wheels { fz, vxw: [0.0; 4], alpha: [0.0; 4], f: [TyreForces::default(); 4], steer_sc, torque: [0.0; 4] };
         for i in 0..4 {
             let axle = i / 2;
             let (px, py) = self.pos[i];
-            let (vxw, vyw) = to_wheel_axes(vx - r * py, vy + r * px, steer[i]);
+            let (sd, cd) = steer_sc[i];
+            let (vxb, vyb) = (vx - r * py, vy + r * px);
+            let (vxw, vyw) = (vxb * cd + vyb * sd, -vxb * sd + vyb * cd);
             w.vxw[i] = vxw;
             w.alpha[i] = slip_angle(vxw, vyw);
             let input = TyreInput {
@@ -242,7 +245,7 @@ impl Roll4Dof {
         let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
         for i in 0..4 {
             let f = w.f[i];
-            let (s, c) = w.steer[i].sin_cos();
+            let (s, c) = w.steer_sc[i];
             let fxb = f.fx_n * c - f.fy_n * s;
             let fyb = f.fx_n * s + f.fy_n * c;
             let (px, py) = self.pos[i];
