@@ -4,9 +4,12 @@
 //! t quantile for n - 2 degrees of freedom).
 //!
 //! On a constant radius R the Ackermann steer L / R does not change between steps, so the slope of
-//! delta on a_y is the understeer gradient K_us (ISO 4138 method 1). Because a path-following
-//! driver holds the radius only up to a small lateral error, the slope of delta - L rho on a_y, with
-//! rho = r / v_x the measured path curvature, is reported as well.
+//! delta on a_y is the understeer gradient (ISO 4138 method 1). The slope of delta - L r / v_x on
+//! a_y is reported as well: by the single-track kinematics tan(delta - alpha_f) + tan(alpha_r) =
+//! L r / v_x, so delta - L r / v_x ~ alpha_f - alpha_r, the tyre part that linear theory's
+//! K_us = (m / L) (b / C_f - a / C_r) describes. It excludes the driver's small radius error and the
+//! change of the kinematic angles with speed (sideslip), which on a small circle at low speed make
+//! the two slopes differ by a few per cent.
 
 use serde::Serialize;
 
@@ -153,10 +156,10 @@ pub struct UndersteerGradient {
     pub r_squared: f64,
     /// Number of steady states fitted.
     pub steps: usize,
-    /// Slope of delta - L r / v_x on a_y (removes the driver's radius error), rad per m/s^2.
-    pub curvature_corrected_rad_per_mps2: f64,
-    /// 95 % confidence interval of the curvature-corrected slope, rad per m/s^2.
-    pub curvature_corrected_ci95_rad_per_mps2: [f64; 2],
+    /// Slope of delta - L r / v_x on a_y (~ slope of alpha_f - alpha_r), rad per m/s^2.
+    pub slip_angle_gradient_rad_per_mps2: f64,
+    /// 95 % confidence interval of that slope, rad per m/s^2.
+    pub slip_angle_gradient_ci95_rad_per_mps2: [f64; 2],
     pub method: &'static str,
 }
 
@@ -175,8 +178,8 @@ pub fn understeer_gradient(states: &[SteadyState], wheelbase_m: f64) -> Option<U
         intercept_rad: f.intercept,
         r_squared: f.r_squared,
         steps: f.n,
-        curvature_corrected_rad_per_mps2: c.slope,
-        curvature_corrected_ci95_rad_per_mps2: c.slope_ci95,
+        slip_angle_gradient_rad_per_mps2: c.slope,
+        slip_angle_gradient_ci95_rad_per_mps2: c.slope_ci95,
         method: "least squares of the mean road-wheel steer angle on the mean lateral acceleration over the \
                  steady-state windows; 95 % interval = slope +- t(0.975, n-2) x standard error",
     })

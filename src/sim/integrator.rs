@@ -5,10 +5,13 @@
 //! - [`Method::Dopri5`] / [`Method::Dop853`]: ode_solvers' adaptive embedded Runge–Kutta pairs,
 //!   integrating from one controller sample to the next with relative and absolute tolerances.
 //!   ode_solvers has no public single-step API, so a solver is created per interval and its last
-//!   output taken.
+//!   output taken. The output is sparse (one entry per accepted step, the last one exactly at the
+//!   interval's end): with dense output and an output increment equal to the interval, ode_solvers
+//!   0.6.2 appends an end point extrapolated from the first accepted step whenever that step is
+//!   shorter than the interval.
 
 use nalgebra::SVector;
-use ode_solvers::{Dop853, Dopri5, System};
+use ode_solvers::{Dop853, Dopri5, OutputType, System};
 
 /// Integration method.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,11 +64,13 @@ pub fn step<const N: usize>(
         Method::Rk4 => Ok(rk4_step(f, x, h).0),
         Method::Dopri5 { rtol, atol } => {
             let mut s = Dopri5::new(Sys(f), 0.0, h, h, *x, rtol, atol);
+            s.set_output(OutputType::Sparse);
             s.integrate().map_err(|e| format!("dopri5: {e}"))?;
             s.y_out().last().copied().ok_or_else(|| "dopri5 produced no output".to_string())
         }
         Method::Dop853 { rtol, atol } => {
             let mut s = Dop853::new(Sys(f), 0.0, h, h, *x, rtol, atol);
+            s.set_output(OutputType::Sparse);
             s.integrate().map_err(|e| format!("dop853: {e}"))?;
             s.y_out().last().copied().ok_or_else(|| "dop853 produced no output".to_string())
         }
