@@ -283,6 +283,7 @@ impl Roll4Dof {
         d[ix::R] = acc[1];
         d[ix::PHI] = p;
         d[ix::P] = acc[2];
+        // Acceleration of O (the load-transfer inputs; equal to the CG's in steady state).
         let ax = fx / m;
         let ay = acc[0] + r * vx;
         d[ix::AX_LAG] = (ax - x[ix::AX_LAG]) / tau;
@@ -349,8 +350,11 @@ impl VehicleModel<N> for Roll4Dof {
         s
     }
 
+    /// Acceleration of the whole vehicle's CG: that of O plus the sprung mass's share of its roll
+    /// acceleration, -(m_s / m) h' dp/dt sideways (equal to the tyre forces over m by Newton).
     fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64) {
-        (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX])
+        let shift = self.roll.sprung_mass_kg * self.roll.h_prime_m / self.vehicle.mass_kg;
+        (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX] - shift * dx[ix::P])
     }
 
     fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
