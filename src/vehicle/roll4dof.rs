@@ -408,6 +408,70 @@ pub fn kinematic_slip_of(model: &Roll4Dof, x: &SVector<f64, N>, steer_rad: f64, 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::VehicleFile;
+    use crate::tyre::TyreModelKind;
+
+    fn sedan() -> Roll4Dof {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
+        let v = VehicleFile::load(&p).unwrap().build(&p, TyreModelKind::Linear).unwrap();
+        let roll = v.roll.clone().unwrap();
+        Roll4Dof::new(v, roll)
+    }
+
+    /// Mirroring the state and the steer about the x axis mirrors the derivative exactly.
+    #[test]
+    fn mirrored_state_gives_mirrored_derivative() {
+        let m = sedan();
+        let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+        let mut x = m.initial_state(1.0, 2.0, 0.3, 12.0);
+        let vals = [(ix::VY, 0.4), (ix::R, 0.2), (ix::PHI, 0.01), (ix::P, -0.05), (ix::AX_LAG, 0.3), (ix::AY_LAG, 1.1)];
+        for (i, v) in vals {
+            x[i] = v;
+        }
+        for (i, w) in [37.0, 36.0, 36.5, 36.8].iter().enumerate() {
+            x[ix::OMEGA + i] = *w;
+            x[ix::KAPPA + i] = 0.01 * (i as f64 + 1.0);
+        }
+        let u = Inputs { steer_rad: 0.05, drive_torque_nm: 800.0, contact_temp_c: [-3.0; 4], ..Inputs::default() };
+        let mut xm = x;
+        xm[ix::Y] = -x[ix::Y];
+        xm[ix::YAW] = -x[ix::YAW];
+        for i in [ix::VY, ix::R, ix::PHI, ix::P, ix::AY_LAG] {
+            xm[i] = -x[i];
+        }
+        // Left and right wheels swap.
+        for base in [ix::OMEGA, ix::KAPPA] {
+            xm[base] = x[base + 1];
+            xm[base + 1] = x[base];
+            xm[base + 2] = x[base + 3];
+            xm[base + 3] = x[base + 2];
+        }
+        let um = Inputs { steer_rad: -0.05, ..u };
+        let (d, dm) = (m.derivatives(&x, &u, &env), m.derivatives(&xm, &um, &env));
+        let odd = [ix::Y, ix::YAW, ix::VY, ix::R, ix::PHI, ix::P, ix::AY_LAG];
+        for i in 0..N {
+            let j = match i {
+                k if (ix::OMEGA..ix::OMEGA + 4).contains(&k) || (ix::KAPPA..ix::KAPPA + 4).contains(&k) => k ^ 1,
+                k => k,
+            };
+            let sign = if odd.contains(&i) { -1.0 } else { 1.0 };
+            let scale = d[i].abs().max(1.0);
+            assert!((d[i] - sign * dm[j]).abs() <= 1e-12 * scale, "component {i}: {} vs {}", d[i], dm[j]);
+        }
+        let fz = m.normal_loads(&x);
+        let w = m.vehicle.mass_kg * GRAVITY;
+        assert!((fz.iter().sum::<f64>() - w).abs() < 1e-9 * w);
+    }
+
+    /// At rest with no input nothing moves and nothing is non-finite.
+    #[test]
+    fn standstill_is_an_equilibrium() {
+        let m = sedan();
+        let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+        let x = m.initial_state(0.0, 0.0, 0.0, 0.0);
+        let d = m.derivatives(&x, &Inputs::default(), &env);
+        assert!(d.iter().all(|v| *v == 0.0), "{d:?}");
+    }
 
     #[test]
     fn ackermann_inner_wheel_steers_more_and_mirrors() {
