@@ -94,7 +94,7 @@ pub fn linear_fit(x: &[f64], y: &[f64]) -> Option<LinearFit> {
     let sxx: f64 = x[..n].iter().map(|v| (v - mx).powi(2)).sum();
     let sxy: f64 = x[..n].iter().zip(&y[..n]).map(|(a, b)| (a - mx) * (b - my)).sum();
     let syy: f64 = y[..n].iter().map(|v| (v - my).powi(2)).sum();
-    if !(sxx > 0.0) || !sxx.is_finite() {
+    if sxx.is_nan() || sxx <= 0.0 || !sxx.is_finite() {
         return None;
     }
     let slope = sxy / sxx;
