@@ -38,7 +38,7 @@
 //! between its wheels (open differential, gear inertia neglected); brakes by the brake balance,
 //! equally left and right. Front steering: the input is the mean road-wheel angle delta; with an
 //! Ackermann fraction A each front wheel gets delta + A (delta_ideal - delta), where
-//! tan(delta_ideal) = L tan(delta) / (L -+ (t/2) tan(delta)) (inner wheel: minus).
+//! tan(delta_ideal) = L tan(delta) / (L -+ (t/2) tan(delta)) (left wheel minus, right wheel plus).
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
