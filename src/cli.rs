@@ -105,12 +105,13 @@ pub fn main() -> ExitCode {
             for f in &files {
                 match run::load(f) {
                     Ok(cfg) => println!(
-                        "{}: ok ({} with {} on {}, tyre model {})",
+                        "{}: ok ({} with {} on {}, tyre model {}, vehicle model {})",
                         f.display(),
                         cfg.kind,
                         cfg.vehicle.name,
                         cfg.env.mu,
-                        cfg.tyre_model.as_str()
+                        cfg.tyre_model.as_str(),
+                        cfg.vehicle_model.as_str()
                     ),
                     Err(e) => code = report(&e),
                 }

@@ -2,11 +2,12 @@
 //!
 //! Layout (one concept per module):
 //! - [`spec`]: vehicle and manoeuvre spec files, validated into models before anything runs.
-//! - [`vehicle`]: vehicle models as pure equations (nonlinear bicycle).
+//! - [`vehicle`]: vehicle models as pure equations (nonlinear bicycle, 4-DOF roll model).
 //! - [`tyre`]: tyre-force providers behind [`tyre::TyreModel`] and the tyre spec files.
 //! - [`contact`]: per-step contact-temperature estimate (ATIIM).
 //! - [`control`]: PID speed controller and path-following driver.
-//! - [`maneuver`]: ISO 3888-2 and open-loop manoeuvres, reference paths.
+//! - [`maneuver`]: ISO 3888-2, constant radius (ISO 4138) and open-loop manoeuvres, reference paths,
+//!   steady-state analysis.
 //! - [`sim`]: integrators and the engine that owns time.
 //! - [`run`]: one run from a spec to result files; [`cli`]: the command line.
 //! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.

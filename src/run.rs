@@ -9,16 +9,17 @@ use serde::Serialize;
 
 use crate::contact::{ContactTemperature, Isothermal};
 use crate::error::{Error, Result};
+use crate::maneuver::constant_radius::ConstantRadius;
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::open_loop::OpenLoop;
-use crate::maneuver::Maneuver;
+use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
+use crate::maneuver::{Event, Maneuver};
 use crate::output::{create_dir, write_atomic};
-use crate::sim::observer::NoOutput;
-use crate::sim::{simulate, Controls, Observer, Recorder, Row, Summary};
-use crate::spec::maneuver::ManeuverConfig;
+use crate::sim::{simulate, Controls, Recorder, Row, Summary};
+use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
-use crate::vehicle::{bicycle, Bicycle, VehicleModel};
+use crate::vehicle::{Bicycle, Roll4Dof, VehicleModel};
 
 /// Everything a run produced.
 #[derive(Debug, Clone)]
@@ -28,6 +29,10 @@ pub struct RunOutput {
     pub rows: Vec<Row>,
     /// The manoeuvre's course for plots (`layout.json`), if it has one.
     pub layout: Option<serde_json::Value>,
+    /// Means over the manoeuvre's steady-state windows (empty unless it defines any).
+    pub steady_states: Vec<SteadyState>,
+    /// Understeer gradient fitted to the steady states (needs at least three).
+    pub understeer_gradient: Option<UndersteerGradient>,
 }
 
 /// Load and validate a manoeuvre spec (with its vehicle and tyre files).
@@ -68,34 +73,93 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
             Box::new(Iso3888_2::new(*p, body, cfg.driver))
         }
         ManeuverConfig::OpenLoop { steer, speed } => Box::new(OpenLoop { steer: steer.clone(), speed: speed.clone() }),
+        ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
     }
 }
 
-/// Simulate a validated run (no I/O).
+/// Simulate a validated run (no I/O), with the vehicle model the spec selects.
 pub fn execute(cfg: &RunConfig) -> RunOutput {
-    let model = Bicycle::new(cfg.vehicle.clone());
+    match cfg.vehicle_model {
+        VehicleModelKind::Bicycle => execute_with(&Bicycle::new(cfg.vehicle.clone()), cfg),
+        VehicleModelKind::Roll4Dof => match &cfg.vehicle.roll {
+            Some(roll) => execute_with(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()), cfg),
+            // Spec validation rejects this; a hand-built config gets a result that says why.
+            None => RunOutput {
+                summary: Summary {
+                    passed: None,
+                    cones_hit: 0,
+                    peak_yaw_rate_radps: 0.0,
+                    peak_sideslip_rad: 0.0,
+                    peak_ay_mps2: 0.0,
+                    max_path_deviation_m: None,
+                    min_speed_mps: 0.0,
+                    max_speed_mps: 0.0,
+                    max_speed_error_mps: None,
+                    steps: 0,
+                    end_time_s: 0.0,
+                    end_reason: "diverged".into(),
+                    events: vec![Event {
+                        t_s: 0.0,
+                        kind: "diverged".into(),
+                        detail: "the 4-DOF model needs the vehicle's [roll] data; nothing was simulated".into(),
+                    }],
+                },
+                rows: Vec::new(),
+                layout: None,
+                steady_states: Vec::new(),
+                understeer_gradient: None,
+            },
+        },
+    }
+}
+
+/// Simulate a validated run with a given model.
+pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConfig) -> RunOutput {
     let mut maneuver = build_maneuver(cfg);
     let ctl = controls(cfg, maneuver.start().speed_mps);
     let mut recorder = Recorder::default();
-    let mut none = NoOutput;
-    let observer: &mut dyn Observer = if cfg.output.timeseries { &mut recorder } else { &mut none };
     // The contact table was validated when the spec was built; should building fail here after
     // all, the run goes on isothermal and says so in its events.
-    let (mut contact, note): (Box<dyn ContactTemperature>, _) = match cfg.contact.build(
-        &cfg.spec_file,
-        <Bicycle as VehicleModel<{ bicycle::N }>>::TYRES,
-        cfg.env.surface_temp_c,
-    ) {
-        Ok(c) => (c, None),
-        Err(e) => (Box::new(Isothermal), Some(e.to_string())),
-    };
-    let mut summary = simulate(&model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, observer);
+    let (mut contact, note): (Box<dyn ContactTemperature>, _) =
+        match cfg.contact.build(&cfg.spec_file, M::TYRES, cfg.env.surface_temp_c) {
+            Ok(c) => (c, None),
+            Err(e) => (Box::new(Isothermal), Some(e.to_string())),
+        };
+    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut recorder);
     if let Some(n) = note {
-        summary
-            .events
-            .insert(0, crate::maneuver::Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
+        summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }
-    RunOutput { summary, rows: recorder.rows, layout: maneuver.layout() }
+    add_wheel_lift_events(&mut summary, &recorder.rows);
+    let windows = maneuver.steady_state_windows();
+    let steady_states = steady_state::steady_states(&windows, &recorder.rows);
+    let understeer_gradient = steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m());
+    let mut rows = recorder.rows;
+    if !cfg.output.timeseries {
+        rows = Vec::new();
+    }
+    RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient }
+}
+/// Add a `wheel_lift` event at the first recorded row where a wheel carries no load, and a
+/// `wheel_contact` event when it touches down again (per wheel; resolution: the output interval).
+/// Events stay in time order.
+pub fn add_wheel_lift_events(summary: &mut Summary, rows: &[Row]) {
+    const NAMES: [&str; 4] = ["front-left", "front-right", "rear-left", "rear-right"];
+    let mut lifted = [false; 4];
+    let mut new = Vec::new();
+    for r in rows {
+        for (i, fz) in r.obs.fz_n.iter().enumerate() {
+            let up = *fz <= 0.0;
+            if up != lifted[i] {
+                lifted[i] = up;
+                let (kind, what) = if up { ("wheel_lift", "lifted off") } else { ("wheel_contact", "touched down") };
+                new.push(Event { t_s: r.t_s, kind: kind.into(), detail: format!("{} wheel {what}", NAMES[i]) });
+            }
+        }
+    }
+    if !new.is_empty() {
+        summary.events.extend(new);
+        summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    }
 }
 
 /// `summary.json`: the run's identity plus the engine's figures.
@@ -113,8 +177,13 @@ struct SummaryFile<'a> {
     surface_temperature_c: f64,
     integrator: &'static str,
     step_s: f64,
+    vehicle_model: &'static str,
     #[serde(flatten)]
     summary: &'a Summary,
+    #[serde(skip_serializing_if = "<[SteadyState]>::is_empty")]
+    steady_states: &'a [SteadyState],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    understeer_gradient: Option<&'a UndersteerGradient>,
 }
 
 /// Column names of timeseries.csv, units in the names.
@@ -146,9 +215,14 @@ pub const COLUMNS: &[&str] = &[
     "path_error_m",
     "contact_temp_front_c",
     "contact_temp_rear_c",
+    "roll_rad",
+    "fz_fl_n",
+    "fz_fr_n",
+    "fz_rl_n",
+    "fz_rr_n",
 ];
 
-fn row_values(r: &Row) -> [f64; 27] {
+fn row_values(r: &Row) -> [f64; 32] {
     let o = &r.obs;
     let k = &o.kin;
     [
@@ -177,8 +251,13 @@ fn row_values(r: &Row) -> [f64; 27] {
         r.inputs.brake_torque_nm,
         r.speed_target_mps,
         r.path_error_m,
-        r.inputs.contact_temp_c[0],
-        r.inputs.contact_temp_c[1],
+        o.contact_temp_axle_c[0],
+        o.contact_temp_axle_c[1],
+        o.roll_rad,
+        o.fz_n[0],
+        o.fz_n[1],
+        o.fz_n[2],
+        o.fz_n[3],
     ]
 }
 
@@ -219,10 +298,16 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         surface_temperature_c: cfg.env.surface_temp_c,
         integrator: cfg.settings.method.name(),
         step_s: cfg.settings.step_s,
+        vehicle_model: cfg.vehicle_model.as_str(),
         summary: &out.summary,
+        steady_states: &out.steady_states,
+        understeer_gradient: out.understeer_gradient.as_ref(),
     };
     let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;
+    if !out.steady_states.is_empty() {
+        write_atomic(&dir.join("steady_states.csv"), steady_state::steady_states_csv(&out.steady_states).as_bytes())?;
+    }
     if let Some(layout) = &out.layout {
         let json = serde_json::to_string_pretty(layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
         write_atomic(&dir.join("layout.json"), (json + "\n").as_bytes())?;

@@ -1,9 +1,11 @@
 //! Manoeuvres: what the driver is asked to do (steer and speed commands), when the run is over,
 //! and the manoeuvre's own pass/fail rule. A manoeuvre sees the vehicle's kinematics only.
 
+pub mod constant_radius;
 pub mod iso3888_2;
 pub mod open_loop;
 pub mod path;
+pub mod steady_state;
 
 use serde::Serialize;
 
@@ -47,6 +49,20 @@ pub struct Start {
     pub speed_mps: f64,
 }
 
+/// A time window over which a manoeuvre expects the vehicle to be in a steady state.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SteadyWindow {
+    /// Step number, from 1.
+    pub step: usize,
+    /// Window start and end, s.
+    pub t0_s: f64,
+    pub t1_s: f64,
+    /// Speed target of the step, m/s.
+    pub speed_target_mps: f64,
+    /// Nominal lateral acceleration v^2 / R of the step (signed: left positive), m/s^2.
+    pub nominal_ay_mps2: f64,
+}
+
 /// A manoeuvre, driven by the engine once per step.
 pub trait Maneuver: Send {
     /// Where and how fast the vehicle starts.
@@ -65,5 +81,10 @@ pub trait Maneuver: Send {
     /// The course for plots (gates, reference path, body outline), as JSON; `None` if there is none.
     fn layout(&self) -> Option<serde_json::Value> {
         None
+    }
+
+    /// Steady-state windows the run's rows are averaged over afterwards (none by default).
+    fn steady_state_windows(&self) -> Vec<SteadyWindow> {
+        Vec::new()
     }
 }

@@ -5,7 +5,10 @@
 //! - [`Method::Dopri5`] / [`Method::Dop853`]: ode_solvers' adaptive embedded Runge–Kutta pairs,
 //!   integrating from one controller sample to the next with relative and absolute tolerances.
 //!   ode_solvers has no public single-step API, so a solver is created per interval and its last
-//!   output taken.
+//!   output taken. The output is sparse (one entry per accepted step, the last one exactly at the
+//!   interval's end): with dense output and an output increment equal to the interval, ode_solvers
+//!   0.6.2 appends an end point extrapolated from the first accepted step whenever that step is
+//!   shorter than the interval.
 
 use nalgebra::SVector;
 use ode_solvers::{Dop853, Dopri5, OutputType, System};

@@ -4,12 +4,13 @@
 //! name = "dlc_ice"                      # output folder results/<name>
 //! vehicle = "../vehicles/sedan.toml"    # relative to this file
 //! tyre_model = "linear"                 # a provider with a section in the vehicle's tyre file
+//! vehicle_model = "bicycle"             # or "roll4dof" (needs the vehicle's [roll] section)
 //! duration_s = 15.0                     # longest simulated time, s
 //! [surface]
 //! mu = 0.15                             # peak friction coefficient
 //! temperature_c = -3.0                  # ice surface temperature, degC
 //! [maneuver]
-//! kind = "iso3888_2"                    # or sine_steer, step_steer, straight
+//! kind = "iso3888_2"                    # or sine_steer, step_steer, straight, constant_radius
 //! speed_mps = 10.0
 //! speed_mode = "hold"                   # or "coast" (ISO: throttle released at the entry gate)
 //! [speed_control]                       # PID, N m per m/s
@@ -32,6 +33,7 @@ use super::vehicle::{Vehicle, VehicleFile};
 use crate::contact::spec::ContactSpec;
 use crate::control::{DriverParams, PidParams};
 use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
+use crate::maneuver::constant_radius::{ConstantRadiusParams, Direction};
 use crate::maneuver::iso3888_2::{Iso3888_2Params, SpeedMode};
 use crate::maneuver::open_loop::{SpeedSchedule, SteerProfile};
 use crate::sim::{Method, SimSettings};
@@ -141,6 +143,75 @@ pub struct StraightSpec {
     pub speed_schedule: Vec<[f64; 2]>,
 }
 
+/// Turn direction as written in specs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DirectionSpec {
+    Left,
+    Right,
+}
+
+/// Constant-radius speed mode as written in specs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RadiusSpeedModeSpec {
+    /// One speed held by the PID (`speed_mps`).
+    Hold,
+    /// Speed raised in steps of nominal lateral acceleration (`ay_*` keys).
+    Steps,
+}
+
+fn left() -> DirectionSpec {
+    DirectionSpec::Left
+}
+fn hold_radius() -> RadiusSpeedModeSpec {
+    RadiusSpeedModeSpec::Hold
+}
+fn default_settle() -> f64 {
+    10.0
+}
+fn default_window() -> f64 {
+    3.0
+}
+fn default_speed_ramp() -> f64 {
+    0.5
+}
+
+/// `[maneuver]` with `kind = "constant_radius"`: steady-state circular driving (ISO 4138 method 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstantRadiusSpec {
+    /// Circle radius, m (> 0; ISO 4138 suggests 40 m or 100 m, among others).
+    pub radius_m: f64,
+    /// `left` (counter-clockwise, default) or `right`.
+    #[serde(default = "left")]
+    pub direction: DirectionSpec,
+    /// `hold` (one speed, `speed_mps`; default) or `steps` (lateral-acceleration steps).
+    #[serde(default = "hold_radius")]
+    pub speed_mode: RadiusSpeedModeSpec,
+    /// Held speed, m/s (speed_mode = hold).
+    #[serde(default)]
+    pub speed_mps: Option<f64>,
+    /// Nominal lateral acceleration v^2/R of the first step, m/s^2 (steps; default ay_step_mps2).
+    #[serde(default)]
+    pub ay_first_mps2: Option<f64>,
+    /// Increase of nominal lateral acceleration per step, m/s^2, in (0, 0.5] (steps; default 0.5).
+    #[serde(default)]
+    pub ay_step_mps2: Option<f64>,
+    /// Largest nominal lateral acceleration, m/s^2 (steps; required).
+    #[serde(default)]
+    pub ay_max_mps2: Option<f64>,
+    /// Settling time at the start of each step, s (default 10).
+    #[serde(default = "default_settle")]
+    pub settle_s: f64,
+    /// Steady-state averaging window at the end of each step, s (default 3).
+    #[serde(default = "default_window")]
+    pub window_s: f64,
+    /// Largest rate of the speed target between steps, m/s^2 (default 0.5).
+    #[serde(default = "default_speed_ramp")]
+    pub speed_ramp_mps2: f64,
+}
+
 /// A parsed `[maneuver]` table.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ManeuverSpec {
@@ -148,10 +219,31 @@ pub enum ManeuverSpec {
     SineSteer(SineSteerSpec),
     StepSteer(StepSteerSpec),
     Straight(StraightSpec),
+    ConstantRadius(ConstantRadiusSpec),
 }
 
 /// The manoeuvre kinds accepted in `[maneuver] kind`.
-pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight"];
+pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight", "constant_radius"];
+
+/// Which vehicle model a run uses (top-level `vehicle_model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VehicleModelKind {
+    /// Nonlinear single-track model, static axle loads (default).
+    Bicycle,
+    /// Four-wheel model with body roll and load transfer; needs the vehicle's `[roll]` section.
+    Roll4Dof,
+}
+
+impl VehicleModelKind {
+    pub const ALLOWED: &'static [&'static str] = &["bicycle", "roll4dof"];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            VehicleModelKind::Bicycle => "bicycle",
+            VehicleModelKind::Roll4Dof => "roll4dof",
+        }
+    }
+}
 
 impl ManeuverSpec {
     /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
@@ -184,6 +276,7 @@ impl ManeuverSpec {
             "sine_steer" => ManeuverSpec::SineSteer(parse(path, rest)?),
             "step_steer" => ManeuverSpec::StepSteer(parse(path, rest)?),
             "straight" => ManeuverSpec::Straight(parse(path, rest)?),
+            "constant_radius" => ManeuverSpec::ConstantRadius(parse(path, rest)?),
             other => {
                 return Err(Error::key(
                     path,
@@ -280,6 +373,9 @@ pub struct ManeuverFile {
     pub vehicle: String,
     /// Tyre provider name.
     pub tyre_model: String,
+    /// Vehicle model: `bicycle` (default) or `roll4dof` (needs the vehicle's `[roll]` section).
+    #[serde(default)]
+    pub vehicle_model: Option<String>,
     /// Longest simulated time, s (ISO 3888-2: default from the course length and speed).
     #[serde(default)]
     pub duration_s: Option<f64>,
@@ -309,6 +405,7 @@ pub struct ManeuverFile {
 pub enum ManeuverConfig {
     Iso3888_2(Iso3888_2Params),
     OpenLoop { steer: SteerProfile, speed: SpeedSchedule },
+    ConstantRadius(ConstantRadiusParams),
 }
 
 /// A fully validated run.
@@ -319,6 +416,7 @@ pub struct RunConfig {
     pub vehicle_file: PathBuf,
     pub vehicle: Vehicle,
     pub tyre_model: TyreModelKind,
+    pub vehicle_model: VehicleModelKind,
     pub env: Environment,
     pub maneuver: ManeuverConfig,
     pub kind: &'static str,
@@ -435,14 +533,36 @@ impl ManeuverFile {
         };
         // Validate the contact table now (builds and caches the ATIIM flash table once).
         self.contact.build(path, 4, self.surface.temperature_c)?;
+        let vehicle_model = match self.vehicle_model.as_deref() {
+            None | Some("bicycle") => VehicleModelKind::Bicycle,
+            Some("roll4dof") => VehicleModelKind::Roll4Dof,
+            Some(other) => {
+                return Err(Error::key(
+                    path,
+                    "vehicle_model",
+                    format!("unknown vehicle model '{other}'; allowed: {}", VehicleModelKind::ALLOWED.join(", ")),
+                ))
+            }
+        };
         let vehicle_file = resolve(path, &self.vehicle);
         let vehicle = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+        if vehicle_model == VehicleModelKind::Roll4Dof && vehicle.roll.is_none() {
+            return Err(Error::key(
+                path,
+                "vehicle_model",
+                format!(
+                    "'roll4dof' needs a [roll] section in the vehicle file {}, which has none (or use 'bicycle')",
+                    vehicle_file.display()
+                ),
+            ));
+        }
         Ok(RunConfig {
             spec_file: path.to_path_buf(),
             name: self.name.clone(),
             vehicle_file,
             vehicle,
             tyre_model,
+            vehicle_model,
             env: Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c },
             maneuver,
             kind,
@@ -532,6 +652,99 @@ impl ManeuverFile {
                 }
                 let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
                 (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, "straight", None)
+            }
+            ManeuverSpec::ConstantRadius(s) => {
+                let r = c.require(
+                    "maneuver.radius_m",
+                    s.radius_m,
+                    s.radius_m > 0.0 && s.radius_m <= 10_000.0,
+                    "expected 0 < radius_m <= 10000 (m)",
+                )?;
+                c.range("maneuver.settle_s", s.settle_s, 0.0, 3600.0)?;
+                c.require(
+                    "maneuver.window_s",
+                    s.window_s,
+                    s.window_s > 0.0 && s.window_s <= 3600.0,
+                    "expected 0 < window_s <= 3600 (s)",
+                )?;
+                c.require(
+                    "maneuver.speed_ramp_mps2",
+                    s.speed_ramp_mps2,
+                    s.speed_ramp_mps2 > 0.0 && s.speed_ramp_mps2 <= 20.0,
+                    "expected 0 < speed_ramp_mps2 <= 20 (m/s^2)",
+                )?;
+                let not_for = |key: &str, mode: &str| {
+                    Error::key(
+                        c.file,
+                        &format!("maneuver.{key}"),
+                        format!("not used with speed_mode = \"{mode}\"; remove it"),
+                    )
+                };
+                let speeds = match s.speed_mode {
+                    RadiusSpeedModeSpec::Hold => {
+                        for (k, v) in [
+                            ("ay_first_mps2", s.ay_first_mps2),
+                            ("ay_step_mps2", s.ay_step_mps2),
+                            ("ay_max_mps2", s.ay_max_mps2),
+                        ] {
+                            if v.is_some() {
+                                return Err(not_for(k, "hold"));
+                            }
+                        }
+                        let v = s.speed_mps.ok_or_else(|| {
+                            Error::key(c.file, "maneuver.speed_mps", "required with speed_mode = \"hold\" (m/s)")
+                        })?;
+                        vec![speed(v)?]
+                    }
+                    RadiusSpeedModeSpec::Steps => {
+                        if s.speed_mps.is_some() {
+                            return Err(not_for("speed_mps", "steps"));
+                        }
+                        let step = s.ay_step_mps2.unwrap_or(0.5);
+                        c.require(
+                            "maneuver.ay_step_mps2",
+                            step,
+                            step > 0.0 && step <= 0.5,
+                            "expected 0 < ay_step_mps2 <= 0.5 (m/s^2; ISO 4138 steps)",
+                        )?;
+                        let first = s.ay_first_mps2.unwrap_or(step);
+                        c.require(
+                            "maneuver.ay_first_mps2",
+                            first,
+                            first > 0.0 && first <= 20.0,
+                            "expected 0 < ay_first_mps2 <= 20 (m/s^2)",
+                        )?;
+                        let max = s.ay_max_mps2.ok_or_else(|| {
+                            Error::key(c.file, "maneuver.ay_max_mps2", "required with speed_mode = \"steps\" (m/s^2)")
+                        })?;
+                        c.require(
+                            "maneuver.ay_max_mps2",
+                            max,
+                            max >= first && max <= 20.0 && (max - first) / step <= 200.0,
+                            "expected ay_first_mps2 <= ay_max_mps2 <= 20 (m/s^2), at most 200 steps",
+                        )?;
+                        let v = ConstantRadiusParams::stepped_speeds(r, first, step, max);
+                        if let Some(top) = v.last() {
+                            c.require("maneuver.ay_max_mps2", max, *top <= 100.0, "the top step would exceed 100 m/s")?;
+                        }
+                        v
+                    }
+                };
+                let direction = match s.direction {
+                    DirectionSpec::Left => Direction::Left,
+                    DirectionSpec::Right => Direction::Right,
+                };
+                let params = ConstantRadiusParams {
+                    radius_m: r,
+                    direction,
+                    step_speeds_mps: speeds,
+                    settle_s: s.settle_s,
+                    window_s: s.window_s,
+                    speed_ramp_mps2: s.speed_ramp_mps2,
+                };
+                let total = params.total_s();
+                c.require("maneuver.window_s", s.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
+                (ManeuverConfig::ConstantRadius(params), "constant_radius", Some(total + 0.5))
             }
         })
     }

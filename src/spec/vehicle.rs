@@ -69,6 +69,97 @@ pub struct VehicleFile {
     /// Rolling-resistance coefficient, dimensionless (0.008–0.015); 0 disables it.
     #[serde(default)]
     pub rolling_resistance: f64,
+    /// Roll, load-transfer and steering-geometry data of the 4-DOF model (optional; the bicycle
+    /// model ignores it, the 4-DOF model requires it).
+    #[serde(default)]
+    pub roll: Option<RollSection>,
+}
+
+/// Raw `[roll]` section: what the 4-DOF roll model needs beyond the bicycle's data.
+///
+/// Roll-centre heights are above the ground at each axle; the roll axis joins them. The sprung
+/// mass is `mass_kg` minus both unsprung masses; its CG height follows from `cg_height_m` (the
+/// whole vehicle's) and the unsprung CG height.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollSection {
+    /// Front roll-centre height above ground, m (MacPherson / double wishbone: 0.0–0.15).
+    pub roll_centre_height_front_m: f64,
+    /// Rear roll-centre height above ground, m (0.05–0.35).
+    pub roll_centre_height_rear_m: f64,
+    /// Front roll stiffness (springs + anti-roll bar), N m/rad (passenger cars 20e3–80e3).
+    pub roll_stiffness_front_nm_per_rad: f64,
+    /// Rear roll stiffness, N m/rad (15e3–60e3).
+    pub roll_stiffness_rear_nm_per_rad: f64,
+    /// Front roll damping (dampers), N m s/rad (1e3–6e3).
+    pub roll_damping_front_nms_per_rad: f64,
+    /// Rear roll damping, N m s/rad (1e3–6e3).
+    pub roll_damping_rear_nms_per_rad: f64,
+    /// Unsprung mass of the front axle (both corners), kg (60–120).
+    pub unsprung_mass_front_kg: f64,
+    /// Unsprung mass of the rear axle (both corners), kg (50–120).
+    pub unsprung_mass_rear_kg: f64,
+    /// Height of the unsprung masses' CG above ground, m (default: the tyre's unloaded radius).
+    #[serde(default)]
+    pub unsprung_cg_height_m: Option<f64>,
+    /// Roll moment of inertia of the sprung mass about the x axis through its own CG, kg m^2
+    /// (passenger cars 300–900).
+    pub roll_inertia_kgm2: f64,
+    /// Fraction of ideal Ackermann steering geometry, in [0, 1] (0 = parallel steer; default 0).
+    #[serde(default)]
+    pub ackermann: f64,
+    /// Time constant of the first-order lag on the accelerations that drive load transfer, s
+    /// (default 0.02; in [0.001, 1]). Breaks the algebraic loop load -> force -> acceleration -> load.
+    #[serde(default = "default_lag")]
+    pub load_transfer_lag_s: f64,
+}
+
+fn default_lag() -> f64 {
+    0.02
+}
+
+/// Validated roll data, with the derived sprung-mass geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roll {
+    /// Roll-centre heights (front, rear), m.
+    pub rc_height_m: [f64; 2],
+    /// Roll stiffness (front, rear), N m/rad.
+    pub stiffness_nm_per_rad: [f64; 2],
+    /// Roll damping (front, rear), N m s/rad.
+    pub damping_nms_per_rad: [f64; 2],
+    /// Unsprung mass per axle (front, rear), kg.
+    pub unsprung_mass_kg: [f64; 2],
+    /// Unsprung CG height, m.
+    pub unsprung_cg_height_m: f64,
+    /// Sprung-mass roll inertia about its own CG, kg m^2.
+    pub roll_inertia_kgm2: f64,
+    /// Fraction of ideal Ackermann, [0, 1].
+    pub ackermann: f64,
+    /// Load-transfer acceleration lag, s.
+    pub load_transfer_lag_s: f64,
+    /// Sprung mass m_s, kg.
+    pub sprung_mass_kg: f64,
+    /// Sprung-mass CG height above ground h_s, m.
+    pub sprung_cg_height_m: f64,
+    /// Sprung-mass CG ahead of the whole vehicle's CG, m (x_s; usually a few cm either way).
+    pub sprung_cg_ahead_m: f64,
+    /// Roll-axis height under the sprung CG, m.
+    pub roll_axis_height_m: f64,
+    /// h' = h_s - roll-axis height: sprung CG above the roll axis, m (>= 0).
+    pub h_prime_m: f64,
+}
+
+impl Roll {
+    /// Sprung-mass CG to the front and rear axle (a_s, b_s), m, for a vehicle with CG-to-axle
+    /// distances a, b.
+    pub fn sprung_axle_distances(&self, a: f64, b: f64) -> (f64, f64) {
+        (a - self.sprung_cg_ahead_m, b + self.sprung_cg_ahead_m)
+    }
+
+    /// Total roll stiffness K_phi, N m/rad.
+    pub fn total_stiffness(&self) -> f64 {
+        self.stiffness_nm_per_rad[0] + self.stiffness_nm_per_rad[1]
+    }
 }
 
 fn half() -> f64 {
@@ -105,6 +196,8 @@ pub struct Vehicle {
     pub steer_rate_max_radps: f64,
     pub drag_area_m2: f64,
     pub rolling_resistance: f64,
+    /// Roll data for the 4-DOF model (`None` when the file has no `[roll]` section).
+    pub roll: Option<Roll>,
     pub tyre: Tyre,
 }
 
@@ -171,6 +264,10 @@ impl VehicleFile {
         c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
         let tyre_path = resolve(path, &self.tyre);
         let tyre = TyreFileSpec::load(&tyre_path)?.build(&tyre_path, tyre_model)?;
+        let roll = match &self.roll {
+            Some(r) => Some(r.build(&c, self, tyre.unloaded_radius_m)?),
+            None => None,
+        };
         Ok(Vehicle {
             name: self.name.clone(),
             mass_kg: self.mass_kg,
@@ -192,7 +289,93 @@ impl VehicleFile {
             steer_rate_max_radps: self.steer_rate_max_radps,
             drag_area_m2: self.drag_area_m2,
             rolling_resistance: self.rolling_resistance,
+            roll,
             tyre,
+        })
+    }
+}
+
+impl RollSection {
+    /// Validate the section against its vehicle (`unloaded_radius` is the tyre's, m).
+    fn build(&self, c: &Checker, v: &VehicleFile, unloaded_radius: f64) -> Result<Roll> {
+        c.range("roll.roll_centre_height_front_m", self.roll_centre_height_front_m, -0.5, 2.0)?;
+        c.range("roll.roll_centre_height_rear_m", self.roll_centre_height_rear_m, -0.5, 2.0)?;
+        c.positive("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad)?;
+        c.positive("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad)?;
+        c.non_negative("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad)?;
+        c.non_negative("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad)?;
+        c.non_negative("roll.unsprung_mass_front_kg", self.unsprung_mass_front_kg)?;
+        c.non_negative("roll.unsprung_mass_rear_kg", self.unsprung_mass_rear_kg)?;
+        let m_u = self.unsprung_mass_front_kg + self.unsprung_mass_rear_kg;
+        c.require(
+            "roll.unsprung_mass_rear_kg",
+            self.unsprung_mass_rear_kg,
+            m_u < 0.5 * v.mass_kg,
+            "expected unsprung_mass_front_kg + unsprung_mass_rear_kg < mass_kg / 2 (kg)",
+        )?;
+        let h_u = match self.unsprung_cg_height_m {
+            Some(h) => c.range("roll.unsprung_cg_height_m", h, 0.0, 1.0)?,
+            None => unloaded_radius,
+        };
+        c.positive("roll.roll_inertia_kgm2", self.roll_inertia_kgm2)?;
+        c.range("roll.ackermann", self.ackermann, 0.0, 1.0)?;
+        c.range("roll.load_transfer_lag_s", self.load_transfer_lag_s, 0.001, 1.0)?;
+        let m = v.mass_kg;
+        let m_s = m - m_u;
+        let h_s = (m * v.cg_height_m - m_u * h_u) / m_s;
+        c.require(
+            "roll.unsprung_cg_height_m",
+            h_u,
+            h_s >= 0.0,
+            &format!(
+                "the sprung-mass CG would lie below ground (h_s = {h_s:.3} m); expected unsprung mass x height \
+                 <= mass_kg x cg_height_m"
+            ),
+        )?;
+        let (a, b) = (v.cg_to_front_axle_m, v.cg_to_rear_axle_m);
+        let l = a + b;
+        let x_s = (self.unsprung_mass_rear_kg * b - self.unsprung_mass_front_kg * a) / m_s;
+        let (a_s, b_s) = (a - x_s, b + x_s);
+        let above = "expected a roll centre at or below the sprung-mass CG height h_s";
+        c.require(
+            "roll.roll_centre_height_front_m",
+            self.roll_centre_height_front_m,
+            self.roll_centre_height_front_m <= h_s,
+            &format!("{above} = {h_s:.3} m (m)"),
+        )?;
+        c.require(
+            "roll.roll_centre_height_rear_m",
+            self.roll_centre_height_rear_m,
+            self.roll_centre_height_rear_m <= h_s,
+            &format!("{above} = {h_s:.3} m (m)"),
+        )?;
+        let h_ra = (self.roll_centre_height_front_m * b_s + self.roll_centre_height_rear_m * a_s) / l;
+        let h_prime = (h_s - h_ra).max(0.0);
+        let k = self.roll_stiffness_front_nm_per_rad + self.roll_stiffness_rear_nm_per_rad;
+        let k_min = m_s * crate::spec::vehicle::GRAVITY * h_prime;
+        c.require(
+            "roll.roll_stiffness_rear_nm_per_rad",
+            self.roll_stiffness_rear_nm_per_rad,
+            k > 1.05 * k_min,
+            &format!(
+                "the body would fall over: expected total roll stiffness > 1.05 m_s g h' = {:.0} N m/rad",
+                1.05 * k_min
+            ),
+        )?;
+        Ok(Roll {
+            rc_height_m: [self.roll_centre_height_front_m, self.roll_centre_height_rear_m],
+            stiffness_nm_per_rad: [self.roll_stiffness_front_nm_per_rad, self.roll_stiffness_rear_nm_per_rad],
+            damping_nms_per_rad: [self.roll_damping_front_nms_per_rad, self.roll_damping_rear_nms_per_rad],
+            unsprung_mass_kg: [self.unsprung_mass_front_kg, self.unsprung_mass_rear_kg],
+            unsprung_cg_height_m: h_u,
+            roll_inertia_kgm2: self.roll_inertia_kgm2,
+            ackermann: self.ackermann,
+            load_transfer_lag_s: self.load_transfer_lag_s,
+            sprung_mass_kg: m_s,
+            sprung_cg_height_m: h_s,
+            sprung_cg_ahead_m: x_s,
+            roll_axis_height_m: h_ra,
+            h_prime_m: h_prime,
         })
     }
 }

@@ -208,8 +208,9 @@ impl VehicleModel<N> for Bicycle {
             fx_n: [ax.f[0].fx_n, ax.f[1].fx_n],
             fy_n: [ax.f[0].fy_n, ax.f[1].fy_n],
             omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
-            fz_n: [2.0 * self.fz_tyre[0], 2.0 * self.fz_tyre[1], 0.0, 0.0],
+            fz_n: [self.fz_tyre[0], self.fz_tyre[0], self.fz_tyre[1], self.fz_tyre[1]],
             roll_rad: 0.0,
+            contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
         }
     }
 

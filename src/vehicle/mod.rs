@@ -5,6 +5,7 @@
 //! manoeuvres and output work with any model.
 
 pub mod bicycle;
+pub mod roll4dof;
 pub mod wheel;
 
 use nalgebra::SVector;
@@ -12,6 +13,7 @@ use nalgebra::SVector;
 use crate::contact::TyreContact;
 
 pub use bicycle::Bicycle;
+pub use roll4dof::Roll4Dof;
 
 /// Inputs held constant over one step (sampled from the controllers at the start of the step).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -90,10 +92,14 @@ pub struct Observation {
     pub fy_n: [f64; 2],
     /// Wheel spin speed per axle (front, rear), rad/s (mean over the axle).
     pub omega_radps: [f64; 2],
-    /// Normal load per wheel, N (bicycle: per axle in [0], [1]; [2], [3] zero).
+    /// Normal load per wheel FL, FR, RL, RR, N (bicycle: its static tyre loads, each axle's load
+    /// split equally between its two tyres).
     pub fz_n: [f64; 4],
     /// Roll angle, rad (0 for models without roll).
     pub roll_rad: f64,
+    /// Contact temperature per axle (front, rear), degC: the input's per-tyre values, averaged
+    /// over an axle's tyres for four-wheel models.
+    pub contact_temp_axle_c: [f64; 2],
 }
 
 /// A vehicle model with an N-dimensional state.

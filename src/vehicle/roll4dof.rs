@@ -1,0 +1,487 @@
+//! Four-wheel vehicle model with body roll (4-DOF: longitudinal, lateral, yaw, roll), wheel spin
+//! and transient longitudinal slip per wheel. Derivation and definitions: `docs/roll4dof.md`.
+//!
+//! Frame: body axes that yaw with the vehicle but do not roll (ISO 8855, x forward, y left, z up).
+//! Reference point O: the whole vehicle's CG in the unrolled position. The sprung mass m_s rolls by
+//! phi about the roll axis (the line through the front and rear roll centres); its CG lies h' above
+//! that axis and x_s ahead of O. Unsprung masses move with the yaw frame and do not roll. Roll is
+//! small: the sprung CG moves sideways by -h' phi (positive phi, the body leaning to the right, is
+//! what a left turn produces); second-order terms (phi^2, phi r, vertical motion of the sprung CG)
+//! are dropped, so the normal loads carry the whole weight at every instant.
+//!
+//! Equations of motion (Fx, Fy, Mz: sums of the tyre forces in body axes and their yaw moment
+//! about O; K = K_f + K_r, C = C_f + C_r; I_xa = I_xs + m_s h'^2 the roll inertia about the axis):
+//!
+//!   m (dvx/dt - r vy)                             = Fx - F_drag
+//!   m (dvy/dt + r vx) - m_s h' dp/dt              = Fy
+//!   I_z dr/dt - m_s x_s h' dp/dt                  = Mz
+//!   I_xa dp/dt - m_s h' (dvy/dt + r vx + x_s dr/dt) = -K phi - C p + m_s g h' phi
+//!   dphi/dt = p,  dX/dt = vx cos psi - vy sin psi,  dY/dt = vx sin psi + vy cos psi,  dpsi/dt = r
+//!   I_w domega_i/dt = T_drive,i - T_resist,i - R_e Fx_i      (per wheel)
+//!
+//! The (vy, r, p) equations share a constant symmetric mass matrix, inverted once in [`Roll4Dof::new`].
+//!
+//! Normal loads (per axle i with track t, static axle load F_i0, left wheel L, right wheel R):
+//!
+//!   longitudinal transfer  dX = m h a_x' / L           (front loses, rear gains)
+//!   lateral transfer       dY_i = (K_i phi + C_i p + (m_s h_ri l_i + m_ui h_u) a_y') / t
+//!   Fz_iL = (F_i0 -+ dX) / 2 - dY_i,   Fz_iR = (F_i0 -+ dX) / 2 + dY_i
+//!
+//! with l_f = b_s / L, l_r = a_s / L the sprung-mass shares per axle. a_x', a_y' are the body-frame
+//! accelerations of O passed through a first-order lag of time constant tau (two extra states):
+//! the loads depend on the forces, which depend on the loads, and the lag breaks that algebraic
+//! loop; in steady state a_x' = a_x and a_y' = a_y exactly. Each transfer is clamped so that no
+//! wheel load goes negative (a lifted wheel carries 0 and its partner the whole axle load), so the
+//! four loads sum to m g exactly at every evaluation.
+//!
+//! Drive: the drive torque is split between the axles by the layout and within an axle equally
+//! between its wheels (open differential, gear inertia neglected); brakes by the brake balance,
+//! equally left and right. Front steering: the input is the mean road-wheel angle delta; with an
+//! Ackermann fraction A each front wheel gets delta + A (delta_ideal - delta), where
+//! tan(delta_ideal) = L tan(delta) / (L -+ (t/2) tan(delta)) (left wheel minus, right wheel plus).
+
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use super::wheel::{
+    kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
+};
+use super::{Environment, Inputs, Kinematics, Observation, VehicleModel};
+use crate::contact::TyreContact;
+use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
+use crate::tyre::{TyreForces, TyreInput};
+
+/// State dimension of the 4-DOF model.
+pub const N: usize = 18;
+/// State indices. Wheels are ordered FL, FR, RL, RR.
+pub mod ix {
+    pub const X: usize = 0;
+    pub const Y: usize = 1;
+    pub const YAW: usize = 2;
+    pub const VX: usize = 3;
+    pub const VY: usize = 4;
+    pub const R: usize = 5;
+    /// Roll angle phi, rad (positive: body leans to the right, as in a left turn).
+    pub const PHI: usize = 6;
+    /// Roll rate p = dphi/dt, rad/s.
+    pub const P: usize = 7;
+    /// Lagged body-frame longitudinal and lateral acceleration of O, m/s^2 (drive load transfer).
+    pub const AX_LAG: usize = 8;
+    pub const AY_LAG: usize = 9;
+    /// Wheel spin speeds FL, FR, RL, RR, rad/s.
+    pub const OMEGA: usize = 10;
+    /// Relaxed slip ratios FL, FR, RL, RR.
+    pub const KAPPA: usize = 14;
+}
+
+/// Wheel names in state order.
+pub const WHEELS: [&str; 4] = ["front-left", "front-right", "rear-left", "rear-right"];
+
+/// The 4-DOF roll model: a validated vehicle with roll data plus precomputed constants.
+#[derive(Debug, Clone)]
+pub struct Roll4Dof {
+    pub vehicle: Vehicle,
+    pub roll: Roll,
+    /// Static axle loads (front, rear), N.
+    axle_load0: [f64; 2],
+    /// Longitudinal transfer per unit a_x: m h / L, kg.
+    long_gain: f64,
+    /// Lateral transfer per unit a_y per axle, N per m/s^2: (m_s h_ri l_i + m_ui h_u) / t.
+    lat_gain: [f64; 2],
+    /// Wheel positions from O (x, y), m, FL, FR, RL, RR.
+    pos: [(f64, f64); 4],
+    /// Inverse of the (vy, r, p) mass matrix.
+    m_inv: Matrix3<f64>,
+    /// Maximum brake torque per wheel (front, rear), N m.
+    brake_max: [f64; 2],
+}
+
+/// Per-wheel intermediate quantities of one evaluation.
+struct Wheels {
+    fz: [f64; 4],
+    vxw: [f64; 4],
+    alpha: [f64; 4],
+    /// Tyre forces in wheel axes.
+    f: [TyreForces; 4],
+    /// (sin, cos) of the road-wheel steer angle per wheel.
+    steer_sc: [(f64, f64); 4],
+    /// Wheel torque balance (drive - resist - R Fx), N m.
+    torque: [f64; 4],
+}
+
+/// Road-wheel angles (left, right) of the front wheels for a mean angle `delta`, Ackermann fraction
+/// `ackermann`, wheelbase `l` and track `t`.
+pub fn front_steer_angles(delta: f64, ackermann: f64, l: f64, t: f64) -> (f64, f64) {
+    if ackermann == 0.0 || delta == 0.0 {
+        return (delta, delta);
+    }
+    let tan_d = delta.tan();
+    let q = 0.5 * t * tan_d;
+    // L - q and L + q stay positive for |delta| below atan(2 L / t) (~74 deg for a car); beyond
+    // that ideal Ackermann is undefined and the wheels stay parallel.
+    if l - q.abs() <= 0.05 * l {
+        return (delta, delta);
+    }
+    let left = (l * tan_d / (l - q)).atan();
+    let right = (l * tan_d / (l + q)).atan();
+    (delta + ackermann * (left - delta), delta + ackermann * (right - delta))
+}
+
+impl Roll4Dof {
+    /// Build the model; `roll` is the vehicle's validated `[roll]` data.
+    pub fn new(vehicle: Vehicle, roll: Roll) -> Self {
+        let (ff, fr) = vehicle.static_axle_loads_n();
+        let (a, b, t) = (vehicle.a_m, vehicle.b_m, vehicle.track_m);
+        let l = a + b;
+        let m = vehicle.mass_kg;
+        let (a_s, b_s) = roll.sprung_axle_distances(a, b);
+        let m_s = roll.sprung_mass_kg;
+        let h_u = roll.unsprung_cg_height_m;
+        let lat_gain = [
+            (m_s * roll.rc_height_m[0] * b_s / l + roll.unsprung_mass_kg[0] * h_u) / t,
+            (m_s * roll.rc_height_m[1] * a_s / l + roll.unsprung_mass_kg[1] * h_u) / t,
+        ];
+        let hp = roll.h_prime_m;
+        let xs = roll.sprung_cg_ahead_m;
+        let i_xa = roll.roll_inertia_kgm2 + m_s * hp * hp;
+        let mass = Matrix3::new(
+            m,
+            0.0,
+            -m_s * hp,
+            0.0,
+            vehicle.yaw_inertia_kgm2,
+            -m_s * xs * hp,
+            -m_s * hp,
+            -m_s * xs * hp,
+            i_xa,
+        );
+        // Positive definite for m, I_z, I_xs > 0 (validated), so the inverse exists; the fallback
+        // (decoupled diagonal) is never taken for a validated vehicle.
+        let m_inv = mass.try_inverse().unwrap_or_else(|| {
+            Matrix3::from_diagonal(&Vector3::new(1.0 / m, 1.0 / vehicle.yaw_inertia_kgm2, 1.0 / i_xa))
+        });
+        let bmax = vehicle.brake_torque_max_nm;
+        let brake_max = [0.5 * bmax * vehicle.brake_front_share, 0.5 * bmax * (1.0 - vehicle.brake_front_share)];
+        let pos = [(a, 0.5 * t), (a, -0.5 * t), (-b, 0.5 * t), (-b, -0.5 * t)];
+        Self {
+            long_gain: m * vehicle.cg_height_m / l,
+            vehicle,
+            roll,
+            axle_load0: [ff, fr],
+            lat_gain,
+            pos,
+            m_inv,
+            brake_max,
+        }
+    }
+
+    /// Normal loads FL, FR, RL, RR, N, of a state (each >= 0; they sum to m g).
+    pub fn normal_loads(&self, x: &SVector<f64, N>) -> [f64; 4] {
+        let t = self.vehicle.track_m;
+        let [f0, r0] = self.axle_load0;
+        let dx = (self.long_gain * x[ix::AX_LAG]).clamp(-r0, f0);
+        let axle = [f0 - dx, r0 + dx];
+        let (phi, p, ay) = (x[ix::PHI], x[ix::P], x[ix::AY_LAG]);
+        let mut fz = [0.0; 4];
+        for i in 0..2 {
+            let k = self.roll.stiffness_nm_per_rad[i];
+            let c = self.roll.damping_nms_per_rad[i];
+            let half = 0.5 * axle[i];
+            let dy = ((k * phi + c * p) / t + self.lat_gain[i] * ay).clamp(-half, half);
+            fz[2 * i] = half - dy;
+            fz[2 * i + 1] = half + dy;
+        }
+        fz
+    }
+
+    fn wheels(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Wheels {
+        let v = &self.vehicle;
+        let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+        let radius = v.tyre.rolling_radius_m;
+        let fz = self.normal_loads(x);
+        let (dl, dr) = front_steer_angles(u.steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
+        // Rear wheels are not steered: sin 0 = 0, cos 0 = 1 exactly, no trigonometry needed.
+        let steer_sc = [dl.sin_cos(), dr.sin_cos(), (0.0, 1.0), (0.0, 1.0)];
+        let front_share = v.drive_front_share();
+        let drive_axle = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
+        let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
+        let brake_axle = [brake_cmd * v.brake_front_share, brake_cmd * (1.0 - v.brake_front_share)];
+        let mut w =
+            Wheels { fz, vxw: [0.0; 4], alpha: [0.0; 4], f: [TyreForces::default(); 4], steer_sc, torque: [0.0; 4] };
+        for i in 0..4 {
+            let axle = i / 2;
+            let (px, py) = self.pos[i];
+            let (sd, cd) = steer_sc[i];
+            let (vxb, vyb) = (vx - r * py, vy + r * px);
+            let (vxw, vyw) = (vxb * cd + vyb * sd, -vxb * sd + vyb * cd);
+            w.vxw[i] = vxw;
+            w.alpha[i] = slip_angle(vxw, vyw);
+            let input = TyreInput {
+                fz_n: fz[i],
+                kappa: x[ix::KAPPA + i],
+                alpha_rad: w.alpha[i],
+                camber_rad: 0.0,
+                vx_mps: vxw,
+                mu_surface: env.mu,
+                surface_temp_c: env.surface_temp_c,
+                contact_temp_c: u.contact_temp_c[i],
+            };
+            w.f[i] = v.tyre.model.forces(&input);
+            let roll_res = v.rolling_resistance * fz[i] * radius;
+            let resist_max = self.brake_max[axle] + v.rolling_resistance * 0.5 * self.axle_load0[axle] * radius;
+            let resist = resisting_torque(
+                0.5 * brake_axle[axle] + roll_res,
+                resist_max.max(0.5),
+                v.wheel_inertia_kgm2,
+                x[ix::OMEGA + i],
+            );
+            w.torque[i] = 0.5 * drive_axle[axle] - resist - radius * w.f[i].fx_n;
+        }
+        w
+    }
+
+    /// Body-frame force (x, y) and yaw moment about O of the tyres, plus drag.
+    fn body_loads(&self, w: &Wheels, vx: f64) -> (f64, f64, f64) {
+        let v = &self.vehicle;
+        let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
+        for i in 0..4 {
+            let f = w.f[i];
+            let (s, c) = w.steer_sc[i];
+            let fxb = f.fx_n * c - f.fy_n * s;
+            let fyb = f.fx_n * s + f.fy_n * c;
+            let (px, py) = self.pos[i];
+            fx += fxb;
+            fy += fyb;
+            mz += px * fyb - py * fxb + f.mz_nm;
+        }
+        fx -= 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+        (fx, fy, mz)
+    }
+
+    /// Derivative together with the per-wheel quantities it used.
+    fn eval(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, Wheels) {
+        let v = &self.vehicle;
+        let ro = &self.roll;
+        let (yaw, vx, vy, r, phi, p) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R], x[ix::PHI], x[ix::P]);
+        let w = self.wheels(x, u, env);
+        let (fx, fy, mz) = self.body_loads(&w, vx);
+        let m = v.mass_kg;
+        let (m_s, hp) = (ro.sprung_mass_kg, ro.h_prime_m);
+        let k = ro.total_stiffness();
+        let c = ro.damping_nms_per_rad[0] + ro.damping_nms_per_rad[1];
+        let rhs = Vector3::new(fy - m * r * vx, mz, -k * phi - c * p + m_s * GRAVITY * hp * phi + m_s * hp * r * vx);
+        let acc = self.m_inv * rhs;
+        let (s, co) = yaw.sin_cos();
+        let radius = v.tyre.rolling_radius_m;
+        let sigma = v.tyre.relaxation_length_x_m;
+        let tau = ro.load_transfer_lag_s;
+        let mut d = SVector::<f64, N>::zeros();
+        d[ix::X] = vx * co - vy * s;
+        d[ix::Y] = vx * s + vy * co;
+        d[ix::YAW] = r;
+        d[ix::VX] = fx / m + r * vy;
+        d[ix::VY] = acc[0];
+        d[ix::R] = acc[1];
+        d[ix::PHI] = p;
+        d[ix::P] = acc[2];
+        // Acceleration of O (the load-transfer inputs; equal to the CG's in steady state).
+        let ax = fx / m;
+        let ay = acc[0] + r * vx;
+        d[ix::AX_LAG] = (ax - x[ix::AX_LAG]) / tau;
+        d[ix::AY_LAG] = (ay - x[ix::AY_LAG]) / tau;
+        for i in 0..4 {
+            d[ix::OMEGA + i] = w.torque[i] / v.wheel_inertia_kgm2;
+            d[ix::KAPPA + i] = relaxed_slip_rate(x[ix::KAPPA + i], x[ix::OMEGA + i], radius, w.vxw[i], sigma);
+        }
+        (d, w)
+    }
+}
+
+impl VehicleModel<N> for Roll4Dof {
+    const TYRES: usize = 4;
+
+    fn state_names(&self) -> [&'static str; N] {
+        [
+            "x_m",
+            "y_m",
+            "yaw_rad",
+            "vx_mps",
+            "vy_mps",
+            "yaw_rate_radps",
+            "roll_rad",
+            "roll_rate_radps",
+            "ax_lagged_mps2",
+            "ay_lagged_mps2",
+            "omega_fl_radps",
+            "omega_fr_radps",
+            "omega_rl_radps",
+            "omega_rr_radps",
+            "kappa_fl",
+            "kappa_fr",
+            "kappa_rl",
+            "kappa_rr",
+        ]
+    }
+
+    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
+        self.eval(x, u, env).0
+    }
+
+    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
+        Kinematics {
+            x_m: x[ix::X],
+            y_m: x[ix::Y],
+            yaw_rad: x[ix::YAW],
+            vx_mps: x[ix::VX],
+            vy_mps: x[ix::VY],
+            yaw_rate_radps: x[ix::R],
+        }
+    }
+
+    fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
+        let mut s = SVector::<f64, N>::zeros();
+        s[ix::X] = x_m;
+        s[ix::Y] = y_m;
+        s[ix::YAW] = yaw_rad;
+        s[ix::VX] = speed_mps;
+        let omega = speed_mps / self.vehicle.tyre.rolling_radius_m;
+        for i in 0..4 {
+            s[ix::OMEGA + i] = omega;
+        }
+        s
+    }
+
+    /// Acceleration of the whole vehicle's CG: that of O plus the sprung mass's share of its roll
+    /// acceleration, -(m_s / m) h' dp/dt sideways (equal to the tyre forces over m by Newton).
+    fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64) {
+        let shift = self.roll.sprung_mass_kg * self.roll.h_prime_m / self.vehicle.mass_kg;
+        (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX] - shift * dx[ix::P])
+    }
+
+    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+        let kin = self.kinematics(x);
+        let (d, w) = self.eval(x, u, env);
+        let (ax, ay) = self.body_acceleration(x, &d);
+        let mean = |a: [f64; 4], axle: usize| 0.5 * (a[2 * axle] + a[2 * axle + 1]);
+        let kappa = [x[ix::KAPPA], x[ix::KAPPA + 1], x[ix::KAPPA + 2], x[ix::KAPPA + 3]];
+        let omega = [x[ix::OMEGA], x[ix::OMEGA + 1], x[ix::OMEGA + 2], x[ix::OMEGA + 3]];
+        Observation {
+            kin,
+            ax_mps2: ax,
+            ay_mps2: ay,
+            alpha_rad: [mean(w.alpha, 0), mean(w.alpha, 1)],
+            kappa: [mean(kappa, 0), mean(kappa, 1)],
+            fx_n: [w.f[0].fx_n + w.f[1].fx_n, w.f[2].fx_n + w.f[3].fx_n],
+            fy_n: [w.f[0].fy_n + w.f[1].fy_n, w.f[2].fy_n + w.f[3].fy_n],
+            omega_radps: [mean(omega, 0), mean(omega, 1)],
+            fz_n: w.fz,
+            roll_rad: x[ix::PHI],
+            contact_temp_axle_c: [mean(u.contact_temp_c, 0), mean(u.contact_temp_c, 1)],
+        }
+    }
+
+    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
+        let w = self.wheels(x, u, env);
+        let radius = self.vehicle.tyre.rolling_radius_m;
+        for (i, o) in out.iter_mut().take(4).enumerate() {
+            let kappa = x[ix::KAPPA + i];
+            *o = TyreContact {
+                fz_n: w.fz[i],
+                roll_speed_mps: (x[ix::OMEGA + i] * radius).abs(),
+                slide_speed_mps: slide_speed(kappa, w.alpha[i], w.vxw[i].abs().max(V_LOW)),
+                friction_force_n: w.f[i].fx_n.hypot(w.f[i].fy_n),
+                surface_temp_c: env.surface_temp_c,
+            };
+        }
+    }
+}
+
+/// Kinematic slip ratio of wheel `i` (FL, FR, RL, RR) for a state (diagnostics and tests).
+pub fn kinematic_slip_of(model: &Roll4Dof, x: &SVector<f64, N>, steer_rad: f64, i: usize) -> f64 {
+    let v = &model.vehicle;
+    let (px, py) = model.pos[i.min(3)];
+    let (dl, dr) = front_steer_angles(steer_rad, model.roll.ackermann, v.wheelbase_m(), v.track_m);
+    let steer = [dl, dr, 0.0, 0.0][i.min(3)];
+    let (vxw, _) = to_wheel_axes(x[ix::VX] - x[ix::R] * py, x[ix::VY] + x[ix::R] * px, steer);
+    kinematic_slip(x[ix::OMEGA + i.min(3)], v.tyre.rolling_radius_m, vxw)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::VehicleFile;
+    use crate::tyre::TyreModelKind;
+
+    fn sedan() -> Roll4Dof {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
+        let v = VehicleFile::load(&p).unwrap().build(&p, TyreModelKind::Linear).unwrap();
+        let roll = v.roll.clone().unwrap();
+        Roll4Dof::new(v, roll)
+    }
+
+    /// Mirroring the state and the steer about the x axis mirrors the derivative exactly.
+    #[test]
+    fn mirrored_state_gives_mirrored_derivative() {
+        let m = sedan();
+        let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+        let mut x = m.initial_state(1.0, 2.0, 0.3, 12.0);
+        let vals = [(ix::VY, 0.4), (ix::R, 0.2), (ix::PHI, 0.01), (ix::P, -0.05), (ix::AX_LAG, 0.3), (ix::AY_LAG, 1.1)];
+        for (i, v) in vals {
+            x[i] = v;
+        }
+        for (i, w) in [37.0, 36.0, 36.5, 36.8].iter().enumerate() {
+            x[ix::OMEGA + i] = *w;
+            x[ix::KAPPA + i] = 0.01 * (i as f64 + 1.0);
+        }
+        let u = Inputs { steer_rad: 0.05, drive_torque_nm: 800.0, contact_temp_c: [-3.0; 4], ..Inputs::default() };
+        let mut xm = x;
+        xm[ix::Y] = -x[ix::Y];
+        xm[ix::YAW] = -x[ix::YAW];
+        for i in [ix::VY, ix::R, ix::PHI, ix::P, ix::AY_LAG] {
+            xm[i] = -x[i];
+        }
+        // Left and right wheels swap.
+        for base in [ix::OMEGA, ix::KAPPA] {
+            xm[base] = x[base + 1];
+            xm[base + 1] = x[base];
+            xm[base + 2] = x[base + 3];
+            xm[base + 3] = x[base + 2];
+        }
+        let um = Inputs { steer_rad: -0.05, ..u };
+        let (d, dm) = (m.derivatives(&x, &u, &env), m.derivatives(&xm, &um, &env));
+        let odd = [ix::Y, ix::YAW, ix::VY, ix::R, ix::PHI, ix::P, ix::AY_LAG];
+        for i in 0..N {
+            let j = match i {
+                k if (ix::OMEGA..ix::OMEGA + 4).contains(&k) || (ix::KAPPA..ix::KAPPA + 4).contains(&k) => k ^ 1,
+                k => k,
+            };
+            let sign = if odd.contains(&i) { -1.0 } else { 1.0 };
+            let scale = d[i].abs().max(1.0);
+            assert!((d[i] - sign * dm[j]).abs() <= 1e-12 * scale, "component {i}: {} vs {}", d[i], dm[j]);
+        }
+        let fz = m.normal_loads(&x);
+        let w = m.vehicle.mass_kg * GRAVITY;
+        assert!((fz.iter().sum::<f64>() - w).abs() < 1e-9 * w);
+    }
+
+    /// At rest with no input nothing moves and nothing is non-finite.
+    #[test]
+    fn standstill_is_an_equilibrium() {
+        let m = sedan();
+        let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+        let x = m.initial_state(0.0, 0.0, 0.0, 0.0);
+        let d = m.derivatives(&x, &Inputs::default(), &env);
+        assert!(d.iter().all(|v| *v == 0.0), "{d:?}");
+    }
+
+    #[test]
+    fn ackermann_inner_wheel_steers_more_and_mirrors() {
+        let (l, t) = (2.8, 1.6);
+        let (fl, fr) = front_steer_angles(0.1, 1.0, l, t);
+        assert!(fl > 0.1 && fr < 0.1);
+        // Ideal Ackermann: cot(outer) - cot(inner) = t / L.
+        assert!(((1.0 / fr.tan() - 1.0 / fl.tan()) - t / l).abs() < 1e-12);
+        let (ml, mr) = front_steer_angles(-0.1, 1.0, l, t);
+        assert!((ml + fr).abs() < 1e-15 && (mr + fl).abs() < 1e-15);
+        assert_eq!(front_steer_angles(0.1, 0.0, l, t), (0.1, 0.1));
+    }
+}
