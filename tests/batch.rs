@@ -199,3 +199,29 @@ fn compare_accepts_identical_and_detects_a_perturbed_trajectory() {
     let (c, _, e) = vehsim(&dir, &["compare", a.to_str().unwrap(), "missing.csv"]);
     assert_eq!(c, 2, "{e}");
 }
+
+/// A run that spins out is marked `failed` with its event while the other runs of the batch
+/// finish: at 8 m/s on mu 0.15 a 40 m circle needs more than mu g, a 100 m circle does not.
+#[test]
+fn a_spin_out_is_a_failed_run_and_the_batch_goes_on() {
+    let dir = common::temp_dir("spinout");
+    let src = common::root().join("maneuvers/dissertation/constant_radius_8mps_pacejka_vs_atiim.toml");
+    let spec = std::fs::read_to_string(&src)
+        .unwrap()
+        .replace("../../vehicles/", &format!("{}/vehicles/", common::root().display()))
+        .replace(
+            "tyre_model = [\"pacejka\", \"atiim_pacejka\"]",
+            "tyre_model = [\"atiim_pacejka\"]\n\"maneuver.radius_m\" = [100.0, 40.0]",
+        );
+    std::fs::write(dir.join("cr.toml"), spec).unwrap();
+    let (code, out, err) = vehsim(&dir, &["run", "--quiet", "cr.toml"]);
+    assert_eq!(code, 1, "{out}{err}");
+    let csv = String::from_utf8(read(&dir.join("results/dissertation_constant_radius_8mps/summary.csv"))).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!((rows[0][1], rows[1][1]), ("ok", "failed"), "{csv}");
+    assert!(rows[1].contains(&"spin_out"), "{csv}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&read(&dir.join("results/dissertation_constant_radius_8mps/run_0001/summary.json")))
+            .unwrap();
+    assert!(json["events"].as_array().unwrap().iter().any(|e| e["kind"] == "spin_out"));
+}
