@@ -64,25 +64,28 @@ pub struct Driver {
     pub params: DriverParams,
     /// Wheelbase L, m.
     pub wheelbase_m: f64,
-    /// Arc length of the closest path point found last, m (`None` before the first sample).
-    cursor_s: Option<f64>,
+    /// Segment index of the closest path point found last (`None` before the first sample).
+    cursor: Option<usize>,
     /// Signed lateral error of the CG from the path (left positive), m, at the last sample.
     pub lateral_error_m: f64,
 }
 
 impl Driver {
     pub fn new(params: DriverParams, wheelbase_m: f64) -> Self {
-        Self { params, wheelbase_m, cursor_s: None, lateral_error_m: 0.0 }
+        Self { params, wheelbase_m, cursor: None, lateral_error_m: 0.0 }
     }
 
     /// Desired road-wheel steer angle (before limits) for the vehicle at `kin`.
     pub fn steer(&mut self, path: &RefPath, kin: &Kinematics) -> f64 {
         let p = &self.params;
-        let (s, e_cg) = match self.cursor_s {
-            Some(hint) => path.closest(kin.x_m, kin.y_m, hint),
-            None => path.closest_global(kin.x_m, kin.y_m),
+        let (s, e_cg, idx) = match self.cursor {
+            Some(i) => path.closest_from(kin.x_m, kin.y_m, i),
+            None => {
+                let (s, e) = path.closest_global(kin.x_m, kin.y_m);
+                (s, e, path.segment_at(s))
+            }
         };
-        self.cursor_s = Some(s);
+        self.cursor = Some(idx);
         self.lateral_error_m = e_cg;
         let v = kin.speed_mps().max(1.0);
         let dist = (p.preview_time_s * v).max(p.preview_min_m);
@@ -91,7 +94,7 @@ impl Driver {
         let course = kin.yaw_rad + if kin.speed_mps() > 0.5 { kin.sideslip_rad() } else { 0.0 };
         let mid = course + 0.5 * r * tp;
         let (px, py) = (kin.x_m + dist * mid.cos(), kin.y_m + dist * mid.sin());
-        let (tx, ty) = path.point_at(s + dist);
+        let (tx, ty) = path.point_at_from(s + dist, idx);
         let (sy, cy) = kin.yaw_rad.sin_cos();
         let e = -(tx - px) * sy + (ty - py) * cy;
         let lk = self.wheelbase_m + p.understeer_gradient_rad_per_mps2 * v * v;

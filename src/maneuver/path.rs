@@ -73,6 +73,11 @@ impl RefPath {
         s
     }
 
+    /// Index of the segment holding arc length `s`.
+    pub fn segment_at(&self, s: f64) -> usize {
+        self.index_at(s)
+    }
+
     fn index_at(&self, s: f64) -> usize {
         let s = self.wrap(s);
         match self.s.binary_search_by(|v| v.partial_cmp(&s).unwrap_or(std::cmp::Ordering::Less)) {
@@ -112,10 +117,18 @@ impl RefPath {
     /// little between calls; use [`RefPath::closest_global`] for the first call). Returns (arc
     /// length, signed lateral offset, positive to the left of the path direction).
     pub fn closest(&self, x: f64, y: f64, hint_s: f64) -> (f64, f64) {
+        let (s, e, _) = self.closest_from(x, y, self.index_at(hint_s));
+        (s, e)
+    }
+
+    /// As [`RefPath::closest`], starting from segment index `start`; also returns the segment
+    /// index found, to start the next call from (no search over the path).
+    pub fn closest_from(&self, x: f64, y: f64, start: usize) -> (f64, f64, usize) {
         let nseg = self.n_segments();
         if nseg == 0 {
-            return (0.0, 0.0);
+            return (0.0, 0.0, 0);
         }
+        let start = start.min(nseg - 1);
         let step = |i: usize, fwd: bool| -> Option<usize> {
             if fwd {
                 if i + 1 < nseg {
@@ -133,7 +146,6 @@ impl RefPath {
                 None
             }
         };
-        let start = self.index_at(hint_s);
         let mut best = (start, self.project(start, x, y));
         for fwd in [true, false] {
             let mut i = best.0;
@@ -154,7 +166,27 @@ impl RefPath {
             }
         }
         let (_, s, e) = best.1;
-        (self.wrap(s), e)
+        (self.wrap(s), e, best.0)
+    }
+
+    /// Point at arc length `s`, searching forward from segment index `from` (cheap when `s` lies
+    /// a few segments ahead of it, as the driver's preview point does).
+    pub fn point_at_from(&self, s: f64, from: usize) -> (f64, f64) {
+        let nseg = self.n_segments();
+        if nseg == 0 || self.closed {
+            return self.point_at(s);
+        }
+        let mut i = from.min(nseg - 1);
+        while i + 1 < nseg && self.s[i + 1] <= s {
+            i += 1;
+        }
+        if self.s[i] > s {
+            return self.point_at(s);
+        }
+        let (a, b, s0) = self.segment(i);
+        let len = (b.0 - a.0).hypot(b.1 - a.1).max(1e-12);
+        let u = (s - s0) / len;
+        (a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1))
     }
 
     /// Projection of (x, y) on segment i: (squared distance, arc length, signed offset). The end

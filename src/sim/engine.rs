@@ -85,9 +85,16 @@ impl Summary {
     }
 }
 
+/// Is the angle of (vx, |vy|) from the x axis, in [0, pi], larger than that of (cx, sy) (a unit
+/// vector in the same half plane)? Cross-product test: no trigonometry per step.
+fn wider(vx: f64, vy_abs: f64, cx: f64, sy: f64) -> bool {
+    cx * vy_abs - sy * vx > 0.0
+}
+
 struct Stats {
     peak_r: f64,
-    peak_beta: f64,
+    /// Velocity direction (vx, |vy|) with the largest sideslip so far.
+    peak_beta_dir: (f64, f64),
     peak_ay: f64,
     max_dev: Option<f64>,
     vmin: f64,
@@ -125,13 +132,14 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
     let mut events = Vec::new();
     let mut st = Stats {
         peak_r: 0.0,
-        peak_beta: 0.0,
+        peak_beta_dir: (1.0, 0.0),
         peak_ay: 0.0,
         max_dev: None,
         vmin: f64::INFINITY,
         vmax: 0.0,
         max_verr: None,
     };
+    let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
     let mut end_reason = "duration";
     let mut k: u64 = 0;
     let mut last_row: Option<Row> = None;
@@ -203,7 +211,9 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
         st.vmin = st.vmin.min(speed);
         st.vmax = st.vmax.max(speed);
         st.peak_r = st.peak_r.max(kin.yaw_rate_radps.abs());
-        st.peak_beta = st.peak_beta.max(kin.sideslip_rad().abs());
+        if wider(kin.vx_mps, kin.vy_mps.abs(), st.peak_beta_dir.0, st.peak_beta_dir.1) {
+            st.peak_beta_dir = (kin.vx_mps, kin.vy_mps.abs());
+        }
         k += 1;
         let t_next = k as f64 * h;
         // 4. Checks.
@@ -229,7 +239,7 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
         };
         x = next;
         let kin = model.kinematics(&x);
-        if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && kin.sideslip_rad().abs() > SPIN_OUT_SIDESLIP_RAD {
+        if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), spin_cos, spin_sin) {
             events.push(Event {
                 t_s: t_next,
                 kind: "spin_out".into(),
@@ -267,7 +277,7 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
         },
         cones_hit: outcome.cones_hit,
         peak_yaw_rate_radps: st.peak_r,
-        peak_sideslip_rad: st.peak_beta,
+        peak_sideslip_rad: st.peak_beta_dir.1.atan2(st.peak_beta_dir.0),
         peak_ay_mps2: st.peak_ay,
         max_path_deviation_m: st.max_dev,
         min_speed_mps: if st.vmin.is_finite() { st.vmin } else { 0.0 },
