@@ -2,52 +2,16 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
+use common::Case;
 
-/// A scratch folder holding a copy of the sedan, its tyre and a DLC spec, with edits applied.
-struct Case {
-    dir: PathBuf,
-}
-
-impl Case {
-    fn new(tag: &str) -> Self {
-        let dir = common::temp_dir(tag);
-        std::fs::create_dir_all(dir.join("tyres")).unwrap();
-        let root = common::root();
-        std::fs::copy(root.join("vehicles/sedan.toml"), dir.join("sedan.toml")).unwrap();
-        std::fs::copy(root.join("vehicles/tyres/srtt_p225_60r16.toml"), dir.join("tyres/srtt_p225_60r16.toml"))
-            .unwrap();
-        let spec = std::fs::read_to_string(root.join("maneuvers/dlc.toml"))
-            .unwrap()
-            .replace("../vehicles/sedan.toml", "sedan.toml");
-        std::fs::write(dir.join("dlc.toml"), spec).unwrap();
-        Case { dir }
-    }
-
-    /// Replace `from` by `to` in `file` (the replacement must happen).
-    fn edit(&self, file: &str, from: &str, to: &str) -> &Self {
-        let p = self.dir.join(file);
-        let s = std::fs::read_to_string(&p).unwrap();
-        assert!(s.contains(from), "{file} has no '{from}'");
-        std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
-        self
-    }
-
-    fn run(&self, args: &[&str]) -> (i32, String, String) {
-        let out = Command::new(BIN).args(args).current_dir(&self.dir).output().unwrap();
-        (
-            out.status.code().unwrap_or(-1),
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
-    }
-
-    fn results(&self) -> PathBuf {
-        self.dir.join("results")
-    }
+/// A scratch folder with the sedan and the shipped ice DLC spec as `dlc.toml`.
+fn dlc_case(tag: &str) -> Case {
+    let spec = std::fs::read_to_string(common::root().join("maneuvers/dlc.toml"))
+        .unwrap()
+        .replace("../vehicles/sedan.toml", "sedan.toml");
+    Case::new(tag, "dlc.toml", &spec)
 }
 
 /// Expect exit 2, a one-line message naming `file` and containing every piece of `needles`,
@@ -66,7 +30,7 @@ fn expect_bad_input(case: &Case, file: &str, needles: &[&str]) {
 
 #[test]
 fn missing_file_is_bad_input() {
-    let c = Case::new("missing");
+    let c = dlc_case("missing");
     let (code, _, err) = c.run(&["run", "nope.toml"]);
     assert_eq!(code, 2);
     assert!(err.contains("nope.toml") && err.contains("not found"), "{err}");
@@ -75,31 +39,31 @@ fn missing_file_is_bad_input() {
 
 #[test]
 fn malformed_toml_names_the_line() {
-    let c = Case::new("malformed");
+    let c = dlc_case("malformed");
     c.edit("dlc.toml", "name = \"dlc_ice\"", "name = \"dlc_ice");
     expect_bad_input(&c, "dlc.toml", &["line"]);
 }
 
 #[test]
 fn unknown_key_is_rejected_with_its_name() {
-    let c = Case::new("unknown");
+    let c = dlc_case("unknown");
     c.edit("sedan.toml", "mass_kg = 1600.0", "mass_kg = 1600.0\ncolour = \"red\"");
     expect_bad_input(&c, "sedan.toml", &["colour"]);
 }
 
 #[test]
 fn unknown_key_inside_the_maneuver_table_is_rejected() {
-    let c = Case::new("unknown-man");
+    let c = dlc_case("unknown-man");
     c.edit("dlc.toml", "speed_mps = 10.0", "speed_mps = 10.0\nspeeed_mode = \"hold\"");
     expect_bad_input(&c, "dlc.toml", &["speeed_mode"]);
 }
 
 #[test]
 fn wrong_type_names_the_key() {
-    let c = Case::new("wrongtype");
+    let c = dlc_case("wrongtype");
     c.edit("dlc.toml", "speed_mps = 10.0", "speed_mps = \"fast\"");
     expect_bad_input(&c, "dlc.toml", &["speed_mps"]);
-    let c = Case::new("wrongtype2");
+    let c = dlc_case("wrongtype2");
     c.edit("sedan.toml", "mass_kg = 1600.0", "mass_kg = \"heavy\"");
     expect_bad_input(&c, "sedan.toml", &["mass_kg"]);
 }
@@ -126,7 +90,7 @@ fn non_physical_values_name_key_and_allowed_range() {
         ),
     ];
     for (i, (file, from, to, key)) in cases.iter().enumerate() {
-        let c = Case::new(&format!("nonphys{i}"));
+        let c = dlc_case(&format!("nonphys{i}"));
         c.edit(file, from, to);
         let (code, _, err) = c.run(&["run", "dlc.toml"]);
         assert_eq!(code, 2, "{to}: {err}");
@@ -140,14 +104,14 @@ fn non_physical_values_name_key_and_allowed_range() {
 
 #[test]
 fn unknown_tyre_model_lists_the_allowed_ones() {
-    let c = Case::new("tyremodel");
+    let c = dlc_case("tyremodel");
     c.edit("dlc.toml", "tyre_model = \"linear\"", "tyre_model = \"magic\"");
     expect_bad_input(&c, "dlc.toml", &["tyre_model", "magic", "linear"]);
 }
 
 #[test]
 fn one_bad_spec_stops_the_whole_call_before_anything_runs() {
-    let c = Case::new("onebad");
+    let c = dlc_case("onebad");
     std::fs::write(c.dir.join("bad.toml"), "name = 3\n").unwrap();
     let (code, _, err) = c.run(&["run", "dlc.toml", "bad.toml"]);
     assert_eq!(code, 2, "{err}");
@@ -156,7 +120,7 @@ fn one_bad_spec_stops_the_whole_call_before_anything_runs() {
 
 #[test]
 fn a_run_writes_the_documented_files_and_columns() {
-    let c = Case::new("good");
+    let c = dlc_case("good");
     let (code, out, err) = c.run(&["run", "dlc.toml"]);
     assert_eq!(code, 0, "{out}{err}");
     let dir = c.results().join("dlc_ice");
@@ -215,7 +179,7 @@ fn a_run_writes_the_documented_files_and_columns() {
 
 #[test]
 fn help_is_available_on_every_subcommand() {
-    let c = Case::new("help");
+    let c = dlc_case("help");
     for args in [&["--help"][..], &["run", "--help"], &["validate", "--help"], &["bench", "--help"]] {
         let (code, out, _) = c.run(args);
         assert_eq!(code, 0);

@@ -4,11 +4,6 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::Command;
-
-const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
-
 const SPEC: &str = r#"name = "cr"
 vehicle = "sedan.toml"
 tyre_model = "linear"
@@ -29,39 +24,11 @@ settle_s = 6.0
 window_s = 1.0
 "#;
 
-/// A scratch folder with the sedan, its tyre and a constant-radius spec.
-struct Case {
-    dir: PathBuf,
-}
+use common::Case;
 
-impl Case {
-    fn new(tag: &str) -> Self {
-        let dir = common::temp_dir(tag);
-        std::fs::create_dir_all(dir.join("tyres")).unwrap();
-        let root = common::root();
-        std::fs::copy(root.join("vehicles/sedan.toml"), dir.join("sedan.toml")).unwrap();
-        std::fs::copy(root.join("vehicles/tyres/srtt_p225_60r16.toml"), dir.join("tyres/srtt_p225_60r16.toml"))
-            .unwrap();
-        std::fs::write(dir.join("cr.toml"), SPEC).unwrap();
-        Case { dir }
-    }
-
-    fn edit(&self, file: &str, from: &str, to: &str) -> &Self {
-        let p = self.dir.join(file);
-        let s = std::fs::read_to_string(&p).unwrap();
-        assert!(s.contains(from), "{file} has no '{from}'");
-        std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
-        self
-    }
-
-    fn run(&self, args: &[&str]) -> (i32, String, String) {
-        let out = Command::new(BIN).args(args).current_dir(&self.dir).output().unwrap();
-        (
-            out.status.code().unwrap_or(-1),
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
-    }
+/// A scratch folder with the sedan, its tyre and the constant-radius spec as `cr.toml`.
+fn cr_case(tag: &str) -> Case {
+    Case::new(tag, "cr.toml", SPEC)
 }
 
 /// Each edit must give exit 2 with one message naming the file and the key, saying what is
@@ -108,7 +75,7 @@ fn bad_roll_and_radius_input_is_rejected_with_file_and_key() {
         ("cr.toml", "window_s = 1.0", "window_s = 0.0", "maneuver.window_s"),
     ];
     for (i, (file, from, to, key)) in cases.iter().enumerate() {
-        let c = Case::new(&format!("roll-bad{i}"));
+        let c = cr_case(&format!("roll-bad{i}"));
         c.edit(file, from, to);
         let (code, _, err) = c.run(&["run", "cr.toml"]);
         assert_eq!(code, 2, "{to}: {err}");
@@ -125,7 +92,7 @@ fn bad_roll_and_radius_input_is_rejected_with_file_and_key() {
 /// `[roll]` key, a hold-mode key in steps mode, a bad direction.
 #[test]
 fn missing_roll_section_and_misspelt_keys_are_rejected() {
-    let c = Case::new("roll-missing");
+    let c = cr_case("roll-missing");
     let text = std::fs::read_to_string(c.dir.join("sedan.toml")).unwrap();
     let cut = text.find("\n[roll]").unwrap();
     std::fs::write(c.dir.join("sedan.toml"), &text[..cut]).unwrap();
@@ -146,7 +113,7 @@ fn missing_roll_section_and_misspelt_keys_are_rejected() {
         ("cr.toml", "direction = \"right\"", "direction = \"up\"", "direction"),
     ];
     for (i, (file, from, to, key)) in edits.iter().enumerate() {
-        let c = Case::new(&format!("roll-key{i}"));
+        let c = cr_case(&format!("roll-key{i}"));
         c.edit(file, from, to);
         let (code, _, err) = c.run(&["run", "cr.toml"]);
         assert_eq!(code, 2, "{to}: {err}");
@@ -160,7 +127,7 @@ fn missing_roll_section_and_misspelt_keys_are_rejected() {
 /// the understeer gradient with its confidence interval.
 #[test]
 fn constant_radius_run_writes_steady_state_outputs() {
-    let c = Case::new("roll-good");
+    let c = cr_case("roll-good");
     let (code, out, err) = c.run(&["run", "cr.toml"]);
     assert_eq!(code, 0, "{out}{err}");
     let dir = c.dir.join("results/cr");

@@ -1,8 +1,9 @@
 //! Vehicle models as pure equations: `derivatives(state, inputs, environment) -> dstate`.
 //!
 //! A model owns no time, no controller and no I/O; the engine ([`crate::sim`]) integrates it.
-//! States are fixed-size `SVector`s; every model exposes its rigid-body kinematics so that drivers,
-//! manoeuvres and output work with any model.
+//! States are fixed-size `SVector`s. By convention every model's state starts with the rigid-body
+//! states X, Y (m), yaw (rad), vx, vy (m/s, body frame) and yaw rate r (rad/s), in that order;
+//! [`rigid_body`] reads them, so drivers, manoeuvres and output work with any model.
 
 pub mod bicycle;
 pub mod roll4dof;
@@ -73,6 +74,16 @@ impl Kinematics {
         let (s, c) = self.yaw_rad.sin_cos();
         (self.x_m + px * c - py * s, self.y_m + px * s + py * c)
     }
+}
+
+/// The rigid-body kinematics from the six leading states (see the module docs).
+pub fn rigid_body(x: &[f64]) -> Kinematics {
+    Kinematics { x_m: x[0], y_m: x[1], yaw_rad: x[2], vx_mps: x[3], vy_mps: x[4], yaw_rate_radps: x[5] }
+}
+
+/// Write a pose and forward speed into the six leading states (the rest is left as it is).
+pub fn set_rigid_body(x: &mut [f64], x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) {
+    x[..6].copy_from_slice(&[x_m, y_m, yaw_rad, speed_mps, 0.0, 0.0]);
 }
 
 /// Everything an output row or a summary needs from one instant, common to every model.

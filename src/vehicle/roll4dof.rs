@@ -327,22 +327,12 @@ impl VehicleModel<N> for Roll4Dof {
     }
 
     fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
-        Kinematics {
-            x_m: x[ix::X],
-            y_m: x[ix::Y],
-            yaw_rad: x[ix::YAW],
-            vx_mps: x[ix::VX],
-            vy_mps: x[ix::VY],
-            yaw_rate_radps: x[ix::R],
-        }
+        super::rigid_body(x.as_slice())
     }
 
     fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
         let mut s = SVector::<f64, N>::zeros();
-        s[ix::X] = x_m;
-        s[ix::Y] = y_m;
-        s[ix::YAW] = yaw_rad;
-        s[ix::VX] = speed_mps;
+        super::set_rigid_body(s.as_mut_slice(), x_m, y_m, yaw_rad, speed_mps);
         let omega = speed_mps / self.vehicle.tyre.rolling_radius_m;
         for i in 0..4 {
             s[ix::OMEGA + i] = omega;

@@ -1,9 +1,62 @@
 //! Helpers shared by the integration tests: load the shipped specs from the repository.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use vehsim::spec::RunConfig;
+
+/// The vehsim binary built for the tests.
+pub const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
+
+/// Run the vehsim binary in `dir`; returns (exit code, stdout, stderr).
+pub fn vehsim(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(BIN).args(args).current_dir(dir).output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A scratch folder holding a copy of the sedan (`sedan.toml`), its tyre (`tyres/`) and one
+/// manoeuvre spec that names `sedan.toml`; tests edit the copies and run the CLI on them.
+pub struct Case {
+    pub dir: PathBuf,
+}
+
+impl Case {
+    /// New scratch folder `tag` with the spec text `spec` written as `spec_name`.
+    pub fn new(tag: &str, spec_name: &str, spec: &str) -> Self {
+        let dir = temp_dir(tag);
+        std::fs::create_dir_all(dir.join("tyres")).unwrap();
+        let root = root();
+        std::fs::copy(root.join("vehicles/sedan.toml"), dir.join("sedan.toml")).unwrap();
+        std::fs::copy(root.join("vehicles/tyres/srtt_p225_60r16.toml"), dir.join("tyres/srtt_p225_60r16.toml"))
+            .unwrap();
+        std::fs::write(dir.join(spec_name), spec).unwrap();
+        Case { dir }
+    }
+
+    /// Replace `from` by `to` in `file` (the replacement must happen).
+    pub fn edit(&self, file: &str, from: &str, to: &str) -> &Self {
+        let p = self.dir.join(file);
+        let s = std::fs::read_to_string(&p).unwrap();
+        assert!(s.contains(from), "{file} has no '{from}'");
+        std::fs::write(&p, s.replacen(from, to, 1)).unwrap();
+        self
+    }
+
+    /// Run the CLI in the scratch folder.
+    pub fn run(&self, args: &[&str]) -> (i32, String, String) {
+        vehsim(&self.dir, args)
+    }
+
+    /// The default results folder of the scratch folder.
+    pub fn results(&self) -> PathBuf {
+        self.dir.join("results")
+    }
+}
 
 /// The repository root.
 pub fn root() -> PathBuf {
