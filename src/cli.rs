@@ -104,15 +104,20 @@ pub fn main() -> ExitCode {
             let mut code = ExitCode::SUCCESS;
             for f in &files {
                 match run::load(f) {
-                    Ok(cfg) => println!(
-                        "{}: ok ({} with {} on {}, tyre model {}, vehicle model {})",
-                        f.display(),
-                        cfg.kind,
-                        cfg.vehicle.name,
-                        cfg.env.mu,
-                        cfg.tyre_model.as_str(),
-                        cfg.vehicle_model.as_str()
-                    ),
+                    Ok(cfg) => {
+                        for w in &cfg.vehicle.tyre_warnings {
+                            eprintln!("warning: {w}");
+                        }
+                        println!(
+                            "{}: ok ({} with {} on {}, tyre model {}, vehicle model {})",
+                            f.display(),
+                            cfg.kind,
+                            cfg.vehicle.name,
+                            cfg.env.mu,
+                            cfg.tyre_model.as_str(),
+                            cfg.vehicle_model.as_str()
+                        );
+                    }
                     Err(e) => code = report(&e),
                 }
             }
@@ -124,6 +129,17 @@ pub fn main() -> ExitCode {
                 match batch::load(f) {
                     Ok(b) => batches.push(b),
                     Err(e) => return report(&e),
+                }
+            }
+            let mut warned = std::collections::BTreeSet::new();
+            for w in batches
+                .iter()
+                .flat_map(|b| &b.runs)
+                .filter_map(|r| r.config.as_ref().ok())
+                .flat_map(|c| &c.vehicle.tyre_warnings)
+            {
+                if warned.insert(w.clone()) {
+                    eprintln!("warning: {w}");
                 }
             }
             let mut names = std::collections::BTreeSet::new();

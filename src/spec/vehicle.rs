@@ -199,6 +199,8 @@ pub struct Vehicle {
     /// Roll data for the 4-DOF model (`None` when the file has no `[roll]` section).
     pub roll: Option<Roll>,
     pub tyre: Tyre,
+    /// Warnings from reading the tyre data (e.g. `.tir` sections ignored), for the CLI to print.
+    pub tyre_warnings: Vec<String>,
 }
 
 impl Vehicle {
@@ -263,7 +265,7 @@ impl VehicleFile {
         c.non_negative("drag_area_m2", self.drag_area_m2)?;
         c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
         let tyre_path = resolve(path, &self.tyre);
-        let tyre = TyreFileSpec::load(&tyre_path)?.build(&tyre_path, tyre_model)?;
+        let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)?.build_with_warnings(&tyre_path, tyre_model)?;
         let roll = match &self.roll {
             Some(r) => Some(r.build(&c, self, tyre.unloaded_radius_m)?),
             None => None,
@@ -291,6 +293,7 @@ impl VehicleFile {
             rolling_resistance: self.rolling_resistance,
             roll,
             tyre,
+            tyre_warnings,
         })
     }
 }
