@@ -199,7 +199,8 @@ impl RefPath {
         let mut u = ((x - a.0) * dx + (y - a.1) * dy) / len2;
         let last_open = !self.closed && i + 1 == nseg;
         let first_open = !self.closed && i == 0;
-        if !(last_open && u > 1.0) && !(first_open && u < 0.0) {
+        let extends_beyond_end = (last_open && u > 1.0) || (first_open && u < 0.0);
+        if !extends_beyond_end {
             u = u.clamp(0.0, 1.0);
         }
         let (px, py) = (a.0 + u * dx, a.1 + u * dy);

@@ -200,7 +200,9 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
     create_dir(&dir)?;
     let mut written = Vec::new();
     let deg = 180.0 / std::f64::consts::PI;
-    let charts: [(&str, &str, &str, &[(&str, &str)], f64); 9] = [
+    // (file stem, title, y label, (column, legend suffix) per curve, scale to the plotted unit)
+    type ChartDef<'a> = (&'a str, &'a str, &'a str, &'a [(&'a str, &'a str)], f64);
+    let charts: [ChartDef; 9] = [
         ("yaw_rate", "Yaw rate", "yaw rate (rad/s)", &[("yaw_rate_radps", "")], 1.0),
         ("slip_front", "Front slip angle", "front slip angle (deg)", &[("alpha_front_rad", "")], deg),
         ("slip_rear", "Rear slip angle", "rear slip angle (deg)", &[("alpha_rear_rad", "")], deg),
