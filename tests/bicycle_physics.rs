@@ -51,6 +51,9 @@ fn steady_state_yaw_rate_matches_linear_theory_at_two_speeds() {
         let expected = vx * delta / (l + k_us * vx * vx);
         let neutral = vx * delta / l;
         let err = (r - expected).abs() / expected;
+        eprintln!(
+            "v = {speed} m/s: r = {r:.6} rad/s, closed form {expected:.6}, relative error {err:.2e}, K_us = {k_us:.3e}"
+        );
         assert!(err < 0.005, "v = {speed}: r = {r}, closed form {expected}, relative error {err}");
         // The check can tell understeer from neutral steer at the higher speed.
         if speed > 20.0 {
