@@ -63,7 +63,8 @@ pub enum Command {
         #[arg(long, default_value_t = 1e-6)]
         default_tol: f64,
     },
-    /// Check manoeuvre specs (and the vehicle and tyre files they name); run nothing.
+    /// Check manoeuvre specs, every sweep combination, and the vehicle and tyre files they name;
+    /// run nothing.
     Validate {
         #[arg(required = true)]
         files: Vec<PathBuf>,
@@ -103,22 +104,41 @@ pub fn main() -> ExitCode {
         Command::Validate { files } => {
             let mut code = ExitCode::SUCCESS;
             for f in &files {
-                match run::load(f) {
-                    Ok(cfg) => {
-                        for w in &cfg.vehicle.tyre_warnings {
-                            eprintln!("warning: {w}");
-                        }
-                        println!(
-                            "{}: ok ({} with {} on {}, tyre model {}, vehicle model {})",
-                            f.display(),
-                            cfg.kind,
-                            cfg.vehicle.name,
-                            cfg.env.mu,
-                            cfg.tyre_model.as_str(),
-                            cfg.vehicle_model.as_str()
-                        );
+                let b = match batch::load(f) {
+                    Ok(b) => b,
+                    Err(e) => {
+                        code = report(&e);
+                        continue;
                     }
-                    Err(e) => code = report(&e),
+                };
+                let mut invalid = 0;
+                for r in &b.runs {
+                    match &r.config {
+                        Ok(cfg) => {
+                            for w in &cfg.vehicle.tyre_warnings {
+                                eprintln!("warning: {w}");
+                            }
+                        }
+                        Err(msg) => {
+                            invalid += 1;
+                            eprintln!("error: {} {}: {msg}", f.display(), batch::run_folder(r.index));
+                        }
+                    }
+                }
+                if invalid > 0 {
+                    code = ExitCode::from(2);
+                } else if let Some(Ok(cfg)) = b.runs.first().map(|r| &r.config) {
+                    println!(
+                        "{}: ok ({} run{}; {} with {} on mu {}, tyre model {}, vehicle model {})",
+                        f.display(),
+                        b.runs.len(),
+                        if b.runs.len() == 1 { "" } else { "s" },
+                        cfg.kind,
+                        cfg.vehicle.name,
+                        cfg.env.mu,
+                        cfg.tyre_model.as_str(),
+                        cfg.vehicle_model.as_str()
+                    );
                 }
             }
             code

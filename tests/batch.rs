@@ -225,3 +225,17 @@ fn a_spin_out_is_a_failed_run_and_the_batch_goes_on() {
             .unwrap();
     assert!(json["events"].as_array().unwrap().iter().any(|e| e["kind"] == "spin_out"));
 }
+
+/// `vehsim validate` checks every sweep combination and names the invalid ones.
+#[test]
+fn validate_checks_every_sweep_combination() {
+    let dir = sweep_case("validate", "[sweep]\ntyre_model = [\"linear\", \"no_such_model\"]\n");
+    let (code, out, err) = vehsim(&dir, &["validate", "sweep.toml"]);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(err.contains("run_0001") && err.contains("no_such_model"), "{err}");
+    assert!(!dir.join("results").exists());
+    let dir = sweep_case("validate-ok", "[sweep]\n\"surface.mu\" = [0.1, 0.2, 0.3]\n");
+    let (code, out, err) = vehsim(&dir, &["validate", "sweep.toml"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("3 runs"), "{out}");
+}
