@@ -162,7 +162,10 @@ pub fn load(path: &Path) -> Result<Batch> {
     }
     if let Some(first_err) = runs.iter().find_map(|r| r.config.as_ref().err()) {
         if runs.iter().all(|r| r.config.is_err()) {
-            return Err(Error::input(path, format!("every sweep combination is invalid; the first: {first_err}")));
+            // The stored message starts with the file name already.
+            let prefix = format!("{}: ", path.display());
+            let first = first_err.strip_prefix(&prefix).unwrap_or(first_err);
+            return Err(Error::input(path, format!("every sweep combination is invalid; the first: {first}")));
         }
     }
     Ok(Batch { name, spec_file: path.to_path_buf(), keys, runs })

@@ -92,22 +92,31 @@ impl ConstantRadius {
         Self { params, path, driver, laps_done: 0, last_s: 0.0 }
     }
 
-    /// Speed target at time t, m/s.
+    /// Speed target at time t, m/s: continuous in t. Each step ramps at `speed_ramp_mps2` from the
+    /// target reached at the end of the previous step toward the step's speed (validation makes
+    /// sure a ramp ends within `settle_s`, so in specs that pass it the reached target is the step
+    /// speed).
     pub fn speed_target(&self, t: f64) -> f64 {
         let p = &self.params;
         let speeds = &p.step_speeds_mps;
         let k = ((t / p.step_s()).floor().max(0.0) as usize).min(speeds.len().saturating_sub(1));
-        let v = speeds.get(k).copied().unwrap_or(0.0);
+        let Some(&first) = speeds.first() else { return 0.0 };
+        let toward = |from: f64, to: f64, dt: f64| {
+            let dv = p.speed_ramp_mps2 * dt;
+            if to >= from {
+                to.min(from + dv)
+            } else {
+                to.max(from - dv)
+            }
+        };
+        let mut reached = first;
+        for &v in &speeds[1..k.max(1).min(speeds.len())] {
+            reached = toward(reached, v, p.step_s());
+        }
         if k == 0 {
-            return v;
+            return first;
         }
-        let prev = speeds[k - 1];
-        let dt = t - k as f64 * p.step_s();
-        if v >= prev {
-            v.min(prev + p.speed_ramp_mps2 * dt)
-        } else {
-            v.max(prev - p.speed_ramp_mps2 * dt)
-        }
+        toward(reached, speeds[k], t - k as f64 * p.step_s())
     }
 }
 
@@ -194,5 +203,29 @@ mod tests {
         let (l, r) = (mk(Direction::Left), mk(Direction::Right));
         let (pl, pr) = (l.path.point_at(30.0), r.path.point_at(30.0));
         assert!((pl.0 - pr.0).abs() < 1e-12 && (pl.1 + pr.1).abs() < 1e-12 && pl.1 > 0.0);
+    }
+
+    /// The speed target never jumps, even when a ramp cannot finish within its step (such specs
+    /// fail validation, but the manoeuvre must still behave): it moves at most ramp x dt.
+    #[test]
+    fn speed_target_is_continuous_and_rate_limited() {
+        let p = ConstantRadiusParams {
+            radius_m: 100.0,
+            direction: Direction::Left,
+            step_speeds_mps: vec![5.0, 7.0, 9.0],
+            settle_s: 5.0,
+            window_s: 1.0,
+            speed_ramp_mps2: 0.1,
+        };
+        let m = ConstantRadius::new(p, DriverParams::default(), 2.8);
+        let dt = 0.01;
+        let mut prev = m.speed_target(0.0);
+        for i in 1..2000 {
+            let v = m.speed_target(i as f64 * dt);
+            assert!((v - prev).abs() <= 0.1 * dt + 1e-12, "jump at t = {}: {prev} -> {v}", i as f64 * dt);
+            prev = v;
+        }
+        // Six seconds per step, 0.6 m/s per step at 0.1 m/s^2: 5.0 -> 5.6 -> 6.2 (not the nominal 9).
+        assert!((m.speed_target(18.0) - 6.2).abs() < 1e-9, "{}", m.speed_target(18.0));
     }
 }

@@ -734,6 +734,18 @@ impl ManeuverFile {
                     DirectionSpec::Left => Direction::Left,
                     DirectionSpec::Right => Direction::Right,
                 };
+                // The steady-state window must not fall inside a speed ramp.
+                let longest_ramp_s =
+                    speeds.windows(2).map(|w| (w[1] - w[0]).abs() / s.speed_ramp_mps2).fold(0.0, f64::max);
+                c.require(
+                    "maneuver.speed_ramp_mps2",
+                    s.speed_ramp_mps2,
+                    longest_ramp_s <= s.settle_s,
+                    &format!(
+                        "the largest speed step takes {longest_ramp_s:.1} s at this ramp, longer than settle_s = {} s; raise speed_ramp_mps2 or settle_s",
+                        s.settle_s
+                    ),
+                )?;
                 let params = ConstantRadiusParams {
                     radius_m: r,
                     direction,
