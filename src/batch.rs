@@ -9,6 +9,7 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
@@ -17,6 +18,19 @@ use crate::output::write_atomic;
 use crate::run::{self, write_dir_atomic, RunOutput};
 use crate::sim::Summary;
 use crate::spec::{ManeuverFile, RunConfig};
+
+/// Set by the CLI's SIGINT handler. A batch checks it before each run and a single run before it
+/// writes; once set, the work stops and its temporary folder is removed, so a results folder is
+/// either complete or left as it was before.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+fn check_interrupted(dir: &Path) -> Result<()> {
+    if INTERRUPTED.load(Ordering::SeqCst) {
+        Err(Error::Interrupted(format!("{} was not written (no partial results)", dir.display())))
+    } else {
+        Ok(())
+    }
+}
 
 /// One run of a batch: its index, its swept values (key, value as text) and its validated config
 /// (or why the combination is invalid).
@@ -308,6 +322,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         let run = &batch.runs[0];
         let cfg = run.config.as_ref().map_err(|e| Error::input(&batch.spec_file, e.clone()))?;
         let out = run::execute(cfg);
+        check_interrupted(&dir)?;
         write_dir_atomic(&dir, |tmp| {
             run::write_run_files(tmp, cfg, &out, &[])?;
             if cfg.output.plots {
@@ -331,12 +346,14 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
                 selected
                     .par_iter()
                     .map(|r| {
+                        check_interrupted(&dir)?;
                         let rec = execute_one(r, Some(tmp));
                         bar.inc(1);
                         rec
                     })
                     .collect()
             });
+            check_interrupted(&dir)?;
             for r in recs {
                 records.push(r?);
             }

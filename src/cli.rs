@@ -100,6 +100,13 @@ fn report(e: &Error) -> ExitCode {
 /// Entry point used by the binary.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C: finish nothing partial. Batches stop between runs and remove their temporary
+    // folder; a second Ctrl-C ends the process at once (still leaving only hidden temporaries).
+    let _ = ctrlc::set_handler(|| {
+        if batch::INTERRUPTED.swap(true, std::sync::atomic::Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
     match cli.command {
         Command::Validate { files } => {
             let mut code = ExitCode::SUCCESS;

@@ -23,13 +23,18 @@ pub enum Error {
     /// A run could not be carried out (not a bad input, not a simulation event).
     #[error("{0}")]
     Run(String),
+    /// The user interrupted the work (SIGINT); nothing partial was written.
+    #[error("interrupted: {0}")]
+    Interrupted(String),
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input, 1 otherwise.
+    /// Process exit code for this error: 2 for bad input, 130 for an interruption (the shell's
+    /// convention for SIGINT), 1 otherwise.
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Input { .. } => 2,
+            Error::Interrupted(_) => 130,
             _ => 1,
         }
     }

@@ -239,3 +239,35 @@ fn validate_checks_every_sweep_combination() {
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("3 runs"), "{out}");
 }
+
+/// SIGINT during a batch: the process says it was interrupted, exits 130, and leaves neither a
+/// results folder nor a temporary one; an earlier complete result of the same name is kept.
+#[test]
+fn sigint_leaves_a_complete_result_or_none_and_says_so() {
+    let speeds: Vec<String> = (0..3000).map(|i| format!("{:.3}", 8.0 + 0.001 * i as f64)).collect();
+    // The extra text continues the spec's [output] table, then adds the sweep.
+    let extra =
+        format!("timeseries = false\nplots = false\n[sweep]\n\"maneuver.speed_mps\" = [{}]\n", speeds.join(", "));
+    let dir = sweep_case("sigint", &extra);
+    // An earlier, complete result of the same name.
+    std::fs::create_dir_all(dir.join("results/sweep")).unwrap();
+    std::fs::write(dir.join("results/sweep/summary.csv"), "earlier\n").unwrap();
+    let child = std::process::Command::new(common::BIN)
+        .args(["run", "--quiet", "--jobs", "1", "sweep.toml"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    let kill = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "stderr: {err}");
+    assert!(err.contains("interrupted") && err.contains("no partial results"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(dir.join("results"))
+        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name()).collect())
+        .unwrap_or_default();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
