@@ -266,8 +266,8 @@ fn sigint_leaves_a_complete_result_or_none_and_says_so() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "stderr: {err}");
     assert!(err.contains("interrupted") && err.contains("no partial results"), "{err}");
-    let left: Vec<_> = std::fs::read_dir(dir.join("results"))
-        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name()).collect())
-        .unwrap_or_default();
-    assert!(left.is_empty(), "left behind: {left:?}");
+    let left: Vec<_> =
+        std::fs::read_dir(dir.join("results")).unwrap().filter_map(|e| e.ok()).map(|e| e.file_name()).collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("sweep")], "temporaries left behind");
+    assert_eq!(std::fs::read_to_string(dir.join("results/sweep/summary.csv")).unwrap(), "earlier\n");
 }
