@@ -17,6 +17,7 @@ pub mod cli;
 pub mod compare;
 pub mod contact;
 pub mod control;
+pub mod discover;
 pub mod error;
 pub mod maneuver;
 pub mod output;
