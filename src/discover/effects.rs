@@ -86,7 +86,7 @@ impl Effect {
     pub fn params(self) -> &'static [ParamDef] {
         match self {
             Effect::TyreRelaxation => {
-                &[ParamDef { name: "relaxation_length_y_m", unit: "m", start: 0.5, scale: 0.5, lo: 0.01, hi: 10.0 }]
+                &[ParamDef { name: "relaxation_length_y_m", unit: "m", start: 0.5, scale: 0.5, lo: 0.05, hi: 10.0 }]
             }
             Effect::LoadTransfer => {
                 &[ParamDef { name: "load_transfer_height_m", unit: "m", start: 0.5, scale: 0.3, lo: 0.0, hi: 2.0 }]

@@ -77,7 +77,7 @@ pub struct Simulated {
 /// Floor on |vx| in slip denominators, m/s.
 const V_FLOOR: f64 = 1.0;
 /// Largest integration step, s.
-const H_MAX: f64 = 0.002;
+const H_MAX: f64 = 0.005;
 
 /// The replay model for one vehicle.
 #[derive(Debug, Clone)]
@@ -158,7 +158,7 @@ impl ReplayModel {
         } else {
             // Fixed point on Fy_f = F(delta - c Fy_f - beta_f), damped.
             let mut f = self.axle_force(0, d.steer - beta_f, dfz[0], d, p);
-            for _ in 0..6 {
+            for _ in 0..4 {
                 let de = d.steer - c * f;
                 let g = self.axle_force(0, de - beta_f, dfz[0], d, p);
                 f = 0.5 * (f + g);
@@ -231,7 +231,10 @@ impl ReplayModel {
                 break;
             }
             let dt = run.t[k + 1] - run.t[k];
-            let m = ((dt / H_MAX).ceil() as usize).max(1);
+            // Keep h below the relaxation time sigma / vx (RK4 stability with margin).
+            let vmax = run.vx[k].abs().max(run.vx[(k + 1).min(n - 1)].abs()).max(V_FLOOR);
+            let hmax = if p.sigma_y_m > 0.0 { H_MAX.min(p.sigma_y_m / vmax) } else { H_MAX };
+            let m = ((dt / hmax).ceil() as usize).clamp(1, 10_000);
             let h = dt / m as f64;
             for j in 0..m {
                 let dj = drive_at(k, (j as f64 + 0.5) / m as f64);
