@@ -67,6 +67,19 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "heldout_rss_ratio": t.heldout_rss_ratio,
             "params": t.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
+        "per_run": data.runs.iter().enumerate().map(|(i, r)| {
+            let rms = |sim: &[f64], meas: &[f64]| (sim.iter().zip(meas).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / meas.len().max(1) as f64).sqrt();
+            json!({
+                "run": r.name,
+                "heldout": data.held[i].iter().all(|h| *h),
+                "baseline_yaw_rate_rmse_radps": rms(&base_sims[i].yaw_rate, &r.yaw_rate),
+                "final_yaw_rate_rmse_radps": rms(&final_sims[i].yaw_rate, &r.yaw_rate),
+                "baseline_ay_rmse_mps2": rms(&base_sims[i].ay, &r.ay),
+                "final_ay_rmse_mps2": rms(&final_sims[i].ay, &r.ay),
+                "baseline_replay_finite": base_sims[i].ok,
+                "final_replay_finite": final_sims[i].ok,
+            })
+        }).collect::<Vec<_>>(),
         "named_effects": d.named,
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,

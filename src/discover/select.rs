@@ -224,6 +224,21 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
         e.apply(&mut p, v);
         fit_cost(model, data, &p)
     };
+    // One-parameter effects: coarse scan over the bounds first (7 points, geometric when the
+    // lower bound is positive), so that the simplex starts in the right basin.
+    let mut x0 = x0;
+    if defs.len() == 1 {
+        let mut best = (f(&x0), x0[0]);
+        for j in 0..7 {
+            let u = j as f64 / 6.0;
+            let v = if lo[0] > 0.0 { lo[0] * (hi[0] / lo[0]).powf(u) } else { lo[0] + u * (hi[0] - lo[0]) };
+            let c = f(&[v]);
+            if c < best.0 {
+                best = (c, v);
+            }
+        }
+        x0[0] = best.1;
+    }
     let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
     let mut p = *base;
     e.apply(&mut p, &x);
