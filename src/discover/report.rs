@@ -1,5 +1,6 @@
 //! Outputs of `vehsim discover`: `report.json`, `report.md`, `effects.toml` (the accepted effects
-//! with their fitted parameters), and per-run plots (yaw rate and ay: measured, baseline and
+//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the effects the engine
+//! supports in its `[lateral]` section, runnable with `vehsim run`), and per-run plots (yaw rate and ay: measured, baseline and
 //! improved, disagreement windows of the baseline shaded). Written atomically into the output folder.
 
 use std::fmt::Write as _;
@@ -31,6 +32,53 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
         }
     }
     s
+}
+
+/// The vehicle spec with the accepted effects that the engine's bicycle model supports
+/// (`steer_compliance`, `friction_change`) in its `[lateral]` section, and the tyre path made
+/// absolute, so that `vehsim run` can use it from any folder. Effects the engine cannot represent
+/// yet are listed in the header comment.
+pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
+    let path = &opts.vehicle;
+    let text = crate::error::read_input(path)?;
+    let mut table: toml::Table = toml::from_str(&text).map_err(|e| Error::input(path, e.to_string()))?;
+    let tyre = match &opts.tyre {
+        Some(t) => t.clone(),
+        None => crate::error::resolve(path, table.get("tyre").and_then(|t| t.as_str()).unwrap_or("")),
+    };
+    let tyre_abs = std::fs::canonicalize(&tyre).unwrap_or(tyre);
+    table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
+    let mut lateral = toml::Table::new();
+    let mut not_in_spec = Vec::new();
+    for st in &d.steps {
+        match st.effect.as_str() {
+            "steer_compliance" => {
+                lateral.insert(
+                    "steer_compliance_rad_per_kn".into(),
+                    toml::Value::Float(d.params.steer_compliance_rad_per_kn),
+                );
+            }
+            "friction_change" => {
+                lateral.insert("mu_scale".into(), toml::Value::Float(d.params.mu_scale));
+            }
+            other => not_in_spec.push(other.to_string()),
+        }
+    }
+    if !lateral.is_empty() {
+        table.insert("lateral".into(), toml::Value::Table(lateral));
+    }
+    let body = toml::to_string(&table).map_err(|e| Error::Run(e.to_string()))?;
+    let mut s = format!(
+        "# {} with the effects accepted by `vehsim discover` (verdict: {}; named: {}).\n",
+        path.display(),
+        d.verdict,
+        if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
+    );
+    if !not_in_spec.is_empty() {
+        s.push_str(&format!("# Not representable in this spec yet (see effects.toml): {}.\n", not_in_spec.join(", ")));
+    }
+    s.push_str(&body);
+    Ok(s)
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -89,11 +137,13 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     });
     let md = markdown(opts, data, d, &windows, &regions);
     let toml = effects_toml(opts, d);
+    let vehicle_toml = improved_vehicle_toml(opts, d)?;
     crate::run::write_dir_atomic(out, |tmp| {
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
         write(&tmp.join("report.json"), &text)?;
         write(&tmp.join("report.md"), &md)?;
         write(&tmp.join("effects.toml"), &toml)?;
+        write(&tmp.join("vehicle.toml"), &vehicle_toml)?;
         let plots = tmp.join("plots");
         std::fs::create_dir_all(&plots).map_err(|e| Error::Io { path: plots.clone(), source: e })?;
         for (i, r) in data.runs.iter().enumerate() {
