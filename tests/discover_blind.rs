@@ -144,3 +144,18 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
     assert!(out.join("plots/01_sine_ice_yaw_rate.png").exists());
     assert!(Path::new(&out.join("plots/01_sine_ice_ay.svg")).exists());
 }
+
+#[test]
+fn single_run_uses_held_out_blocks_and_still_names_the_effect() {
+    let m = model();
+    let mut p = EffectParams::default();
+    Effect::SensorBias.apply(&mut p, &[0.02, 0.25]);
+    let mut runs = synth::generate(&m, &p, 5);
+    let one = runs.swap_remove(1).0;
+    let data = Dataset::new(vec![one]);
+    assert!(data.held[0].iter().any(|h| *h) && data.held[0].iter().any(|h| !*h));
+    let d = discover(&m, &data, &Effect::TRIED);
+    assert_eq!(d.named, vec!["sensor_bias".to_string()], "{:?}", d.rejected);
+    let b = d.steps[0].params[0].1;
+    assert!((b - 0.02).abs() < 0.25 * 0.02, "bias {b}");
+}

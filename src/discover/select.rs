@@ -7,7 +7,7 @@
 //!
 //! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
 //! per channel and sample. Held-out data: with two runs or more, every second run (the 2nd, 4th,
-//! ...) is held out and never used by a fit; with one run, alternate 3 s blocks are held out.
+//! ...) is held out and never used by a fit; with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s) are held out.
 //!
 //! Score of a model with k fitted parameters on the n held-out normalized residuals:
 //! BIC = n ln(RSS / n) + k ln(n). A candidate is accepted when it lowers the held-out BIC by more
@@ -71,7 +71,11 @@ impl Dataset {
             runs.iter().enumerate().map(|(i, r)| vec![i % 2 == 1; r.t.len()]).collect()
         } else {
             runs.iter()
-                .map(|r| r.t.iter().map(|t| (((t - r.t[0]) / BLOCK_S).floor() as i64) % 2 == 1).collect())
+                .map(|r| {
+                    // Blocks of 3 s, shorter for runs under 12 s so that at least two are held out.
+                    let block = BLOCK_S.min(r.duration_s() / 4.0).max(1e-3);
+                    r.t.iter().map(|t| (((t - r.t[0]) / block).floor() as i64) % 2 == 1).collect()
+                })
                 .collect()
         };
         Self { runs, noise, held }
