@@ -44,10 +44,9 @@ pub fn convert(dir: &Path, out: &Path, segment_s: f64, max_segments: usize) -> R
         }
         let mut text = String::from("t,steer,vx,yaw_rate,ay,vy,ax\n");
         for k in start..end {
-            text.push_str(&format!(
-                "{},{},{},{},{},{},{}\n",
-                cols[0][k], cols[1][k], cols[2][k], cols[3][k], cols[4][k], cols[5][k], cols[6][k]
-            ));
+            let row: Vec<String> = cols.iter().map(|c| c[k].to_string()).collect();
+            text.push_str(&row.join(","));
+            text.push('\n');
         }
         let p = out.join(format!("stanford_{:02}.csv", s + 1));
         std::fs::write(&p, text).map_err(|e| Error::Io { path: p.clone(), source: e })?;
