@@ -90,6 +90,64 @@ pub enum Command {
         #[arg(long, default_value_t = 200)]
         runs: usize,
     },
+    /// Find where measured runs and the baseline model disagree, name the missing effect, fit it and
+    /// show the gap shrink on held-out data; writes report.json, report.md, effects.toml, plots.
+    Discover {
+        /// Vehicle spec file.
+        #[arg(long)]
+        vehicle: PathBuf,
+        /// Tyre file (default: the one the vehicle names).
+        #[arg(long)]
+        tyre: Option<PathBuf>,
+        /// Tyre provider: linear, polynomial, pacejka (default), dugoff, dugoff_thermal, atiim_pacejka.
+        #[arg(long, default_value = "pacejka")]
+        tyre_model: String,
+        /// Baseline model: bicycle (default) or roll4dof.
+        #[arg(long, default_value = "bicycle")]
+        model: String,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Measured runs (RUN.csv, each with an optional RUN.toml sidecar).
+        #[arg(required = true)]
+        runs: Vec<PathBuf>,
+    },
+    /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
+    /// effect switched on (or `none`).
+    Synth {
+        /// tyre_relaxation, load_transfer, friction_change, steer_compliance, sensor_bias or none.
+        #[arg(long)]
+        effect: String,
+        /// Effect parameters, name=value (repeatable); defaults per effect.
+        #[arg(long = "params", num_args = 1..)]
+        params: Vec<String>,
+        /// Vehicle spec file.
+        #[arg(long, default_value = "vehicles/sedan.toml")]
+        vehicle: PathBuf,
+        /// Tyre provider.
+        #[arg(long, default_value = "pacejka")]
+        tyre_model: String,
+        /// Noise seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Convert the Stanford race-lap data set (one column per file) into measured runs.
+    ConvertStanford {
+        /// Folder with t.txt, delta.txt, vx.txt, yawRate.txt, ayCG.txt, vy.txt, axCG.txt.
+        dir: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Segment length, s.
+        #[arg(long, default_value_t = 20.0)]
+        segment_s: f64,
+        /// Number of segments (from the start).
+        #[arg(long, default_value_t = 6)]
+        segments: usize,
+    },
 }
 
 fn report(e: &Error) -> ExitCode {
@@ -330,6 +388,15 @@ pub fn main() -> ExitCode {
                 sim_s / med
             );
             ExitCode::SUCCESS
+        }
+        Command::Discover { vehicle, tyre, tyre_model, model, out, runs } => {
+            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs)
+        }
+        Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
+            crate::discover::cli_synth(&effect, &params, &vehicle, &tyre_model, seed, &out)
+        }
+        Command::ConvertStanford { dir, out, segment_s, segments } => {
+            crate::discover::cli_convert(&dir, &out, segment_s, segments)
         }
     }
 }

@@ -10,6 +10,7 @@
 //!   steady-state analysis.
 //! - [`sim`]: integrators and the engine that owns time.
 //! - [`run`]: one run from a spec to result files; [`cli`]: the command line.
+//! - [`discover`]: the discrepancy workflow (measured runs vs. model, effect discovery, synthetic data).
 //! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
 
 pub mod batch;
@@ -17,6 +18,7 @@ pub mod cli;
 pub mod compare;
 pub mod contact;
 pub mod control;
+pub mod discover;
 pub mod error;
 pub mod maneuver;
 pub mod output;

@@ -73,6 +73,43 @@ pub struct VehicleFile {
     /// model ignores it, the 4-DOF model requires it).
     #[serde(default)]
     pub roll: Option<RollSection>,
+    /// Lateral extensions found by `vehsim discover` (optional; bicycle model only; the defaults
+    /// leave the model unchanged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lateral: Option<LateralSection>,
+}
+
+/// Raw `[lateral]` section: optional extensions of the bicycle model's lateral behaviour, as
+/// fitted by `vehsim discover` (docs/discover.md). Ignored by the 4-DOF model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LateralSection {
+    /// Steer compliance: the effective road-wheel angle is reduced by this much per kN of front
+    /// axle lateral force, rad/kN (0 = rigid steering, default; typical 0.001–0.01; at most 0.1).
+    #[serde(default)]
+    pub steer_compliance_rad_per_kn: f64,
+    /// Scale on the surface friction seen by every tyre, dimensionless (default 1; (0.05, 3]).
+    #[serde(default = "one")]
+    pub mu_scale: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Validated lateral extensions (see [`LateralSection`]); the default changes nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lateral {
+    /// rad per kN of front axle lateral force.
+    pub steer_compliance_rad_per_kn: f64,
+    /// Friction scale.
+    pub mu_scale: f64,
+}
+
+impl Default for Lateral {
+    fn default() -> Self {
+        Lateral { steer_compliance_rad_per_kn: 0.0, mu_scale: 1.0 }
+    }
 }
 
 /// Raw `[roll]` section: what the 4-DOF roll model needs beyond the bicycle's data.
@@ -198,6 +235,8 @@ pub struct Vehicle {
     pub rolling_resistance: f64,
     /// Roll data for the 4-DOF model (`None` when the file has no `[roll]` section).
     pub roll: Option<Roll>,
+    /// Lateral extensions of the bicycle model (default: none).
+    pub lateral: Lateral,
     pub tyre: Tyre,
     /// Warnings from reading the tyre data (e.g. `.tir` sections ignored), for the CLI to print.
     pub tyre_warnings: Vec<String>,
@@ -270,7 +309,20 @@ impl VehicleFile {
             Some(r) => Some(r.build(&c, self, tyre.unloaded_radius_m)?),
             None => None,
         };
+        let lateral = match &self.lateral {
+            Some(l) => Lateral {
+                steer_compliance_rad_per_kn: c.range(
+                    "lateral.steer_compliance_rad_per_kn",
+                    l.steer_compliance_rad_per_kn,
+                    0.0,
+                    0.1,
+                )?,
+                mu_scale: c.range("lateral.mu_scale", l.mu_scale, 0.05, 3.0)?,
+            },
+            None => Lateral::default(),
+        };
         Ok(Vehicle {
+            lateral,
             name: self.name.clone(),
             mass_kg: self.mass_kg,
             yaw_inertia_kgm2: self.yaw_inertia_kgm2,

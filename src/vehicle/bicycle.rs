@@ -13,7 +13,9 @@
 //!   dX/dt = vx cos(psi) - vy sin(psi),  dY/dt = vx sin(psi) + vy cos(psi),  dpsi/dt = r
 //!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
 //!
-//! with the slips from [`super::wheel`].
+//! with the slips from [`super::wheel`]. Optional `[lateral]` extensions of the vehicle spec
+//! (found by `vehsim discover`): a steer compliance, delta_e = delta - c Fy_f, and a friction scale
+//! on the surface mu; their defaults (0 and 1) leave the model exactly as above.
 
 use nalgebra::SVector;
 
@@ -76,9 +78,26 @@ impl Bicycle {
     }
 
     fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
+        let c = self.vehicle.lateral.steer_compliance_rad_per_kn * 1e-3;
+        let first = self.axles_at(x, u, env, u.steer_rad);
+        if c == 0.0 {
+            return first;
+        }
+        // Steer compliance (vehicle `[lateral]` section): effective steer delta - c Fy_f, solved
+        // by damped fixed-point iteration on the front axle lateral force.
+        let mut fyf = first.f[0].fy_n;
+        for _ in 0..4 {
+            let g = self.axles_at(x, u, env, u.steer_rad - c * fyf).f[0].fy_n;
+            fyf = 0.5 * (fyf + g);
+        }
+        self.axles_at(x, u, env, u.steer_rad - c * fyf)
+    }
+
+    /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
+    fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64) -> Axles {
         let v = &self.vehicle;
         let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
-        let (sin_d, cos_d) = u.steer_rad.sin_cos();
+        let (sin_d, cos_d) = steer.sin_cos();
         let radius = v.tyre.rolling_radius_m;
         // Wheel-centre velocities in wheel axes.
         let vf = (vx * cos_d + (vy + v.a_m * r) * sin_d, -vx * sin_d + (vy + v.a_m * r) * cos_d);
@@ -100,7 +119,7 @@ impl Bicycle {
                 alpha_rad: alpha[i],
                 camber_rad: 0.0,
                 vx_mps: vxw[i],
-                mu_surface: env.mu,
+                mu_surface: env.mu * v.lateral.mu_scale,
                 surface_temp_c: env.surface_temp_c,
                 contact_temp_c: u.contact_temp_c[i],
             };

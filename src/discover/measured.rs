@@ -1,0 +1,254 @@
+//! Measured runs: the `RUN.csv` format (header row, SI units) and its optional `RUN.toml` sidecar,
+//! read and validated into a [`MeasuredRun`].
+//!
+//! Required columns: `t` (s), `steer` (road-wheel angle, rad, ISO 8855 positive left), `vx` (m/s),
+//! `yaw_rate` (rad/s, positive counter-clockwise), `ay` (m/s^2, positive left). Optional: `x`, `y`
+//! (m), `psi` (rad), `vy` (m/s), `ax` (m/s^2), `roll` (rad). Any other column is ignored with a
+//! notice. Time must increase strictly (sampling need not be uniform), every value must be finite,
+//! the run must last at least 1 s and |steer| must stay at or below 1.2 rad (a larger value almost
+//! certainly means degrees or a steering-wheel angle). Each violation is one bad-input error that
+//! names the file and the row or column (exit code 2).
+//!
+//! Sidecar `RUN.toml` (same stem): `[surface] mu` (peak friction, (0, 2], default 1.0 with a
+//! notice), `[surface] ice_temp_c` (degC, default -3), `[initial] vx` (m/s, default the first
+//! measured vx).
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::{parse_toml, read_input, Checker, Error, Result};
+
+/// Required columns, in the order of the format.
+pub const REQUIRED: [&str; 5] = ["t", "steer", "vx", "yaw_rate", "ay"];
+/// Optional columns that are read (others are ignored).
+pub const OPTIONAL: [&str; 6] = ["x", "y", "psi", "vy", "ax", "roll"];
+/// Largest plausible road-wheel angle, rad.
+pub const STEER_MAX_RAD: f64 = 1.2;
+/// Shortest accepted run, s.
+pub const MIN_DURATION_S: f64 = 1.0;
+
+/// One measured run, validated.
+#[derive(Debug, Clone)]
+pub struct MeasuredRun {
+    /// The CSV file it was read from.
+    pub path: PathBuf,
+    /// Short name (file stem).
+    pub name: String,
+    /// Sample times, s (strictly increasing).
+    pub t: Vec<f64>,
+    /// Road-wheel steer angle, rad.
+    pub steer: Vec<f64>,
+    /// Forward speed, m/s.
+    pub vx: Vec<f64>,
+    /// Yaw rate, rad/s.
+    pub yaw_rate: Vec<f64>,
+    /// Lateral acceleration, m/s^2.
+    pub ay: Vec<f64>,
+    /// Optional channels present in the file: (name, values).
+    pub optional: Vec<(String, Vec<f64>)>,
+    /// Peak surface friction from the sidecar (default 1.0).
+    pub mu: f64,
+    /// Ice (surface) temperature, degC.
+    pub ice_temp_c: f64,
+    /// Initial forward speed, m/s.
+    pub initial_vx: f64,
+    /// Notices for the user (ignored columns, defaults taken).
+    pub notices: Vec<String>,
+}
+
+impl MeasuredRun {
+    /// Duration, s.
+    pub fn duration_s(&self) -> f64 {
+        self.t.last().copied().unwrap_or(0.0) - self.t.first().copied().unwrap_or(0.0)
+    }
+
+    /// An optional channel by name.
+    pub fn channel(&self, name: &str) -> Option<&[f64]> {
+        self.optional.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice())
+    }
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Sidecar {
+    #[serde(default)]
+    surface: SurfaceSection,
+    #[serde(default)]
+    initial: InitialSection,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SurfaceSection {
+    mu: Option<f64>,
+    ice_temp_c: Option<f64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InitialSection {
+    vx: Option<f64>,
+}
+
+/// Read and validate a measured run (and its sidecar, when present).
+pub fn read_run(path: &Path) -> Result<MeasuredRun> {
+    let text = read_input(path)?;
+    parse_run(path, &text)
+}
+
+/// Parse and validate the text of a measured run read from `path` (the sidecar is looked up next to it).
+pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
+    let mut rdr = csv::ReaderBuilder::new().has_headers(true).trim(csv::Trim::All).from_reader(text.as_bytes());
+    let headers: Vec<String> = rdr
+        .headers()
+        .map_err(|e| Error::input(path, format!("cannot read the header row: {e}")))?
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let mut notices = Vec::new();
+    for r in REQUIRED {
+        if !headers.iter().any(|h| h == r) {
+            return Err(Error::input(
+                path,
+                format!(
+                    "missing required column '{r}' (required: {}; found: {})",
+                    REQUIRED.join(", "),
+                    headers.join(", ")
+                ),
+            ));
+        }
+    }
+    for (i, h) in headers.iter().enumerate() {
+        if headers[..i].contains(h) {
+            return Err(Error::input(path, format!("column '{h}' appears twice in the header")));
+        }
+        if !REQUIRED.contains(&h.as_str()) && !OPTIONAL.contains(&h.as_str()) {
+            notices.push(format!("{}: column '{h}' ignored (not part of the run format)", path.display()));
+        }
+    }
+    let used: Vec<(usize, &str)> = headers
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| REQUIRED.contains(&h.as_str()) || OPTIONAL.contains(&h.as_str()))
+        .map(|(i, h)| (i, h.as_str()))
+        .collect();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); used.len()];
+    for (k, rec) in rdr.records().enumerate() {
+        // Row numbers count the header as line 1.
+        let line = k + 2;
+        let rec = rec.map_err(|e| Error::input(path, format!("line {line}: {e}")))?;
+        for (j, (ci, name)) in used.iter().enumerate() {
+            let cell = rec.get(*ci).unwrap_or("");
+            let v: f64 = cell
+                .parse()
+                .map_err(|_| Error::input(path, format!("line {line}, column '{name}': '{cell}' is not a number")))?;
+            if !v.is_finite() {
+                return Err(Error::input(
+                    path,
+                    format!("line {line}, column '{name}': {cell} is not a finite number (NaN or infinity)"),
+                ));
+            }
+            cols[j].push(v);
+        }
+    }
+    let get = |name: &str| -> Vec<f64> {
+        used.iter().position(|(_, n)| *n == name).map(|j| cols[j].clone()).unwrap_or_default()
+    };
+    let t = get("t");
+    if t.len() < 2 {
+        return Err(Error::input(path, format!("{} data rows; a run needs at least 2", t.len())));
+    }
+    for k in 1..t.len() {
+        if t[k] <= t[k - 1] {
+            return Err(Error::input(
+                path,
+                format!(
+                    "line {}, column 't': time {} s does not increase (previous row {} s); time must be strictly increasing",
+                    k + 2,
+                    t[k],
+                    t[k - 1]
+                ),
+            ));
+        }
+    }
+    let dur = t[t.len() - 1] - t[0];
+    if dur < MIN_DURATION_S {
+        return Err(Error::input(
+            path,
+            format!("the run lasts {dur:.3} s; at least {MIN_DURATION_S} s of data is needed"),
+        ));
+    }
+    let steer = get("steer");
+    if let Some((k, v)) = steer.iter().enumerate().find(|(_, v)| v.abs() > STEER_MAX_RAD) {
+        return Err(Error::input(
+            path,
+            format!(
+                "line {}, column 'steer': {v} rad exceeds {STEER_MAX_RAD} rad; steer must be the road-wheel angle in radians (degrees or a steering-wheel angle?)",
+                k + 2
+            ),
+        ));
+    }
+    let vx = get("vx");
+    let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
+    let mut run = MeasuredRun {
+        path: path.to_path_buf(),
+        name,
+        optional: OPTIONAL
+            .iter()
+            .filter(|o| headers.iter().any(|h| h == *o))
+            .map(|o| (o.to_string(), get(o)))
+            .collect(),
+        initial_vx: vx[0],
+        t,
+        steer,
+        vx,
+        yaw_rate: get("yaw_rate"),
+        ay: get("ay"),
+        mu: 1.0,
+        ice_temp_c: -3.0,
+        notices,
+    };
+    read_sidecar(&mut run)?;
+    Ok(run)
+}
+
+fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
+    let side = run.path.with_extension("toml");
+    if !side.exists() {
+        run.notices.push(format!(
+            "{}: no sidecar {}; surface mu = 1.0 and ice temperature -3 degC assumed",
+            run.path.display(),
+            side.display()
+        ));
+        return Ok(());
+    }
+    let s: Sidecar = parse_toml(&side, &read_input(&side)?)?;
+    let c = Checker::new(&side);
+    if let Some(mu) = s.surface.mu {
+        run.mu = c.range("surface.mu", mu, 1e-3, 2.0)?;
+    } else {
+        run.notices.push(format!("{}: no [surface] mu; 1.0 assumed", side.display()));
+    }
+    if let Some(tc) = s.surface.ice_temp_c {
+        run.ice_temp_c = c.range("surface.ice_temp_c", tc, -60.0, 0.0)?;
+    }
+    if let Some(v) = s.initial.vx {
+        run.initial_vx = c.range("initial.vx", v, -100.0, 100.0)?;
+    }
+    Ok(())
+}
+
+/// Write a run in the measured-run format (only the required columns plus any optional ones given).
+pub fn run_csv(t: &[f64], steer: &[f64], vx: &[f64], yaw_rate: &[f64], ay: &[f64]) -> String {
+    let mut s = String::from("t,steer,vx,yaw_rate,ay\n");
+    for k in 0..t.len() {
+        s.push_str(&format!("{},{},{},{},{}\n", t[k], steer[k], vx[k], yaw_rate[k], ay[k]));
+    }
+    s
+}
+
+/// Write a sidecar with the surface friction and temperature.
+pub fn sidecar_toml(mu: f64, ice_temp_c: f64) -> String {
+    format!("[surface]\nmu = {mu}\nice_temp_c = {ice_temp_c}\n")
+}

@@ -1,0 +1,195 @@
+//! The discrepancy workflow (`vehsim discover`, `vehsim synth`): replay measured runs through a
+//! baseline model, find where simulation and measurement disagree, name the missing effect from a
+//! library of candidates, fit it, and show the gap shrink on held-out data.
+//!
+//! - [`measured`]: the measured-run format and its validation.
+//! - [`model`]: the replay model (lateral bicycle, prescribed speed) with the candidate effects.
+//! - [`effects`]: the candidate library; [`fit`]: Nelder–Mead fitting.
+//! - [`select`]: noise estimate, residuals, disagreement windows, greedy selection.
+//! - [`synth`]: synthetic runs with one effect on; [`report`]: report.json, report.md, plots.
+//! - [`stanford`]: conversion of the Stanford lap data to the run format.
+
+pub mod effects;
+pub mod fit;
+pub mod measured;
+pub mod model;
+pub mod report;
+pub mod select;
+pub mod stanford;
+pub mod synth;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::spec::vehicle::{Vehicle, VehicleFile};
+use crate::tyre::spec::TyreModelKind;
+
+pub use effects::Effect;
+pub use select::{discover, Dataset, Discovery};
+
+/// Options of `vehsim discover`.
+#[derive(Debug, Clone)]
+pub struct DiscoverOptions {
+    pub vehicle: PathBuf,
+    /// Tyre file overriding the vehicle's.
+    pub tyre: Option<PathBuf>,
+    /// Tyre provider (default pacejka).
+    pub tyre_model: TyreModelKind,
+    /// `bicycle` (default) or `roll4dof`.
+    pub model: String,
+    pub out: PathBuf,
+    pub runs: Vec<PathBuf>,
+}
+
+/// Load the vehicle (with an optional tyre override) for provider `kind`.
+pub fn load_vehicle(path: &Path, tyre: Option<&Path>, kind: TyreModelKind) -> Result<Vehicle> {
+    let mut vf = VehicleFile::load(path)?;
+    if let Some(t) = tyre {
+        let abs = std::fs::canonicalize(t).map_err(|_| Error::input(t, "tyre file not found"))?;
+        vf.tyre = abs.to_string_lossy().to_string();
+    }
+    vf.build(path, kind)
+}
+
+/// Parse a tyre-provider name.
+pub fn tyre_kind(name: &str) -> Result<TyreModelKind> {
+    TyreModelKind::ALL.iter().copied().find(|k| k.as_str() == name).ok_or_else(|| {
+        Error::input(
+            Path::new("--tyre-model"),
+            format!("'{name}' is not a tyre provider; allowed: {}", TyreModelKind::ALLOWED.join(", ")),
+        )
+    })
+}
+
+/// The baseline parameters and the candidates for a baseline model name.
+pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectParams, Vec<Effect>)> {
+    match model {
+        "bicycle" => Ok((model::EffectParams::default(), Effect::TRIED.to_vec())),
+        // The 4-DOF baseline: quasi-static lateral load transfer at the vehicle's CG height.
+        "roll4dof" => {
+            let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
+            Ok((p, Effect::TRIED.iter().copied().filter(|e| *e != Effect::LoadTransfer).collect()))
+        }
+        other => {
+            Err(Error::input(Path::new("--model"), format!("'{other}' is not a model; allowed: bicycle, roll4dof")))
+        }
+    }
+}
+
+/// Run `vehsim discover`: read and validate everything, discover, write the output folder.
+/// Returns the discovery and the notices to print.
+pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> {
+    let vehicle = load_vehicle(&opts.vehicle, opts.tyre.as_deref(), opts.tyre_model)?;
+    let (base, candidates) = baseline_for(&opts.model, &vehicle)?;
+    if opts.runs.is_empty() {
+        return Err(Error::input(Path::new("RUN.csv"), "no measured run given"));
+    }
+    let mut runs = Vec::new();
+    let mut notices = Vec::new();
+    for p in &opts.runs {
+        let r = measured::read_run(p)?;
+        notices.extend(r.notices.iter().cloned());
+        runs.push(r);
+    }
+    let model = model::ReplayModel::new(vehicle);
+    let data = Dataset::new(runs);
+    let d = select::discover_from(&model, &data, base, &candidates);
+    report::write_all(&opts.out, opts, &model, &data, &d)?;
+    Ok((d, notices))
+}
+
+fn fail(e: &Error) -> std::process::ExitCode {
+    eprintln!("error: {e}");
+    std::process::ExitCode::from(e.exit_code())
+}
+
+/// `vehsim discover` (called by the CLI): prints notices, the verdict and the RMS table.
+pub fn cli_discover(
+    vehicle: PathBuf,
+    tyre: Option<PathBuf>,
+    tyre_model: &str,
+    model: String,
+    out: PathBuf,
+    runs: Vec<PathBuf>,
+) -> std::process::ExitCode {
+    let kind = match tyre_kind(tyre_model) {
+        Ok(k) => k,
+        Err(e) => return fail(&e),
+    };
+    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs };
+    match run_discover(&opts) {
+        Ok((d, notices)) => {
+            for n in notices {
+                println!("note: {n}");
+            }
+            for st in &d.steps {
+                let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
+                println!("accepted {}: {} ({})", st.effect, ps.join(", "), st.evidence);
+            }
+            let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
+            println!(
+                "held-out RMS: yaw rate {:.5} -> {:.5} rad/s, ay {:.4} -> {:.4} m/s^2",
+                b.yaw_rate_radps, f.yaw_rate_radps, b.ay_mps2, f.ay_mps2
+            );
+            println!(
+                "verdict: {} (named: {})",
+                d.verdict,
+                if d.named.is_empty() { "none".into() } else { d.named.join(", ") }
+            );
+            println!("wrote {}", opts.out.display());
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => fail(&e),
+    }
+}
+
+/// `vehsim synth` (called by the CLI).
+pub fn cli_synth(
+    effect: &str,
+    params: &[String],
+    vehicle: &Path,
+    tyre_model: &str,
+    seed: u64,
+    out: &Path,
+) -> std::process::ExitCode {
+    let r = (|| -> Result<usize> {
+        let kind = tyre_kind(tyre_model)?;
+        let v = load_vehicle(vehicle, None, kind)?;
+        let mut p = model::EffectParams::default();
+        if effect != "none" {
+            let e = Effect::from_name(effect).filter(|e| *e != Effect::ThermalFriction).ok_or_else(|| {
+                Error::input(
+                    Path::new("--effect"),
+                    format!(
+                        "'{effect}' is not a synthesizable effect; allowed: none, tyre_relaxation, load_transfer, friction_change, steer_compliance, sensor_bias"
+                    ),
+                )
+            })?;
+            let vals = synth::parse_params(e, params)?;
+            e.apply(&mut p, &vals);
+        } else if !params.is_empty() {
+            return Err(Error::input(Path::new("--params"), "effect 'none' takes no parameters"));
+        }
+        let runs = synth::generate(&model::ReplayModel::new(v), &p, seed);
+        synth::write_runs(out, &runs)?;
+        Ok(runs.len())
+    })();
+    match r {
+        Ok(n) => {
+            println!("wrote {n} runs into {}", out.display());
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => fail(&e),
+    }
+}
+
+/// `vehsim convert-stanford` (called by the CLI).
+pub fn cli_convert(dir: &Path, out: &Path, segment_s: f64, segments: usize) -> std::process::ExitCode {
+    match stanford::convert(dir, out, segment_s, segments) {
+        Ok(files) => {
+            println!("wrote {} runs into {}", files.len(), out.display());
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => fail(&e),
+    }
+}

@@ -1,0 +1,273 @@
+//! Outputs of `vehsim discover`: `report.json`, `report.md`, `effects.toml` (the accepted effects
+//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the effects the engine
+//! supports in its `[lateral]` section, runnable with `vehsim run`), and per-run plots (yaw rate and ay: measured, baseline and
+//! improved, disagreement windows of the baseline shaded). Written atomically into the output folder.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde_json::json;
+
+use super::model::{EffectParams, ReplayModel};
+use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse};
+use super::DiscoverOptions;
+use crate::error::{Error, Result};
+use crate::plot::{xy_chart, Series, XyChart};
+
+fn rmse_json(r: &Rmse) -> serde_json::Value {
+    json!({ "yaw_rate_radps": r.yaw_rate_radps, "ay_mps2": r.ay_mps2 })
+}
+
+/// The accepted effects and their parameters as a TOML document.
+pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Effects accepted by `vehsim discover` (baseline model '{}').", opts.model);
+    let _ = writeln!(s, "# Vehicle: {}", opts.vehicle.display());
+    let _ = writeln!(s, "verdict = \"{}\"", d.verdict);
+    let _ = writeln!(s, "named_effects = {:?}", d.named);
+    for st in &d.steps {
+        let _ = writeln!(s, "\n[{}]", st.effect);
+        for (k, v, u) in &st.params {
+            let _ = writeln!(s, "{k} = {v:e}  # {u}");
+        }
+    }
+    s
+}
+
+/// The vehicle spec with the accepted effects that the engine's bicycle model supports
+/// (`steer_compliance`, `friction_change`) in its `[lateral]` section, and the tyre path made
+/// absolute, so that `vehsim run` can use it from any folder. Effects the engine cannot represent
+/// yet are listed in the header comment.
+pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
+    let path = &opts.vehicle;
+    let text = crate::error::read_input(path)?;
+    let mut table: toml::Table = toml::from_str(&text).map_err(|e| Error::input(path, e.to_string()))?;
+    let tyre = match &opts.tyre {
+        Some(t) => t.clone(),
+        None => crate::error::resolve(path, table.get("tyre").and_then(|t| t.as_str()).unwrap_or("")),
+    };
+    let tyre_abs = std::fs::canonicalize(&tyre).unwrap_or(tyre);
+    table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
+    let mut lateral = toml::Table::new();
+    let mut not_in_spec = Vec::new();
+    for st in &d.steps {
+        match st.effect.as_str() {
+            "steer_compliance" => {
+                lateral.insert(
+                    "steer_compliance_rad_per_kn".into(),
+                    toml::Value::Float(d.params.steer_compliance_rad_per_kn),
+                );
+            }
+            "friction_change" => {
+                lateral.insert("mu_scale".into(), toml::Value::Float(d.params.mu_scale));
+            }
+            other => not_in_spec.push(other.to_string()),
+        }
+    }
+    if !lateral.is_empty() {
+        table.insert("lateral".into(), toml::Value::Table(lateral));
+    }
+    let body = toml::to_string(&table).map_err(|e| Error::Run(e.to_string()))?;
+    let mut s = format!(
+        "# {} with the effects accepted by `vehsim discover` (verdict: {}; named: {}).\n",
+        path.display(),
+        d.verdict,
+        if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
+    );
+    if !not_in_spec.is_empty() {
+        s.push_str(&format!("# Not representable in this spec yet (see effects.toml): {}.\n", not_in_spec.join(", ")));
+    }
+    s.push_str(&body);
+    Ok(s)
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| Error::Io { path: path.to_path_buf(), source: e })
+}
+
+/// Write every output into `out` (atomically).
+pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: &Dataset, d: &Discovery) -> Result<()> {
+    let base_p = super::baseline_for(&opts.model, &model.vehicle)?.0;
+    let base_sims = simulate_all(model, data, &base_p);
+    let final_sims = simulate_all(model, data, &d.params);
+    let windows = disagreement_windows(data, &base_sims);
+    let windows_after = disagreement_windows(data, &final_sims);
+    let regions = operating_regions(data, &base_sims);
+    let report = json!({
+        "baseline_model": opts.model,
+        "vehicle": opts.vehicle.display().to_string(),
+        "runs": data.runs.iter().map(|r| r.path.display().to_string()).collect::<Vec<_>>(),
+        "heldout_runs": data.heldout_runs(),
+        "noise": data.runs.iter().zip(&data.noise).map(|(r, n)| json!({"run": r.name, "yaw_rate_radps": n.yaw_rate, "ay_mps2": n.ay})).collect::<Vec<_>>(),
+        "baseline_rmse": { "fitted": rmse_json(&d.baseline.rmse(false)), "heldout": rmse_json(&d.baseline.rmse(true)) },
+        "final_rmse": { "fitted": rmse_json(&d.final_scores.rmse(false)), "heldout": rmse_json(&d.final_scores.rmse(true)) },
+        "steps": d.steps.iter().map(|s| json!({
+            "effect": s.effect,
+            "params": s.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+            "rmse_before": rmse_json(&s.rmse_before),
+            "rmse_after": rmse_json(&s.rmse_after),
+            "heldout_rmse_before": rmse_json(&s.heldout_rmse_before),
+            "heldout_rmse_after": rmse_json(&s.heldout_rmse_after),
+            "evidence": s.evidence,
+        })).collect::<Vec<_>>(),
+        "rejected": d.rejected.iter().map(|t| json!({
+            "effect": t.effect, "round": t.round, "delta_bic": t.delta_bic,
+            "heldout_rss_ratio": t.heldout_rss_ratio,
+            "params": t.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "per_run": data.runs.iter().enumerate().map(|(i, r)| {
+            let rms = |sim: &[f64], meas: &[f64]| (sim.iter().zip(meas).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / meas.len().max(1) as f64).sqrt();
+            json!({
+                "run": r.name,
+                "heldout": data.held[i].iter().all(|h| *h),
+                "baseline_yaw_rate_rmse_radps": rms(&base_sims[i].yaw_rate, &r.yaw_rate),
+                "final_yaw_rate_rmse_radps": rms(&final_sims[i].yaw_rate, &r.yaw_rate),
+                "baseline_ay_rmse_mps2": rms(&base_sims[i].ay, &r.ay),
+                "final_ay_rmse_mps2": rms(&final_sims[i].ay, &r.ay),
+                "baseline_replay_finite": base_sims[i].ok,
+                "final_replay_finite": final_sims[i].ok,
+            })
+        }).collect::<Vec<_>>(),
+        "named_effects": d.named,
+        "verdict": d.verdict,
+        "disagreement_windows_baseline": windows,
+        "disagreement_windows_final": windows_after,
+        "operating_regions_baseline": regions,
+        "thresholds": { "bic_min": super::select::BIC_MIN, "min_gain": super::select::MIN_GAIN, "explained_chi2": super::select::EXPLAINED_CHI2 },
+    });
+    let md = markdown(opts, data, d, &windows, &regions);
+    let toml = effects_toml(opts, d);
+    let vehicle_toml = improved_vehicle_toml(opts, d)?;
+    crate::run::write_dir_atomic(out, |tmp| {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
+        write(&tmp.join("report.json"), &text)?;
+        write(&tmp.join("report.md"), &md)?;
+        write(&tmp.join("effects.toml"), &toml)?;
+        write(&tmp.join("vehicle.toml"), &vehicle_toml)?;
+        let plots = tmp.join("plots");
+        std::fs::create_dir_all(&plots).map_err(|e| Error::Io { path: plots.clone(), source: e })?;
+        for (i, r) in data.runs.iter().enumerate() {
+            let spans: Vec<(f64, f64)> = windows.iter().filter(|w| w.run == r.name).map(|w| (w.t0_s, w.t1_s)).collect();
+            for (ch, unit, meas, b, f) in [
+                ("yaw_rate", "rad/s", &r.yaw_rate, &base_sims[i].yaw_rate, &final_sims[i].yaw_rate),
+                ("ay", "m/s^2", &r.ay, &base_sims[i].ay, &final_sims[i].ay),
+            ] {
+                let pts = |v: &Vec<f64>| r.t.iter().zip(v).map(|(t, y)| (*t, *y)).collect::<Vec<_>>();
+                let chart = XyChart {
+                    title: format!("{} — {ch} (shaded: baseline disagreement)", r.name),
+                    x_label: "t (s)".into(),
+                    y_label: format!("{ch} ({unit})"),
+                    series: vec![
+                        Series { label: "measured".into(), points: pts(meas) },
+                        Series { label: "baseline".into(), points: pts(b) },
+                        Series { label: "improved".into(), points: pts(f) },
+                    ],
+                    spans: spans.clone(),
+                    ..XyChart::default()
+                };
+                xy_chart(&plots.join(format!("{}_{ch}", r.name)), &chart)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+fn markdown(
+    opts: &DiscoverOptions,
+    data: &Dataset,
+    d: &Discovery,
+    windows: &[super::select::Window],
+    regions: &[super::select::RegionBin],
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Discovery report\n");
+    let _ = writeln!(s, "Baseline model: {} (vehicle {}).", opts.model, opts.vehicle.display());
+    let _ = writeln!(s, "Runs: {}; held out: {}.\n", data.runs.len(), {
+        let h = data.heldout_runs();
+        if h.is_empty() {
+            format!("alternate {} s blocks of the single run", super::select::BLOCK_S)
+        } else {
+            h.join(", ")
+        }
+    });
+    let _ = writeln!(
+        s,
+        "**Verdict: {}.** Named effects: {}.\n",
+        d.verdict,
+        if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
+    );
+    let _ = writeln!(s, "## RMS error per channel\n");
+    let _ = writeln!(s, "| data | channel | baseline | final |\n|---|---|---|---|");
+    for (label, held) in [("fitted", false), ("held-out", true)] {
+        let (b, f) = (d.baseline.rmse(held), d.final_scores.rmse(held));
+        let _ = writeln!(s, "| {label} | yaw rate (rad/s) | {:.5} | {:.5} |", b.yaw_rate_radps, f.yaw_rate_radps);
+        let _ = writeln!(s, "| {label} | ay (m/s^2) | {:.4} | {:.4} |", b.ay_mps2, f.ay_mps2);
+    }
+    let _ = writeln!(s, "\n## Accepted effects\n");
+    if d.steps.is_empty() {
+        let _ = writeln!(s, "None.");
+    }
+    for st in &d.steps {
+        let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
+        let _ = writeln!(
+            s,
+            "- **{}** ({}): {}. Held-out yaw-rate RMS {:.5} -> {:.5} rad/s. {}",
+            st.effect,
+            super::Effect::from_name(&st.effect).map_or("", |e| e.describe()),
+            ps.join(", "),
+            st.heldout_rmse_before.yaw_rate_radps,
+            st.heldout_rmse_after.yaw_rate_radps,
+            st.evidence
+        );
+    }
+    let _ = writeln!(s, "\n## Candidates tried and rejected\n");
+    let _ = writeln!(s, "| round | effect | held-out dBIC | held-out RSS ratio | parameters |\n|---|---|---|---|---|");
+    for t in &d.rejected {
+        let ps: Vec<String> = t.params.iter().map(|(k, v, u)| format!("{k} = {v:.3e} {u}")).collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.1} | {:.3} | {} |",
+            t.round,
+            t.effect,
+            t.delta_bic,
+            t.heldout_rss_ratio,
+            ps.join(", ")
+        );
+    }
+    let _ = writeln!(s, "\n## Noise estimate (from second differences of the measured signals)\n");
+    let _ = writeln!(s, "| run | yaw rate (rad/s) | ay (m/s^2) |\n|---|---|---|");
+    for (r, n) in data.runs.iter().zip(&data.noise) {
+        let _ = writeln!(s, "| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
+    }
+    let _ = writeln!(s, "\n## Baseline disagreement windows (residual mean square > 2x noise over 0.5 s)\n");
+    if windows.is_empty() {
+        let _ = writeln!(s, "None.");
+    }
+    for w in windows.iter().take(50) {
+        let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
+    }
+    if windows.len() > 50 {
+        let _ = writeln!(s, "- ... {} more in report.json", windows.len() - 50);
+    }
+    let _ = writeln!(s, "\n## Baseline residual by operating region (1 = noise level)\n");
+    let _ = writeln!(s, "| variable | range | samples | excess | disagrees |\n|---|---|---|---|---|");
+    for b in regions {
+        let _ = writeln!(
+            s,
+            "| {} | {}–{} | {} | {:.2} | {} |",
+            b.variable,
+            b.lo,
+            if b.hi > 1e8 { "inf".to_string() } else { b.hi.to_string() },
+            b.samples,
+            b.excess,
+            b.disagrees
+        );
+    }
+    let _ = writeln!(s, "\nPlots: `plots/<run>_yaw_rate.png` and `plots/<run>_ay.png`.");
+    s
+}
+
+/// Parameters of the final model (for tests and callers).
+pub fn final_params(d: &Discovery) -> EffectParams {
+    d.params
+}

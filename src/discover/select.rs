@@ -1,0 +1,454 @@
+//! Residuals, noise estimate, disagreement windows and operating regions, and the greedy
+//! selection of effects scored on held-out data with an information criterion.
+//!
+//! Noise: for each run and channel, sigma = MAD(second differences) / 0.6745 / sqrt(6). The second
+//! difference of a smooth signal sampled at 100 Hz is tiny, while white noise of variance s^2
+//! gives second differences of variance 6 s^2; the median absolute deviation ignores outliers.
+//!
+//! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
+//! per channel and sample. Held-out data: with two runs or more, every second run (the 2nd, 4th,
+//! ...) is held out and never used by a fit; with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s) are held out.
+//!
+//! Score of a model with k fitted parameters on the n held-out normalized residuals:
+//! BIC = n ln(RSS / n) + k ln(n). A candidate is accepted when it lowers the held-out BIC by more
+//! than [`BIC_MIN`] *and* lowers the held-out RSS by at least [`MIN_GAIN`] (a practical-significance
+//! floor against correlated residuals in long records). Effects are added greedily, one per round,
+//! until no candidate passes.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::effects::Effect;
+use super::fit::nelder_mead;
+use super::measured::MeasuredRun;
+use super::model::{EffectParams, ReplayModel, Simulated};
+
+/// Held-out BIC improvement needed to accept an effect.
+pub const BIC_MIN: f64 = 10.0;
+/// Relative held-out RSS reduction needed to accept an effect.
+pub const MIN_GAIN: f64 = 0.05;
+/// Held-out mean square normalized residual (per channel) below which the data are explained.
+pub const EXPLAINED_CHI2: f64 = 2.0;
+/// Length of held-out blocks when there is one run, s.
+pub const BLOCK_S: f64 = 3.0;
+/// Evaluation budget of one fit.
+pub const FIT_EVALS: usize = 60;
+
+/// Channels compared.
+pub const CHANNELS: [&str; 2] = ["yaw_rate", "ay"];
+
+/// Noise level of one run, per channel.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Noise {
+    pub yaw_rate: f64,
+    pub ay: f64,
+}
+
+/// Estimate white-noise sigma from second differences (robust).
+pub fn noise_sigma(v: &[f64]) -> f64 {
+    if v.len() < 4 {
+        return 1e-6;
+    }
+    let mut d: Vec<f64> = v.windows(3).map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()).collect();
+    d.sort_by(|a, b| a.total_cmp(b));
+    let med = d[d.len() / 2];
+    (med / 0.6745 / 6f64.sqrt()).max(1e-6)
+}
+
+/// Runs with their noise and their fit/held-out split.
+#[derive(Debug)]
+pub struct Dataset {
+    pub runs: Vec<MeasuredRun>,
+    pub noise: Vec<Noise>,
+    /// Per run and sample: true when the sample is held out.
+    pub held: Vec<Vec<bool>>,
+}
+
+impl Dataset {
+    pub fn new(runs: Vec<MeasuredRun>) -> Self {
+        let noise = runs.iter().map(|r| Noise { yaw_rate: noise_sigma(&r.yaw_rate), ay: noise_sigma(&r.ay) }).collect();
+        let held = if runs.len() >= 2 {
+            runs.iter().enumerate().map(|(i, r)| vec![i % 2 == 1; r.t.len()]).collect()
+        } else {
+            runs.iter()
+                .map(|r| {
+                    // Blocks of 3 s, shorter for runs under 12 s so that at least two are held out.
+                    let block = BLOCK_S.min(r.duration_s() / 4.0).max(1e-3);
+                    r.t.iter().map(|t| (((t - r.t[0]) / block).floor() as i64) % 2 == 1).collect()
+                })
+                .collect()
+        };
+        Self { runs, noise, held }
+    }
+
+    /// Names of the runs that are held out entirely (empty with one run).
+    pub fn heldout_runs(&self) -> Vec<String> {
+        if self.runs.len() >= 2 {
+            self.runs.iter().enumerate().filter(|(i, _)| i % 2 == 1).map(|(_, r)| r.name.clone()).collect()
+        } else {
+            Vec::new()
+        }
+    }
+}
+
+/// Sums of squares of one model over the data set.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Scores {
+    /// Normalized RSS (both channels) on fitted and held-out samples; n counts samples.
+    pub rss_fit: f64,
+    pub rss_held: f64,
+    pub n_fit: usize,
+    pub n_held: usize,
+    /// Raw sums of squared residuals per channel (yaw rate, ay) on fitted and held-out samples.
+    pub ss_fit: [f64; 2],
+    pub ss_held: [f64; 2],
+}
+
+impl Scores {
+    /// Per-channel RMS error on fitted or held-out samples.
+    pub fn rmse(&self, held: bool) -> Rmse {
+        let (ss, n) = if held { (self.ss_held, self.n_held) } else { (self.ss_fit, self.n_fit) };
+        let n = n.max(1) as f64;
+        Rmse { yaw_rate_radps: (ss[0] / n).sqrt(), ay_mps2: (ss[1] / n).sqrt() }
+    }
+
+    /// Held-out BIC with k parameters.
+    pub fn bic_held(&self, k: usize) -> f64 {
+        // Two residuals (yaw rate, ay) per held-out sample.
+        let n = (2 * self.n_held).max(1) as f64;
+        n * (self.rss_held.max(1e-300) / n).ln() + k as f64 * n.ln()
+    }
+}
+
+/// Per-channel RMS error.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Rmse {
+    pub yaw_rate_radps: f64,
+    pub ay_mps2: f64,
+}
+
+/// Simulate every run (in parallel) with `p`.
+pub fn simulate_all(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> Vec<Simulated> {
+    data.runs.par_iter().map(|r| model.simulate(r, p)).collect()
+}
+
+/// Score simulations against the data.
+pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
+    let mut s = Scores::default();
+    for (i, (r, sim)) in data.runs.iter().zip(sims).enumerate() {
+        let nz = data.noise[i];
+        for k in 0..r.t.len() {
+            let er = r.yaw_rate[k] - sim.yaw_rate[k];
+            let ea = r.ay[k] - sim.ay[k];
+            let z = (er / nz.yaw_rate).powi(2) + (ea / nz.ay).powi(2);
+            if data.held[i][k] {
+                s.rss_held += z;
+                s.n_held += 1;
+                s.ss_held[0] += er * er;
+                s.ss_held[1] += ea * ea;
+            } else {
+                s.rss_fit += z;
+                s.n_fit += 1;
+                s.ss_fit[0] += er * er;
+                s.ss_fit[1] += ea * ea;
+            }
+        }
+    }
+    s
+}
+
+/// Normalized RSS of the fitted samples only (the fit objective).
+fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
+    let sims = simulate_all(model, data, p);
+    let mut c = 0.0;
+    for (i, (r, sim)) in data.runs.iter().zip(&sims).enumerate() {
+        let nz = data.noise[i];
+        for k in 0..r.t.len() {
+            if !data.held[i][k] {
+                c +=
+                    ((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2) + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2);
+            }
+        }
+        if !sim.ok {
+            c *= 10.0;
+        }
+    }
+    c
+}
+
+/// A candidate tried in one round.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trial {
+    pub effect: String,
+    pub round: usize,
+    /// Fitted parameters: (name, value, unit).
+    pub params: Vec<(String, f64, String)>,
+    /// Held-out BIC improvement over the current model (positive is better).
+    pub delta_bic: f64,
+    /// Held-out RSS of the candidate over that of the current model.
+    pub heldout_rss_ratio: f64,
+    #[serde(skip)]
+    pub values: Vec<f64>,
+    #[serde(skip)]
+    pub scores: Scores,
+}
+
+/// One accepted effect.
+#[derive(Debug, Clone, Serialize)]
+pub struct Step {
+    pub effect: String,
+    pub params: Vec<(String, f64, String)>,
+    pub rmse_before: Rmse,
+    pub rmse_after: Rmse,
+    pub heldout_rmse_before: Rmse,
+    pub heldout_rmse_after: Rmse,
+    pub evidence: String,
+}
+
+/// Result of the greedy search.
+#[derive(Debug, Clone)]
+pub struct Discovery {
+    pub baseline: Scores,
+    pub final_scores: Scores,
+    pub params: EffectParams,
+    pub steps: Vec<Step>,
+    pub rejected: Vec<Trial>,
+    pub named: Vec<String>,
+    pub verdict: String,
+}
+
+fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effect) -> (Vec<f64>, EffectParams) {
+    let defs = e.params();
+    let x0: Vec<f64> = defs.iter().map(|d| d.start).collect();
+    let sc: Vec<f64> = defs.iter().map(|d| d.scale).collect();
+    let lo: Vec<f64> = defs.iter().map(|d| d.lo).collect();
+    let hi: Vec<f64> = defs.iter().map(|d| d.hi).collect();
+    let mut f = |v: &[f64]| {
+        let mut p = *base;
+        e.apply(&mut p, v);
+        fit_cost(model, data, &p)
+    };
+    // One-parameter effects: coarse scan over the bounds first (7 points, geometric when the
+    // lower bound is positive), so that the simplex starts in the right basin.
+    let mut x0 = x0;
+    if defs.len() == 1 {
+        let mut best = (f(&x0), x0[0]);
+        for j in 0..7 {
+            let u = j as f64 / 6.0;
+            let v = if lo[0] > 0.0 { lo[0] * (hi[0] / lo[0]).powf(u) } else { lo[0] + u * (hi[0] - lo[0]) };
+            let c = f(&[v]);
+            if c < best.0 {
+                best = (c, v);
+            }
+        }
+        x0[0] = best.1;
+    }
+    let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
+    let mut p = *base;
+    e.apply(&mut p, &x);
+    (x, p)
+}
+
+/// Run the greedy discovery over `candidates` from the plain bicycle baseline.
+pub fn discover(model: &ReplayModel, data: &Dataset, candidates: &[Effect]) -> Discovery {
+    discover_from(model, data, EffectParams::default(), candidates)
+}
+
+/// Run the greedy discovery over `candidates` from the baseline `base`.
+pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, candidates: &[Effect]) -> Discovery {
+    let mut p = base;
+    let baseline = score(data, &simulate_all(model, data, &p));
+    let mut current = baseline;
+    let mut k_params = 0usize;
+    let mut steps = Vec::new();
+    let mut rejected = Vec::new();
+    let mut named = Vec::new();
+    let mut left: Vec<Effect> = candidates.to_vec();
+    let mut round = 0;
+    while !left.is_empty() {
+        round += 1;
+        let trials: Vec<(Effect, Trial, EffectParams)> = left
+            .par_iter()
+            .map(|&e| {
+                let (vals, pc) = fit_effect(model, data, &p, e);
+                let sc = score(data, &simulate_all(model, data, &pc));
+                let k = k_params + e.params().len();
+                let trial = Trial {
+                    effect: e.name().to_string(),
+                    round,
+                    params: e
+                        .params()
+                        .iter()
+                        .zip(&vals)
+                        .map(|(d, v)| (d.name.to_string(), *v, d.unit.to_string()))
+                        .collect(),
+                    delta_bic: current.bic_held(k_params) - sc.bic_held(k),
+                    heldout_rss_ratio: sc.rss_held / current.rss_held.max(1e-300),
+                    values: vals,
+                    scores: sc,
+                };
+                (e, trial, pc)
+            })
+            .collect();
+        let best =
+            trials.iter().enumerate().max_by(|a, b| a.1 .1.delta_bic.total_cmp(&b.1 .1.delta_bic)).map(|(i, _)| i);
+        let Some(bi) = best else { break };
+        let (e, t, pc) = trials[bi].clone();
+        let accept = t.delta_bic > BIC_MIN && t.heldout_rss_ratio < 1.0 - MIN_GAIN;
+        for (j, (_, tr, _)) in trials.iter().enumerate() {
+            if j != bi || !accept {
+                rejected.push(tr.clone());
+            }
+        }
+        if !accept {
+            break;
+        }
+        steps.push(Step {
+            effect: t.effect.clone(),
+            params: t.params.clone(),
+            rmse_before: current.rmse(false),
+            rmse_after: t.scores.rmse(false),
+            heldout_rmse_before: current.rmse(true),
+            heldout_rmse_after: t.scores.rmse(true),
+            evidence: format!(
+                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only",
+                t.delta_bic,
+                t.heldout_rss_ratio,
+                e.params().len()
+            ),
+        });
+        named.push(t.effect.clone());
+        k_params += e.params().len();
+        current = t.scores;
+        p = pc;
+        left.retain(|x| *x != e);
+    }
+    let chi2 = current.rss_held / (2.0 * current.n_held.max(1) as f64);
+    let verdict = if chi2 <= EXPLAINED_CHI2 {
+        if named.is_empty() {
+            "nothing_missing"
+        } else {
+            "explained"
+        }
+    } else {
+        "unexplained"
+    };
+    Discovery { baseline, final_scores: current, params: p, steps, rejected, named, verdict: verdict.to_string() }
+}
+
+/// A time window where the residuals exceed the noise.
+#[derive(Debug, Clone, Serialize)]
+pub struct Window {
+    pub run: String,
+    pub t0_s: f64,
+    pub t1_s: f64,
+    /// Mean square normalized residual (per channel) inside the window.
+    pub excess: f64,
+}
+
+/// Windows where the moving mean (0.5 s) of the squared normalized residual, per channel, exceeds 2.
+pub fn disagreement_windows(data: &Dataset, sims: &[Simulated]) -> Vec<Window> {
+    let mut out = Vec::new();
+    for (i, (r, sim)) in data.runs.iter().zip(sims).enumerate() {
+        let nz = data.noise[i];
+        let z: Vec<f64> = (0..r.t.len())
+            .map(|k| {
+                0.5 * (((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2)
+                    + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2))
+            })
+            .collect();
+        let n = z.len();
+        let dt = (r.t[n - 1] - r.t[0]) / (n - 1) as f64;
+        let half = ((0.25 / dt).round() as usize).max(2);
+        let mut prefix = vec![0.0; n + 1];
+        for k in 0..n {
+            prefix[k + 1] = prefix[k] + z[k];
+        }
+        let mut start: Option<usize> = None;
+        for k in 0..=n {
+            let flagged = k < n && {
+                let a = k.saturating_sub(half);
+                let b = (k + half + 1).min(n);
+                (prefix[b] - prefix[a]) / (b - a) as f64 > 2.0
+            };
+            match (flagged, start) {
+                (true, None) => start = Some(k),
+                (false, Some(s)) => {
+                    let e = k - 1;
+                    if r.t[e] - r.t[s] >= 0.2 {
+                        let m = (prefix[e + 1] - prefix[s]) / (e + 1 - s) as f64;
+                        out.push(Window { run: r.name.clone(), t0_s: r.t[s], t1_s: r.t[e], excess: m });
+                    }
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+/// Residual statistics over one bin of an operating variable.
+#[derive(Debug, Clone, Serialize)]
+pub struct RegionBin {
+    pub variable: String,
+    pub lo: f64,
+    pub hi: f64,
+    pub samples: usize,
+    /// Mean square normalized residual per channel in the bin (1 = noise only).
+    pub excess: f64,
+    /// True when the excess is beyond what noise explains (> 2).
+    pub disagrees: bool,
+}
+
+/// Residual excess binned by |ay| (m/s^2), vx (m/s), |front slip angle| (rad, simulated),
+/// elapsed time (s) and distance travelled (m).
+pub fn operating_regions(data: &Dataset, sims: &[Simulated]) -> Vec<RegionBin> {
+    let vars: [(&str, &[f64]); 5] = [
+        ("abs_ay_mps2", &[0.0, 1.0, 2.0, 4.0, 7.0, 1e9]),
+        ("vx_mps", &[0.0, 5.0, 10.0, 20.0, 30.0, 1e9]),
+        ("abs_front_slip_rad", &[0.0, 0.01, 0.03, 0.06, 0.1, 1e9]),
+        ("elapsed_s", &[0.0, 2.0, 5.0, 10.0, 20.0, 1e9]),
+        ("distance_m", &[0.0, 50.0, 100.0, 200.0, 500.0, 1e9]),
+    ];
+    let mut out = Vec::new();
+    for (name, edges) in vars {
+        let mut acc = vec![(0usize, 0.0f64); edges.len() - 1];
+        for (i, (r, sim)) in data.runs.iter().zip(sims).enumerate() {
+            let nz = data.noise[i];
+            let mut s = 0.0;
+            for k in 0..r.t.len() {
+                if k > 0 {
+                    s += 0.5 * (r.vx[k] + r.vx[k - 1]) * (r.t[k] - r.t[k - 1]);
+                }
+                let v = match name {
+                    "abs_ay_mps2" => r.ay[k].abs(),
+                    "vx_mps" => r.vx[k],
+                    "abs_front_slip_rad" => sim.alpha_f[k].abs(),
+                    "elapsed_s" => r.t[k] - r.t[0],
+                    _ => s,
+                };
+                if let Some(b) = (0..edges.len() - 1).find(|&b| v >= edges[b] && v < edges[b + 1]) {
+                    acc[b].0 += 1;
+                    acc[b].1 += 0.5
+                        * (((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2)
+                            + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2));
+                }
+            }
+        }
+        for (b, (n, z)) in acc.into_iter().enumerate() {
+            if n > 0 {
+                let m = z / n as f64;
+                out.push(RegionBin {
+                    variable: name.to_string(),
+                    lo: edges[b],
+                    hi: edges[b + 1],
+                    samples: n,
+                    excess: m,
+                    disagrees: m > 2.0,
+                });
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,121 @@
+//! Bad measured runs: each gives one clear message naming the file and the row or column, exit
+//! code 2, and nothing is written. A valid run with an extra column is read with a notice.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use vehsim::discover::measured::parse_run;
+
+const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
+
+/// A valid 2 s run at 100 Hz (rows from line 2), with `edit` applied to the data lines.
+fn csv(edit: impl Fn(usize, String) -> String) -> String {
+    let mut s = String::from("t,steer,vx,yaw_rate,ay\n");
+    for k in 0..201 {
+        let t = k as f64 * 0.01;
+        s.push_str(&edit(k, format!("{t},{},10,{},{}\n", 0.01 * t, 0.03 * t, 0.3 * t)));
+    }
+    s
+}
+
+fn discover_on(tag: &str, text: &str) -> (i32, String, PathBuf, PathBuf) {
+    let dir = common::temp_dir(tag);
+    let run = dir.join("run1.csv");
+    std::fs::write(&run, text).unwrap();
+    let out = dir.join("out");
+    let o = Command::new(BIN)
+        .arg("discover")
+        .arg("--vehicle")
+        .arg(common::root().join("vehicles/sedan.toml"))
+        .arg("--out")
+        .arg(&out)
+        .arg(&run)
+        .output()
+        .unwrap();
+    (o.status.code().unwrap_or(-1), String::from_utf8_lossy(&o.stderr).to_string(), run, out)
+}
+
+fn expect_bad(tag: &str, text: &str, needles: &[&str]) {
+    let (code, err, run, out) = discover_on(tag, text);
+    assert_eq!(code, 2, "stderr: {err}");
+    assert!(err.contains(&run.display().to_string()), "message does not name the file: {err}");
+    for n in needles {
+        assert!(err.contains(n), "message lacks '{n}': {err}");
+    }
+    assert_eq!(err.lines().count(), 1, "one message expected: {err}");
+    assert!(!out.exists(), "nothing may be written on bad input");
+}
+
+#[test]
+fn missing_required_column_is_named() {
+    let text = csv(|_, l| l).replace("t,steer,vx,yaw_rate,ay", "t,steer,vx,yaw_rate,lat_acc");
+    expect_bad("missing-col", &text, &["missing required column 'ay'"]);
+}
+
+#[test]
+fn non_monotonic_time_names_the_line() {
+    let text = csv(|k, l| if k == 50 { l.replacen("0.5,", "0.48,", 1) } else { l });
+    expect_bad("time", &text, &["line 52", "column 't'", "strictly increasing"]);
+}
+
+#[test]
+fn nan_sample_names_line_and_column() {
+    let text = csv(|k, l| {
+        if k == 10 {
+            let mut f: Vec<&str> = l.trim_end().split(',').collect();
+            f[3] = "NaN";
+            f.join(",") + "\n"
+        } else {
+            l
+        }
+    });
+    expect_bad("nan", &text, &["line 12", "column 'yaw_rate'", "NaN"]);
+}
+
+#[test]
+fn run_shorter_than_a_second_is_rejected() {
+    let text: String = csv(|k, l| if k <= 50 { l } else { String::new() });
+    expect_bad("short", &text, &["0.500 s", "at least 1 s"]);
+}
+
+#[test]
+fn steer_in_degrees_is_rejected() {
+    let text = csv(|k, l| {
+        if k == 100 {
+            let mut f: Vec<String> = l.trim_end().split(',').map(String::from).collect();
+            f[1] = "5.7".into();
+            f.join(",") + "\n"
+        } else {
+            l
+        }
+    });
+    expect_bad("steer", &text, &["line 102", "column 'steer'", "1.2 rad"]);
+}
+
+#[test]
+fn extra_column_is_ignored_with_a_notice_and_optional_columns_are_read() {
+    let text = csv(|_, l| l.trim_end().to_string() + ",1,0.1\n").replace("ay\n", "ay,brake,vy\n");
+    let r = parse_run(&PathBuf::from("/nonexistent/run.csv"), &text).unwrap();
+    assert!(r.notices.iter().any(|n| n.contains("column 'brake' ignored")), "{:?}", r.notices);
+    assert_eq!(r.channel("vy").unwrap()[0], 0.1);
+    assert_eq!(r.t.len(), 201);
+    assert_eq!(r.mu, 1.0);
+}
+
+#[test]
+fn sidecar_sets_surface_and_rejects_unknown_keys() {
+    let dir = common::temp_dir("sidecar");
+    let p = dir.join("r.csv");
+    std::fs::write(&p, csv(|_, l| l)).unwrap();
+    std::fs::write(dir.join("r.toml"), "[surface]\nmu = 0.15\nice_temp_c = -8.0\n[initial]\nvx = 9.5\n").unwrap();
+    let r = vehsim::discover::measured::read_run(&p).unwrap();
+    assert_eq!((r.mu, r.ice_temp_c, r.initial_vx), (0.15, -8.0, 9.5));
+    std::fs::write(dir.join("r.toml"), "[surface]\nfriction = 0.15\n").unwrap();
+    let e = vehsim::discover::measured::read_run(&p).unwrap_err().to_string();
+    assert!(e.contains("r.toml") && e.contains("friction"), "{e}");
+    std::fs::write(dir.join("r.toml"), "[surface]\nmu = 15.0\n").unwrap();
+    let e = vehsim::discover::measured::read_run(&p).unwrap_err().to_string();
+    assert!(e.contains("surface.mu"), "{e}");
+}
