@@ -205,27 +205,13 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
             let yc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| lat_curve(k, fz, dt)).collect();
             let stem = format!("{}_{}N", k.as_str(), fz.round());
             let label = |c: &Curve| format!("ΔT = {} K", c.dt);
-            line_chart(
-                &out.join(format!("fx_vs_slip_ratio_{stem}")),
-                &chart(
-                    format!("{} Fx vs slip ratio, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
-                    "slip ratio κ (-)",
-                    "Fx (N)",
-                    &lc,
-                    label,
-                    |p| (p.0, p.1),
-                ),
-            )?;
-            line_chart(
-                &out.join(format!("fy_vs_slip_angle_{stem}")),
-                &chart(
-                    format!("{} Fy vs slip angle, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
-                    "slip angle α (deg)",
-                    "Fy (N)",
-                    &yc,
-                    label,
-                    |p| (p.0.to_degrees(), p.2),
-                ),
+            fx_fy_charts(
+                &out,
+                (&format!("fx_vs_slip_ratio_{stem}"), &format!("fy_vs_slip_angle_{stem}")),
+                &format!("{} Fx vs slip ratio, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                &format!("{} Fy vs slip angle, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                (&lc, &yc),
+                label,
             )?;
             long_curves.extend(lc);
             lat_curves.extend(yc);
@@ -235,27 +221,13 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
             let lc: Vec<Curve> = providers.iter().map(|&k| long_curve(k, fz, dt)).collect();
             let yc: Vec<Curve> = providers.iter().map(|&k| lat_curve(k, fz, dt)).collect();
             let label = |c: &Curve| c.provider.to_string();
-            line_chart(
-                &out.join(format!("compare_fx_{}N", fz.round())),
-                &chart(
-                    format!("Fx vs slip ratio, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
-                    "slip ratio κ (-)",
-                    "Fx (N)",
-                    &lc,
-                    label,
-                    |p| (p.0, p.1),
-                ),
-            )?;
-            line_chart(
-                &out.join(format!("compare_fy_{}N", fz.round())),
-                &chart(
-                    format!("Fy vs slip angle, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
-                    "slip angle α (deg)",
-                    "Fy (N)",
-                    &yc,
-                    label,
-                    |p| (p.0.to_degrees(), p.2),
-                ),
+            fx_fy_charts(
+                &out,
+                (&format!("compare_fx_{}N", fz.round()), &format!("compare_fy_{}N", fz.round())),
+                &format!("Fx vs slip ratio, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                &format!("Fy vs slip angle, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                (&lc, &yc),
+                label,
             )?;
             long_curves.extend(lc);
             lat_curves.extend(yc);
@@ -302,6 +274,26 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     }
     write_atomic(&out.join("fy_vs_slip_angle.csv"), csv.as_bytes())?;
     Ok(out)
+}
+
+/// Draw the pair of charts of one sweep: Fx versus slip ratio from `curves.0` into `stems.0`,
+/// Fy versus slip angle (in degrees) from `curves.1` into `stems.1`.
+fn fx_fy_charts(
+    out: &Path,
+    stems: (&str, &str),
+    fx_title: &str,
+    fy_title: &str,
+    curves: (&[Curve], &[Curve]),
+    label: impl Fn(&Curve) -> String + Copy,
+) -> Result<()> {
+    line_chart(
+        &out.join(stems.0),
+        &chart(fx_title.to_string(), "slip ratio κ (-)", "Fx (N)", curves.0, label, |p| (p.0, p.1)),
+    )?;
+    line_chart(
+        &out.join(stems.1),
+        &chart(fy_title.to_string(), "slip angle α (deg)", "Fy (N)", curves.1, label, |p| (p.0.to_degrees(), p.2)),
+    )
 }
 
 fn chart(
