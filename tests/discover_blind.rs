@@ -98,20 +98,7 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
     let dir = common::temp_dir("discover-cli");
     let bin = env!("CARGO_BIN_EXE_vehsim");
     let root = common::root();
-    let st = std::process::Command::new(bin)
-        .args(["synth", "--effect", "sensor_bias", "--params", "bias_yaw_rate_radps=0.03", "--out"])
-        .arg(dir.join("runs"))
-        .arg("--vehicle")
-        .arg(root.join("vehicles/sedan.toml"))
-        .output()
-        .unwrap();
-    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
-    let mut runs: Vec<PathBuf> = std::fs::read_dir(dir.join("runs"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
-        .collect();
-    runs.sort();
+    let runs = common::synth_runs(&dir, "sensor_bias", "bias_yaw_rate_radps=0.03");
     assert_eq!(runs.len(), 8);
     let out = dir.join("out");
     let st = std::process::Command::new(bin)

@@ -3,29 +3,15 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
+use common::BIN;
 
 #[test]
 fn improved_vehicle_spec_from_discover_runs_with_vehsim_run() {
     let dir = common::temp_dir("discover-spec");
     let root = common::root();
-    let o = Command::new(BIN)
-        .args(["synth", "--effect", "friction_change", "--params", "mu_scale=0.6", "--out"])
-        .arg(dir.join("runs"))
-        .arg("--vehicle")
-        .arg(root.join("vehicles/sedan.toml"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let mut runs: Vec<PathBuf> = std::fs::read_dir(dir.join("runs"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
-        .collect();
-    runs.sort();
+    let runs = common::synth_runs(&dir, "friction_change", "mu_scale=0.6");
     let out = dir.join("out");
     let o = Command::new(BIN)
         .arg("discover")

@@ -3,25 +3,9 @@
 
 mod common;
 
-use vehsim::run::{execute, RunOutput};
+use vehsim::run::execute;
 use vehsim::sim::Method;
 use vehsim::spec::RunConfig;
-
-fn max_yaw_rate_diff(a: &RunOutput, b: &RunOutput) -> f64 {
-    // Rows on the common output grid; the extra final row of a run (its end time depends on the
-    // step) is where the grids part.
-    let mut worst = 0.0_f64;
-    let mut n = 0;
-    for (p, q) in a.rows.iter().zip(&b.rows) {
-        if (p.t_s - q.t_s).abs() > 1e-9 {
-            break;
-        }
-        worst = worst.max((p.obs.kin.yaw_rate_radps - q.obs.kin.yaw_rate_radps).abs());
-        n += 1;
-    }
-    assert!(n > 500, "runs too short to compare ({n} common rows)");
-    worst
-}
 
 fn with(cfg: &RunConfig, method: Method, step: f64, control: f64) -> RunConfig {
     let mut c = cfg.clone();
@@ -40,7 +24,7 @@ fn rk4_default_step_agrees_with_tight_dopri5_over_the_dlc() {
     let rk4 = execute(&with(&base, Method::Rk4, 0.001, 0.001));
     let dp = execute(&with(&base, Method::Dopri5 { rtol: 1e-10, atol: 1e-12 }, 0.001, 0.001));
     assert_eq!(rk4.summary.end_reason, "completed");
-    let d = max_yaw_rate_diff(&rk4, &dp);
+    let d = common::max_yaw_rate_diff(&rk4, &dp);
     eprintln!("max |r_rk4 - r_dopri5| over the DLC = {d:.3e} rad/s");
     assert!(d < 1e-4, "max |r_rk4 - r_dopri5| = {d} rad/s");
     assert!(rk4.summary.peak_yaw_rate_radps > 0.2, "the DLC must actually yaw");
@@ -54,7 +38,7 @@ fn rk4_step_halving_shows_fourth_order_convergence() {
     let reference = execute(&with(&base, Method::Dop853 { rtol: 1e-13, atol: 1e-14 }, 0.004, 0.004));
     let errs: Vec<f64> = [0.004, 0.002, 0.001]
         .iter()
-        .map(|&h| max_yaw_rate_diff(&execute(&with(&base, Method::Rk4, h, 0.004)), &reference))
+        .map(|&h| common::max_yaw_rate_diff(&execute(&with(&base, Method::Rk4, h, 0.004)), &reference))
         .collect();
     eprintln!("RK4 max yaw-rate error vs Dop853 at h = 4, 2, 1 ms: {errs:?}");
     for w in errs.windows(2) {

@@ -442,20 +442,6 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     }
 }
 
-fn max_yaw_rate_diff(a: &RunOutput, b: &RunOutput) -> f64 {
-    let mut worst = 0.0_f64;
-    let mut n = 0;
-    for (p, q) in a.rows.iter().zip(&b.rows) {
-        if (p.t_s - q.t_s).abs() > 1e-9 {
-            break;
-        }
-        worst = worst.max((p.obs.kin.yaw_rate_radps - q.obs.kin.yaw_rate_radps).abs());
-        n += 1;
-    }
-    assert!(n > 500, "runs too short to compare ({n} common rows)");
-    worst
-}
-
 /// Halving the RK4 step on the 4-DOF DLC (controller sampled every 4 ms in all runs, so only the
 /// integration error changes) cuts the yaw-rate error against a Dop853 reference (rtol 1e-13) about
 /// 16-fold per halving: fourth order. The change between successive halvings shows the same
@@ -474,8 +460,8 @@ fn rk4_on_the_4dof_model_converges_at_fourth_order() {
     let runs: Vec<RunOutput> = [0.004, 0.002, 0.001].iter().map(|&h| with(Method::Rk4, h)).collect();
     let reference = with(Method::Dop853 { rtol: 1e-13, atol: 1e-14 }, 0.004);
     assert_eq!(reference.summary.end_reason, "completed");
-    let errs: Vec<f64> = runs.iter().map(|r| max_yaw_rate_diff(r, &reference)).collect();
-    let diffs: Vec<f64> = runs.windows(2).map(|w| max_yaw_rate_diff(&w[0], &w[1])).collect();
+    let errs: Vec<f64> = runs.iter().map(|r| common::max_yaw_rate_diff(r, &reference)).collect();
+    let diffs: Vec<f64> = runs.windows(2).map(|w| common::max_yaw_rate_diff(&w[0], &w[1])).collect();
     eprintln!("4-DOF RK4 max yaw-rate error vs Dop853 at h = 4, 2, 1 ms: {errs:?}; change per halving {diffs:?}");
     for w in errs.windows(2) {
         let order = (w[0] / w[1]).log2();

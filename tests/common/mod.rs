@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use vehsim::run::RunOutput;
 use vehsim::spec::RunConfig;
 
 /// The vehsim binary built for the tests.
@@ -77,4 +78,41 @@ pub fn temp_dir(tag: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// Largest |yaw-rate difference| of two runs over their common output grid (the extra final row
+/// of a run, whose time depends on the step, is where the grids part). Asserts that more than
+/// 500 rows were compared.
+pub fn max_yaw_rate_diff(a: &RunOutput, b: &RunOutput) -> f64 {
+    let mut worst = 0.0_f64;
+    let mut n = 0;
+    for (p, q) in a.rows.iter().zip(&b.rows) {
+        if (p.t_s - q.t_s).abs() > 1e-9 {
+            break;
+        }
+        worst = worst.max((p.obs.kin.yaw_rate_radps - q.obs.kin.yaw_rate_radps).abs());
+        n += 1;
+    }
+    assert!(n > 500, "runs too short to compare ({n} common rows)");
+    worst
+}
+
+/// `vehsim synth --effect EFFECT --params PARAMS --out DIR/runs` on the shipped sedan; returns the
+/// written run CSVs, sorted.
+pub fn synth_runs(dir: &Path, effect: &str, params: &str) -> Vec<PathBuf> {
+    let out = Command::new(BIN)
+        .args(["synth", "--effect", effect, "--params", params, "--out"])
+        .arg(dir.join("runs"))
+        .arg("--vehicle")
+        .arg(root().join("vehicles/sedan.toml"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut runs: Vec<PathBuf> = std::fs::read_dir(dir.join("runs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+        .collect();
+    runs.sort();
+    runs
 }
