@@ -8,7 +8,7 @@ use std::process::Command;
 
 use vehsim::discover::measured::parse_run;
 
-const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
+use common::BIN;
 
 /// A valid 2 s run at 100 Hz (rows from line 2), with `edit` applied to the data lines.
 fn csv(edit: impl Fn(usize, String) -> String) -> String {
