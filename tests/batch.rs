@@ -4,18 +4,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use common::BIN;
-
-fn vehsim(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(BIN).args(args).current_dir(dir).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::vehsim;
 
 /// A 2 s sine-steer spec in a scratch folder, with `extra` appended (e.g. a [sweep] table).
 fn sweep_case(tag: &str, extra: &str) -> PathBuf {
