@@ -115,7 +115,9 @@ pub enum Command {
     /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
     /// effect switched on (or `none`).
     Synth {
-        /// tyre_relaxation, load_transfer, friction_change, steer_compliance, sensor_bias or none.
+        /// tyre_relaxation, load_transfer, thermal_friction, friction_change, steer_compliance,
+        /// sensor_bias or none; the --params names pick the form (steer_lag_s: steering lag;
+        /// stretch_start_m / stretch_length_m: friction over a stretch).
         #[arg(long)]
         effect: String,
         /// Effect parameters, name=value (repeatable); defaults per effect.

@@ -62,3 +62,83 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
         |rows: &[vehsim::sim::observer::Row]| rows.iter().map(|r| r.obs.kin.yaw_rate_radps.abs()).fold(0.0, f64::max);
     assert!(peak(&c.rows) < 0.98 * peak(&o.rows), "{} vs {}", peak(&c.rows), peak(&o.rows));
 }
+
+/// A noise-free measured run from an engine run (steer as applied, vx, yaw rate, ay every 10 ms).
+fn engine_run(cfg: &vehsim::spec::maneuver::RunConfig, on_ice: bool) -> vehsim::discover::measured::MeasuredRun {
+    let o = vehsim::run::execute(cfg);
+    assert!(!o.summary.failed(), "{:?}", o.summary.events);
+    let rows: Vec<_> = o.rows.iter().filter(|r| (r.t_s * 100.0 - (r.t_s * 100.0).round()).abs() < 1e-6).collect();
+    let col = |f: &dyn Fn(&vehsim::sim::observer::Row) -> f64| rows.iter().map(|r| f(r)).collect::<Vec<f64>>();
+    let vx = col(&|r| r.obs.kin.vx_mps);
+    vehsim::discover::measured::MeasuredRun {
+        path: "engine.csv".into(),
+        name: "engine".into(),
+        t: col(&|r| r.t_s),
+        steer: col(&|r| r.inputs.steer_rad),
+        initial_vx: vx[0],
+        vx,
+        yaw_rate: col(&|r| r.obs.kin.yaw_rate_radps),
+        ay: col(&|r| r.obs.ay_mps2),
+        optional: Vec::new(),
+        mu: cfg.env.mu,
+        ice_temp_c: cfg.env.surface_temp_c,
+        on_ice,
+        notices: Vec::new(),
+    }
+}
+
+/// Every vehicle effect that `vehsim discover` can write into `[lateral]` is the same extension
+/// in the engine's bicycle model and in the discovery's replay model: an engine run with the
+/// effect on is reproduced by the replay with the same parameter much better than by the replay
+/// without it (the remaining gap is the engine's longitudinal dynamics and PID speed control,
+/// which the replay does not have).
+#[test]
+fn engine_and_replay_run_the_same_effect_extensions() {
+    use vehsim::discover::model::{EffectParams, ReplayModel};
+    use vehsim::discover::Effect;
+    let dir = common::temp_dir("discover-engine-replay");
+    let sedan = common::root().join("vehicles/sedan.toml");
+    let spec = format!(
+        "name = \"cmp\"\nvehicle = {:?}\ntyre_model = \"pacejka\"\nduration_s = 8.0\n\
+         [surface]\nmu = 0.15\ntemperature_c = -3.0\n[maneuver]\nkind = \"sine_steer\"\nspeed_mps = 10.0\n\
+         steer_amplitude_deg = 2.5\nperiod_s = 3.0\n[output]\ninterval_s = 0.01\n",
+        sedan.to_string_lossy()
+    );
+    let path = dir.join("cmp.toml");
+    std::fs::write(&path, spec).unwrap();
+    let base = vehsim::run::load(&path).unwrap();
+    let cases: [(Effect, f64); 6] = [
+        (Effect::SteerCompliance, 0.004),
+        (Effect::SteerLag, 0.12),
+        (Effect::TyreRelaxation, 1.2),
+        (Effect::LoadTransfer, 0.6),
+        (Effect::FrictionChange, 0.7),
+        (Effect::ThermalFriction, -0.6),
+    ];
+    for (e, value) in cases {
+        let mut cfg = base.clone();
+        let l = &mut cfg.vehicle.lateral;
+        match e {
+            Effect::SteerCompliance => l.steer_compliance_rad_per_kn = value,
+            Effect::SteerLag => l.steer_lag_s = value,
+            Effect::TyreRelaxation => l.relaxation_length_y_m = value,
+            Effect::LoadTransfer => l.load_transfer_height_m = value,
+            Effect::FrictionChange => l.mu_scale = value,
+            _ => {
+                l.thermal_mu_per_k = value;
+                cfg.contact.model = "atiim".into();
+            }
+        }
+        let run = engine_run(&cfg, true);
+        let replay = ReplayModel::new(cfg.vehicle.clone());
+        let mut p = EffectParams::default();
+        e.apply(&mut p, &[value]);
+        let rms = |sim: &[f64]| {
+            (sim.iter().zip(&run.yaw_rate).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / sim.len() as f64).sqrt()
+        };
+        let with = rms(&replay.simulate(&run, &p).yaw_rate);
+        let without = rms(&replay.simulate(&run, &EffectParams::default()).yaw_rate);
+        eprintln!("{}: yaw-rate RMS engine vs replay {with:.2e} with the effect, {without:.2e} without", e.label());
+        assert!(with < 0.2 * without, "{}: {with:.3e} with vs {without:.3e} without", e.label());
+    }
+}

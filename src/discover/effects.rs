@@ -21,26 +21,38 @@ pub struct ParamDef {
     pub hi: f64,
 }
 
-/// A candidate effect.
+/// A candidate effect. Two effects come in two forms each, tried as separate candidates under
+/// one name: `steer_compliance` (force compliance [`Effect::SteerCompliance`] or a steering lag
+/// [`Effect::SteerLag`]) and `friction_change` (global [`Effect::FrictionChange`] or over a
+/// stretch of the path [`Effect::FrictionStretch`]). The information criterion decides between
+/// the forms like between any two candidates (the stretch pays for its two extra parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Effect {
     TyreRelaxation,
     LoadTransfer,
     ThermalFriction,
     FrictionChange,
+    FrictionStretch,
     SteerCompliance,
+    SteerLag,
     SensorBias,
 }
 
 impl Effect {
-    /// Every effect the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 5] = [
+    /// Every candidate the discovery tries, in a fixed order.
+    pub const TRIED: [Effect; 8] = [
         Effect::SensorBias,
         Effect::SteerCompliance,
+        Effect::SteerLag,
         Effect::TyreRelaxation,
         Effect::FrictionChange,
+        Effect::FrictionStretch,
+        Effect::ThermalFriction,
         Effect::LoadTransfer,
     ];
+
+    /// Every candidate, in the order of [`Self::TRIED`].
+    pub const ALL: [Effect; 8] = Self::TRIED;
 
     /// Every name accepted on the command line.
     pub const NAMES: [&'static str; 6] =
@@ -51,23 +63,43 @@ impl Effect {
             Effect::TyreRelaxation => "tyre_relaxation",
             Effect::LoadTransfer => "load_transfer",
             Effect::ThermalFriction => "thermal_friction",
-            Effect::FrictionChange => "friction_change",
-            Effect::SteerCompliance => "steer_compliance",
+            Effect::FrictionChange | Effect::FrictionStretch => "friction_change",
+            Effect::SteerCompliance | Effect::SteerLag => "steer_compliance",
             Effect::SensorBias => "sensor_bias",
         }
     }
 
+    /// The form of an effect that has two (`force`/`lag`, `global`/`stretch`), else `""`.
+    pub fn form(self) -> &'static str {
+        match self {
+            Effect::SteerCompliance => "force",
+            Effect::SteerLag => "lag",
+            Effect::FrictionChange => "global",
+            Effect::FrictionStretch => "stretch",
+            _ => "",
+        }
+    }
+
+    /// The name with its form, e.g. `steer_compliance (lag)`.
+    pub fn label(self) -> String {
+        match self.form() {
+            "" => self.name().to_string(),
+            f => format!("{} ({f})", self.name()),
+        }
+    }
+
+    /// The first (primary) form of an effect name.
     pub fn from_name(s: &str) -> Option<Effect> {
-        [
-            Effect::TyreRelaxation,
-            Effect::LoadTransfer,
-            Effect::ThermalFriction,
-            Effect::FrictionChange,
-            Effect::SteerCompliance,
-            Effect::SensorBias,
-        ]
-        .into_iter()
-        .find(|e| e.name() == s)
+        Self::ALL.into_iter().find(|e| e.name() == s)
+    }
+
+    /// The form of effect `name` whose parameters include every name in `given` (the primary
+    /// form when `given` is empty); None when no form has them all.
+    pub fn from_name_and_params(name: &str, given: &[&str]) -> Option<Effect> {
+        Self::ALL
+            .into_iter()
+            .filter(|e| e.name() == name)
+            .find(|e| given.iter().all(|g| e.params().iter().any(|d| d.name == *g)))
     }
 
     /// What the effect does, in one sentence.
@@ -75,10 +107,33 @@ impl Effect {
         match self {
             Effect::TyreRelaxation => "lateral tyre force lags the slip angle over a relaxation length",
             Effect::LoadTransfer => "lateral load transfer with tyre load sensitivity lowers axle grip",
-            Effect::ThermalFriction => "contact heating lowers friction on ice (not implemented in the replay model)",
+            Effect::ThermalFriction => {
+                "contact heating (ATIIM estimator) lowers friction on ice in proportion to the contact-temperature rise"
+            }
             Effect::FrictionChange => "surface friction differs from the nominal mu over the whole run",
+            Effect::FrictionStretch => "surface friction differs from the nominal mu over a stretch of the path",
             Effect::SteerCompliance => "effective steer is reduced in proportion to the front lateral force",
+            Effect::SteerLag => "effective steer follows the measured steer with a first-order lag",
             Effect::SensorBias => "constant offsets on the yaw-rate and lateral-acceleration sensors",
+        }
+    }
+
+    /// Start points of the fit to try before the simplex search (for effects with more than one
+    /// parameter whose objective has several basins); the best is kept.
+    pub fn starts(self) -> Vec<Vec<f64>> {
+        match self {
+            // The stretch: a grid over where it starts and how long it is, at a clear friction
+            // change, so that the simplex starts near the right window.
+            Effect::FrictionStretch => {
+                let mut v = Vec::new();
+                for s0 in [0.0, 25.0, 50.0, 75.0, 100.0, 150.0] {
+                    for len in [25.0, 50.0, 100.0] {
+                        v.push(vec![0.6, s0, len]);
+                    }
+                }
+                v
+            }
+            _ => Vec::new(),
         }
     }
 
@@ -91,9 +146,19 @@ impl Effect {
             Effect::LoadTransfer => {
                 &[ParamDef { name: "load_transfer_height_m", unit: "m", start: 0.5, scale: 0.3, lo: 0.0, hi: 2.0 }]
             }
-            Effect::ThermalFriction => &[],
+            Effect::ThermalFriction => {
+                &[ParamDef { name: "thermal_mu_per_k", unit: "1/K", start: -0.2, scale: 0.2, lo: -2.0, hi: 0.0 }]
+            }
             Effect::FrictionChange => {
                 &[ParamDef { name: "mu_scale", unit: "1", start: 0.9, scale: 0.2, lo: 0.05, hi: 3.0 }]
+            }
+            Effect::FrictionStretch => &[
+                ParamDef { name: "mu_scale", unit: "1", start: 0.7, scale: 0.2, lo: 0.05, hi: 3.0 },
+                ParamDef { name: "stretch_start_m", unit: "m", start: 20.0, scale: 20.0, lo: 0.0, hi: 2000.0 },
+                ParamDef { name: "stretch_length_m", unit: "m", start: 40.0, scale: 20.0, lo: 2.0, hi: 2000.0 },
+            ],
+            Effect::SteerLag => {
+                &[ParamDef { name: "steer_lag_s", unit: "s", start: 0.1, scale: 0.1, lo: 0.005, hi: 2.0 }]
             }
             Effect::SteerCompliance => &[ParamDef {
                 name: "steer_compliance_rad_per_kn",
@@ -115,9 +180,15 @@ impl Effect {
         match self {
             Effect::TyreRelaxation => p.sigma_y_m = v[0],
             Effect::LoadTransfer => p.load_transfer_height_m = v[0],
-            Effect::ThermalFriction => {}
+            Effect::ThermalFriction => p.thermal_mu_per_k = v[0],
             Effect::FrictionChange => p.mu_scale = v[0],
+            Effect::FrictionStretch => {
+                p.mu_scale = v[0];
+                p.stretch_start_m = v[1];
+                p.stretch_length_m = v[2];
+            }
             Effect::SteerCompliance => p.steer_compliance_rad_per_kn = v[0],
+            Effect::SteerLag => p.steer_lag_s = v[0],
             Effect::SensorBias => {
                 p.bias_yaw_rate_radps = v[0];
                 p.bias_ay_mps2 = v[1];

@@ -3,6 +3,10 @@
 //! Parameters are searched in a scaled space (each coordinate divided by its typical scale) and
 //! clamped to their bounds before every evaluation. Deterministic: no random restarts.
 
+/// The search stops when the simplex spans less than this in the scaled space (0.2 % of each
+/// parameter's typical scale: far finer than the data can resolve).
+pub const SPREAD_TOL: f64 = 2e-3;
+
 /// Minimise `f` from `x0` (each coordinate with its `scale` and bounds `lo..=hi`); at most
 /// `max_evals` evaluations. Returns the best point and its value.
 pub fn nelder_mead(
@@ -40,7 +44,7 @@ pub fn nelder_mead(
         let (best, worst) = (simplex[0].1, simplex[n].1);
         let spread: f64 =
             (0..n).map(|i| simplex.iter().map(|s| (s.0[i] - simplex[0].0[i]).abs()).fold(0.0, f64::max)).sum();
-        if spread < 1e-4 || (worst - best).abs() <= 1e-9 * best.abs().max(1e-12) {
+        if spread < SPREAD_TOL || (worst - best).abs() <= 1e-9 * best.abs().max(1e-12) {
             break;
         }
         let centroid: Vec<f64> = (0..n).map(|i| simplex[..n].iter().map(|s| s.0[i]).sum::<f64>() / n as f64).collect();

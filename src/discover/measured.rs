@@ -10,8 +10,9 @@
 //! names the file and the row or column (exit code 2).
 //!
 //! Sidecar `RUN.toml` (same stem): `[surface] mu` (peak friction, (0, 2], default 1.0 with a
-//! notice), `[surface] ice_temp_c` (degC, default -3), `[initial] vx` (m/s, default the first
-//! measured vx).
+//! notice), `[surface] ice_temp_c` (degC; when given the run is on ice, otherwise it is taken as a
+//! non-ice surface at -3 degC for temperature-dependent tyres), `[initial] vx` (m/s, default the
+//! first measured vx).
 
 use std::path::{Path, PathBuf};
 
@@ -49,8 +50,11 @@ pub struct MeasuredRun {
     pub optional: Vec<(String, Vec<f64>)>,
     /// Peak surface friction from the sidecar (default 1.0).
     pub mu: f64,
-    /// Ice (surface) temperature, degC.
+    /// Ice (surface) temperature, degC (-3 when the sidecar gives none).
     pub ice_temp_c: f64,
+    /// True when the sidecar gives `[surface] ice_temp_c`: the run is on ice, and contact heating
+    /// (the `thermal_friction` effect) can act. A run without it is taken as a non-ice surface.
+    pub on_ice: bool,
     /// Initial forward speed, m/s.
     pub initial_vx: f64,
     /// Notices for the user (ignored columns, defaults taken).
@@ -207,6 +211,7 @@ pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
         ay: get("ay"),
         mu: 1.0,
         ice_temp_c: -3.0,
+        on_ice: false,
         notices,
     };
     read_sidecar(&mut run)?;
@@ -217,7 +222,7 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
     let side = run.path.with_extension("toml");
     if !side.exists() {
         run.notices.push(format!(
-            "{}: no sidecar {}; surface mu = 1.0 and ice temperature -3 degC assumed",
+            "{}: no sidecar {}; surface mu = 1.0 assumed, not ice (no contact heating)",
             run.path.display(),
             side.display()
         ));
@@ -232,6 +237,7 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
     }
     if let Some(tc) = s.surface.ice_temp_c {
         run.ice_temp_c = c.range("surface.ice_temp_c", tc, -60.0, 0.0)?;
+        run.on_ice = true;
     }
     if let Some(v) = s.initial.vx {
         run.initial_vx = c.range("initial.vx", v, -100.0, 100.0)?;
@@ -248,7 +254,10 @@ pub fn run_csv(t: &[f64], steer: &[f64], vx: &[f64], yaw_rate: &[f64], ay: &[f64
     s
 }
 
-/// Write a sidecar with the surface friction and temperature.
-pub fn sidecar_toml(mu: f64, ice_temp_c: f64) -> String {
-    format!("[surface]\nmu = {mu}\nice_temp_c = {ice_temp_c}\n")
+/// Write a sidecar with the surface friction and, on ice, the ice temperature.
+pub fn sidecar_toml(mu: f64, ice_temp_c: Option<f64>) -> String {
+    match ice_temp_c {
+        Some(t) => format!("[surface]\nmu = {mu}\nice_temp_c = {t}\n"),
+        None => format!("[surface]\nmu = {mu}\n"),
+    }
 }

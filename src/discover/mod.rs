@@ -124,7 +124,8 @@ pub fn cli_discover(
             }
             for st in &d.steps {
                 let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
-                println!("accepted {}: {} ({})", st.effect, ps.join(", "), st.evidence);
+                let name = if st.form.is_empty() { st.effect.clone() } else { format!("{} ({})", st.effect, st.form) };
+                println!("accepted {name}: {} ({})", ps.join(", "), st.evidence);
             }
             let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
             println!(
@@ -157,14 +158,30 @@ pub fn cli_synth(
         let v = load_vehicle(vehicle, None, kind)?;
         let mut p = model::EffectParams::default();
         if effect != "none" {
-            let e = Effect::from_name(effect).filter(|e| *e != Effect::ThermalFriction).ok_or_else(|| {
-                Error::input(
-                    Path::new("--effect"),
-                    format!(
-                        "'{effect}' is not a synthesizable effect; allowed: none, tyre_relaxation, load_transfer, friction_change, steer_compliance, sensor_bias"
-                    ),
-                )
-            })?;
+            let given: Vec<&str> = params.iter().map(|g| g.split_once('=').map_or(g.as_str(), |(k, _)| k)).collect();
+            let e = match Effect::from_name(effect) {
+                None => {
+                    return Err(Error::input(
+                        Path::new("--effect"),
+                        format!("'{effect}' is not an effect; allowed: none, {}", Effect::NAMES.join(", ")),
+                    ))
+                }
+                Some(_) => Effect::from_name_and_params(effect, &given).ok_or_else(|| {
+                    let names: Vec<&str> = Effect::ALL
+                        .iter()
+                        .filter(|e| e.name() == effect)
+                        .flat_map(|e| e.params().iter().map(|d| d.name))
+                        .collect();
+                    Error::input(
+                        Path::new("--params"),
+                        format!(
+                            "no form of {effect} has all of {}; its parameters: {} (one form at a time)",
+                            given.join(", "),
+                            names.join(", ")
+                        ),
+                    )
+                })?,
+            };
             let vals = synth::parse_params(e, params)?;
             e.apply(&mut p, &vals);
         } else if !params.is_empty() {

@@ -4,8 +4,10 @@
 //! The forward speed is prescribed exactly (interpolated measured vx), not tracked by a PID: the
 //! discrepancy workflow must compare lateral dynamics, and a speed-tracking error would show up as a
 //! spurious residual. Tyre forces come from the vehicle's tyre provider (`crate::tyre`), each axle
-//! carrying two identical tyres. State (4): vy (m/s), r (rad/s), and the front and rear axle lateral
-//! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on.
+//! carrying two identical tyres. State (8): vy (m/s), r (rad/s), the front and rear axle lateral
+//! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
+//! angle delta_e (rad) used when the steering lag is on, and the pose X, Y (m), psi (rad) in the
+//! ground frame (used by the closed-loop lane change of `vehsim synth`).
 //!
 //! Equations (body frame, ISO 8855, small longitudinal forces neglected):
 //!
@@ -16,21 +18,41 @@
 //! Effects (all off by default; each default gives the baseline exactly):
 //! - `tyre_relaxation`: dFy/dt = (|vx| / sigma_y) (Fy_ss(alpha) - Fy), relaxation length sigma_y (m);
 //!   sigma_y = 0 uses the steady-state force directly.
-//! - `steer_compliance`: delta_e = delta - c_s Fy_f, c_s in rad/kN of front axle lateral force
-//!   (solved by fixed-point iteration when relaxation is off, from the lagged force otherwise).
-//! - `friction_change`: surface friction mu_e = s_mu mu on the whole run, s_mu dimensionless.
+//! - `steer_compliance`, force form: delta_e = delta - c_s Fy_f, c_s in rad/kN of front axle lateral
+//!   force (solved by fixed-point iteration when relaxation is off, from the lagged force
+//!   otherwise); lag form: d(delta_e)/dt = (delta - delta_e) / tau_s, a first-order steering lag
+//!   with time constant tau_s (s).
+//! - `friction_change`, global form: surface friction mu_e = s_mu mu on the whole run; stretch form:
+//!   mu_e = mu (1 + (s_mu - 1) w(d)) where d is the distance travelled since the first sample
+//!   (integral of the measured vx, m) and w is a window of 1 over [d0, d0 + L] with 1 m logistic
+//!   edges (so the fit sees a continuous objective).
+//! - `thermal_friction`: on runs on ice (sidecar `ice_temp_c`), the ATIIM per-step estimator
+//!   ([`crate::contact::estimator::AtiimEstimator`], default `[contact]` tyre) tracks each axle's
+//!   contact temperature from its load, rolling speed, sliding speed vx |tan alpha| and lateral
+//!   force, and the friction falls with the rise above the ice temperature:
+//!   mu_e = mu max(1 + k_T (T_contact - T_ice), 0.1), k_T in 1/K (negative). The contact
+//!   temperature also feeds the tyre input, so temperature-dependent providers see it.
 //! - `load_transfer`: lateral load transfer dFz = m ay_ss h_lt / track per axle in proportion to its
 //!   static load, with ay_ss = vx r; each tyre of an axle is evaluated at its own load, so the tyre's
 //!   load sensitivity lowers the axle force. h_lt is the effective transfer height (m).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
 
+use std::path::Path;
+
 use nalgebra::SVector;
 
 use super::measured::MeasuredRun;
+use crate::contact::estimator::AtiimEstimator;
+use crate::contact::spec::ContactSpec;
+use crate::contact::{ContactTemperature, TyreContact};
+use crate::control::driver::{limit_steer, Driver};
+use crate::maneuver::path::RefPath;
 use crate::sim::integrator::rk4_step;
 use crate::spec::vehicle::Vehicle;
 use crate::tyre::TyreInput;
+use crate::vehicle::wheel::slide_speed;
+use crate::vehicle::Kinematics;
 
 /// Parameters of every candidate effect; the default is the baseline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,8 +61,17 @@ pub struct EffectParams {
     pub sigma_y_m: f64,
     /// Steer compliance, rad per kN of front axle lateral force (0 = off; typical 0.001-0.01).
     pub steer_compliance_rad_per_kn: f64,
-    /// Friction scale on the nominal surface mu (1 = off; typical 0.3-1.5).
+    /// Steering lag time constant, s (0 = off; typical 0.03-0.3).
+    pub steer_lag_s: f64,
+    /// Friction scale on the nominal surface mu (1 = off; typical 0.3-1.5); over the whole run, or
+    /// over the stretch below when `stretch_length_m` > 0.
     pub mu_scale: f64,
+    /// Start of the friction stretch, m of distance travelled from the first sample.
+    pub stretch_start_m: f64,
+    /// Length of the friction stretch, m (0 = the scale applies to the whole run).
+    pub stretch_length_m: f64,
+    /// Friction change per kelvin of contact-temperature rise on ice, 1/K (0 = off; negative).
+    pub thermal_mu_per_k: f64,
     /// Effective lateral load-transfer height, m (0 = off; typical 0.3-0.8).
     pub load_transfer_height_m: f64,
     /// Yaw-rate sensor offset, rad/s (typical |b| < 0.05).
@@ -54,13 +85,34 @@ impl Default for EffectParams {
         Self {
             sigma_y_m: 0.0,
             steer_compliance_rad_per_kn: 0.0,
+            steer_lag_s: 0.0,
             mu_scale: 1.0,
+            stretch_start_m: 0.0,
+            stretch_length_m: 0.0,
+            thermal_mu_per_k: 0.0,
             load_transfer_height_m: 0.0,
             bias_yaw_rate_radps: 0.0,
             bias_ay_mps2: 0.0,
         }
     }
 }
+
+impl EffectParams {
+    /// Friction scale at distance `d_m` travelled (the friction_change effect).
+    pub fn mu_factor(&self, d_m: f64) -> f64 {
+        if self.stretch_length_m <= 0.0 {
+            return self.mu_scale;
+        }
+        let edge = |z: f64| 1.0 / (1.0 + (-z / STRETCH_EDGE_M).exp());
+        let w = edge(d_m - self.stretch_start_m) * edge(self.stretch_start_m + self.stretch_length_m - d_m);
+        1.0 + (self.mu_scale - 1.0) * w
+    }
+}
+
+/// Width of the logistic edges of a friction stretch, m.
+pub const STRETCH_EDGE_M: f64 = 1.0;
+/// Floor of the thermal friction factor.
+const THERMAL_FLOOR: f64 = 0.1;
 
 /// Simulated channels at the measured sample times.
 #[derive(Debug, Clone, Default)]
@@ -70,14 +122,21 @@ pub struct Simulated {
     pub vy: Vec<f64>,
     /// Front axle slip angle, rad.
     pub alpha_f: Vec<f64>,
+    /// Front contact-temperature rise above the ice, K (0 unless thermal_friction is on).
+    pub contact_rise_k: Vec<f64>,
     /// False when the state went non-finite (the rest of the run is then held at the last value).
     pub ok: bool,
 }
 
 /// Floor on |vx| in slip denominators, m/s.
 const V_FLOOR: f64 = 1.0;
-/// Largest integration step, s.
-const H_MAX: f64 = 0.005;
+/// Largest integration step, s: one RK4 step per sample at 100 Hz. The lateral modes decay at
+/// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
+/// far below sensor noise; relaxation and steering lag shorten the step when they need it.
+const H_MAX: f64 = 0.01;
+/// State dimension.
+const NS: usize = 8;
+type State = SVector<f64, NS>;
 
 /// The replay model for one vehicle.
 #[derive(Debug, Clone)]
@@ -91,8 +150,19 @@ pub struct ReplayModel {
 struct Drive {
     steer: f64,
     vx: f64,
+    /// Surface friction with the friction_change factor applied.
     mu: f64,
-    temp_c: f64,
+    /// Bulk ice temperature, degC.
+    ice_c: f64,
+    /// Contact temperature per axle, degC.
+    contact_c: [f64; 2],
+}
+
+/// Steady-state axle forces, effective steer and slip angles of one state.
+struct Forces {
+    fy: [f64; 2],
+    delta_e: f64,
+    alpha: [f64; 2],
 }
 
 impl ReplayModel {
@@ -105,6 +175,11 @@ impl ReplayModel {
     /// across the axle (N, added to the left tyre, taken from the right).
     fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> f64 {
         let half = 0.5 * self.fz_axle[axle];
+        let thermal = if p.thermal_mu_per_k == 0.0 {
+            1.0
+        } else {
+            (1.0 + p.thermal_mu_per_k * (d.contact_c[axle] - d.ice_c)).max(THERMAL_FLOOR)
+        };
         let eval = |fz: f64| {
             let input = TyreInput {
                 fz_n: fz.max(0.0),
@@ -112,9 +187,9 @@ impl ReplayModel {
                 alpha_rad: alpha,
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
-                mu_surface: d.mu * p.mu_scale,
-                surface_temp_c: d.temp_c,
-                contact_temp_c: d.temp_c,
+                mu_surface: d.mu * thermal,
+                surface_temp_c: d.ice_c,
+                contact_temp_c: d.contact_c[axle],
             };
             if input.fz_n <= 0.0 {
                 0.0
@@ -139,8 +214,8 @@ impl ReplayModel {
         v.mass_kg * vx * r * p.load_transfer_height_m / v.track_m * self.fz_axle[axle] / total
     }
 
-    /// Steady-state axle forces and the effective steer for state (vy, r) and lagged forces.
-    fn forces(&self, x: &SVector<f64, 4>, d: &Drive, p: &EffectParams) -> ([f64; 2], f64) {
+    /// Steady-state axle forces, the effective steer and the slip angles for a state.
+    fn forces(&self, x: &State, d: &Drive, p: &EffectParams) -> Forces {
         let v = &self.vehicle;
         let (vy, r) = (x[0], x[1]);
         let vxs = d.vx.abs().max(V_FLOOR);
@@ -148,112 +223,220 @@ impl ReplayModel {
         let alpha_r = -((vy - v.b_m * r) / vxs).atan();
         let dfz = [self.load_transfer(0, d.vx, r, p), self.load_transfer(1, d.vx, r, p)];
         let fyr = self.axle_force(1, alpha_r, dfz[1], d, p);
+        let steer = if p.steer_lag_s > 0.0 { x[4] } else { d.steer };
         let c = p.steer_compliance_rad_per_kn * 1e-3;
-        let mut delta_e = d.steer;
+        let mut delta_e = steer;
         let fyf = if c == 0.0 {
-            self.axle_force(0, d.steer - beta_f, dfz[0], d, p)
+            self.axle_force(0, steer - beta_f, dfz[0], d, p)
         } else if p.sigma_y_m > 0.0 {
-            delta_e = d.steer - c * x[2];
+            delta_e = steer - c * x[2];
             self.axle_force(0, delta_e - beta_f, dfz[0], d, p)
         } else {
             // Fixed point on Fy_f = F(delta - c Fy_f - beta_f), damped.
-            let mut f = self.axle_force(0, d.steer - beta_f, dfz[0], d, p);
+            let mut f = self.axle_force(0, steer - beta_f, dfz[0], d, p);
             for _ in 0..4 {
-                let de = d.steer - c * f;
+                let de = steer - c * f;
                 let g = self.axle_force(0, de - beta_f, dfz[0], d, p);
                 f = 0.5 * (f + g);
             }
-            delta_e = d.steer - c * f;
+            delta_e = steer - c * f;
             f
         };
-        ([fyf, fyr], delta_e)
+        Forces { fy: [fyf, fyr], delta_e, alpha: [delta_e - beta_f, alpha_r] }
     }
 
-    fn derivatives(&self, x: &SVector<f64, 4>, d: &Drive, p: &EffectParams) -> SVector<f64, 4> {
+    /// Axle forces acting on the body: the relaxed states or the steady-state forces.
+    fn acting(x: &State, f: &Forces, p: &EffectParams) -> [f64; 2] {
+        if p.sigma_y_m > 0.0 {
+            [x[2], x[3]]
+        } else {
+            f.fy
+        }
+    }
+
+    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
         let v = &self.vehicle;
-        let (fss, delta_e) = self.forces(x, d, p);
-        let (fyf, fyr) = if p.sigma_y_m > 0.0 { (x[2], x[3]) } else { (fss[0], fss[1]) };
-        let cf = delta_e.cos();
-        let mut dx = SVector::<f64, 4>::zeros();
+        let f = self.forces(x, d, p);
+        let [fyf, fyr] = Self::acting(x, &f, p);
+        let cf = f.delta_e.cos();
+        let mut dx = State::zeros();
         dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
         dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / v.yaw_inertia_kgm2;
         if p.sigma_y_m > 0.0 {
             let rate = d.vx.abs().max(V_FLOOR) / p.sigma_y_m;
-            dx[2] = rate * (fss[0] - x[2]);
-            dx[3] = rate * (fss[1] - x[3]);
+            dx[2] = rate * (f.fy[0] - x[2]);
+            dx[3] = rate * (f.fy[1] - x[3]);
         }
+        if p.steer_lag_s > 0.0 {
+            dx[4] = (d.steer - x[4]) / p.steer_lag_s;
+        }
+        let (sp, cp) = x[7].sin_cos();
+        dx[5] = d.vx * cp - x[0] * sp;
+        dx[6] = d.vx * sp + x[0] * cp;
+        dx[7] = x[1];
         dx
     }
 
-    /// Lateral acceleration (body frame, at the CG) of a state, m/s^2.
-    fn ay(&self, x: &SVector<f64, 4>, d: &Drive, p: &EffectParams) -> (f64, f64) {
-        let (fss, delta_e) = self.forces(x, d, p);
-        let (fyf, fyr) = if p.sigma_y_m > 0.0 { (x[2], x[3]) } else { (fss[0], fss[1]) };
-        (
-            (fyf * delta_e.cos() + fyr) / self.vehicle.mass_kg,
-            delta_e - ((x[0] + self.vehicle.a_m * x[1]) / d.vx.abs().max(V_FLOOR)).atan(),
-        )
+    /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
+    fn ay(&self, x: &State, d: &Drive, p: &EffectParams) -> (f64, f64) {
+        let f = self.forces(x, d, p);
+        let [fyf, fyr] = Self::acting(x, &f, p);
+        ((fyf * f.delta_e.cos() + fyr) / self.vehicle.mass_kg, f.alpha[0])
+    }
+
+    /// Operating conditions of one tyre per axle, for the contact-temperature estimator.
+    fn contacts(&self, x: &State, d: &Drive, p: &EffectParams) -> [TyreContact; 2] {
+        let f = self.forces(x, d, p);
+        let fy = Self::acting(x, &f, p);
+        let vx = d.vx.abs().max(V_FLOOR);
+        std::array::from_fn(|i| TyreContact {
+            fz_n: 0.5 * self.fz_axle[i],
+            roll_speed_mps: vx,
+            slide_speed_mps: slide_speed(0.0, f.alpha[i], vx),
+            friction_force_n: 0.5 * fy[i].abs(),
+            surface_temp_c: d.ice_c,
+        })
+    }
+
+    /// The contact-temperature estimator of a run when thermal_friction is on (on ice only).
+    fn estimator(run: &MeasuredRun, p: &EffectParams) -> Option<AtiimEstimator> {
+        if p.thermal_mu_per_k == 0.0 || !run.on_ice {
+            return None;
+        }
+        // The default [contact] table (the SRTT P225/60R16 interface); built once per process
+        // and ice temperature. A build failure (it cannot fail for a validated ice temperature)
+        // leaves the run isothermal.
+        ContactSpec::default().build_atiim(Path::new("thermal_friction"), 2, run.ice_temp_c).ok()
     }
 
     /// Replay a measured run: steer and vx interpolated linearly between samples (held over each
     /// sub-step at its midpoint), starting from the first sample's measured yaw rate and lateral
-    /// velocity (vy from the optional channel, else 0).
+    /// velocity (vy from the optional channel, else 0). The contact-temperature estimate, when on,
+    /// is updated at the start of every sub-step and held over it (as in the engine).
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
+        self.run_loop(run, p, &mut |k, _, _| run.steer[k + 1]).0
+    }
+
+    /// Drive a run closed loop: `driver` follows `path` from the origin heading along +X, at the
+    /// run's measured speed profile. At every sample t_k the driver picks the steer for the next
+    /// sample t_(k+1) (limited by the vehicle's steering lock and rate), and the steer ramps
+    /// linearly between samples, so the recorded steer replays exactly as the measured-run replay
+    /// interpolates it. Returns the steer samples and the simulated channels.
+    pub fn simulate_closed_loop(
+        &self,
+        run: &MeasuredRun,
+        p: &EffectParams,
+        path: &RefPath,
+        driver: &mut Driver,
+    ) -> (Vec<f64>, Simulated) {
+        let v = &self.vehicle;
+        let mut source = |k: usize, x: &State, current: f64| {
+            let kin = Kinematics {
+                x_m: x[5],
+                y_m: x[6],
+                yaw_rad: x[7],
+                vx_mps: run.vx[k],
+                vy_mps: x[0],
+                yaw_rate_radps: x[1],
+            };
+            let target = driver.steer(path, &kin);
+            let dt = run.t[k + 1] - run.t[k];
+            limit_steer(current, target, v.steer_max_rad, v.steer_rate_max_radps, dt)
+        };
+        let (sim, steer) = self.run_loop(run, p, &mut source);
+        (steer, sim)
+    }
+
+    /// The integration loop shared by the replay and the closed loop: `next_steer(k, state,
+    /// steer_k)` gives the steer at sample k + 1 from the state at sample k.
+    fn run_loop(
+        &self,
+        run: &MeasuredRun,
+        p: &EffectParams,
+        next_steer: &mut dyn FnMut(usize, &State, f64) -> f64,
+    ) -> (Simulated, Vec<f64>) {
         let n = run.t.len();
         let mut out = Simulated { ok: true, ..Default::default() };
         out.yaw_rate.reserve(n);
         out.ay.reserve(n);
-        let mut x = SVector::<f64, 4>::zeros();
-        x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
-        x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
-        let drive_at = |k: usize, frac: f64| {
+        // Distance travelled at every sample (trapezoidal integral of vx), m.
+        let mut dist = Vec::with_capacity(n);
+        dist.push(0.0);
+        for k in 1..n {
+            dist.push(dist[k - 1] + 0.5 * (run.vx[k] + run.vx[k - 1]) * (run.t[k] - run.t[k - 1]));
+        }
+        let mut steer = vec![run.steer[0]; n];
+        let mut est = Self::estimator(run, p);
+        let mut contact_c = [run.ice_temp_c; 2];
+        let drive_at = |k: usize, frac: f64, contact_c: [f64; 2], steer: &[f64]| {
             let k1 = (k + 1).min(n - 1);
             Drive {
-                steer: run.steer[k] + frac * (run.steer[k1] - run.steer[k]),
+                steer: steer[k] + frac * (steer[k1] - steer[k]),
                 vx: run.vx[k] + frac * (run.vx[k1] - run.vx[k]),
-                mu: run.mu,
-                temp_c: run.ice_temp_c,
+                mu: run.mu * p.mu_factor(dist[k] + frac * (dist[k1] - dist[k])),
+                ice_c: run.ice_temp_c,
+                contact_c,
             }
         };
+        let mut x = State::zeros();
+        x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
+        x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
+        x[4] = steer[0];
         if p.sigma_y_m > 0.0 {
-            let (f, _) = self.forces(&x, &drive_at(0, 0.0), p);
-            x[2] = f[0];
-            x[3] = f[1];
+            let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
+            x[2] = f.fy[0];
+            x[3] = f.fy[1];
         }
         for k in 0..n {
-            let d = drive_at(k, 0.0);
+            let d = drive_at(k, 0.0, contact_c, &steer);
             let (ay, af) = self.ay(&x, &d, p);
             out.yaw_rate.push(x[1] + p.bias_yaw_rate_radps);
             out.ay.push(ay + p.bias_ay_mps2);
             out.vy.push(x[0]);
             out.alpha_f.push(af);
+            out.contact_rise_k.push(contact_c[0] - run.ice_temp_c);
             if k + 1 == n {
                 break;
             }
+            steer[k + 1] = next_steer(k, &x, steer[k]);
             let dt = run.t[k + 1] - run.t[k];
-            // Keep h below the relaxation time sigma / vx (RK4 stability with margin).
-            let vmax = run.vx[k].abs().max(run.vx[(k + 1).min(n - 1)].abs()).max(V_FLOOR);
-            let hmax = if p.sigma_y_m > 0.0 { H_MAX.min(p.sigma_y_m / vmax) } else { H_MAX };
+            // Keep h below the relaxation time sigma / vx and the steering lag (RK4 stability).
+            let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
+            let mut hmax = H_MAX;
+            if p.sigma_y_m > 0.0 {
+                hmax = hmax.min(p.sigma_y_m / vmax);
+            }
+            if p.steer_lag_s > 0.0 {
+                hmax = hmax.min(p.steer_lag_s);
+            }
             let m = ((dt / hmax).ceil() as usize).clamp(1, 10_000);
             let h = dt / m as f64;
             for j in 0..m {
-                let dj = drive_at(k, (j as f64 + 0.5) / m as f64);
-                let (next, _) = rk4_step(|s: &SVector<f64, 4>| self.derivatives(s, &dj, p), &x, h);
+                if let Some(e) = est.as_mut() {
+                    let d0 = drive_at(k, j as f64 / m as f64, contact_c, &steer);
+                    e.update(h, &self.contacts(&x, &d0, p), &mut contact_c);
+                }
+                let dj = drive_at(k, (j as f64 + 0.5) / m as f64, contact_c, &steer);
+                let (next, _) = rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h);
                 x = next;
             }
             if !x.iter().all(|v| v.is_finite()) || x[0].abs() > 1e3 || x[1].abs() > 1e2 {
                 out.ok = false;
                 // Hold the last good values so the residual stays finite (and large).
-                let (lr, la, lv, lf) = (out.yaw_rate[k], out.ay[k], out.vy[k], out.alpha_f[k]);
+                let (lr, la, lv, lf, lt) =
+                    (out.yaw_rate[k], out.ay[k], out.vy[k], out.alpha_f[k], out.contact_rise_k[k]);
                 while out.yaw_rate.len() < n {
                     out.yaw_rate.push(lr);
                     out.ay.push(la);
                     out.vy.push(lv);
                     out.alpha_f.push(lf);
+                    out.contact_rise_k.push(lt);
                 }
+                let last = steer[k + 1];
+                steer[k + 1..].iter_mut().for_each(|s| *s = last);
                 break;
             }
         }
-        out
+        (out, steer)
     }
 }

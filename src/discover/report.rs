@@ -27,6 +27,9 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     let _ = writeln!(s, "named_effects = {:?}", d.named);
     for st in &d.steps {
         let _ = writeln!(s, "\n[{}]", st.effect);
+        if !st.form.is_empty() {
+            let _ = writeln!(s, "form = \"{}\"", st.form);
+        }
         for (k, v, u) in &st.params {
             let _ = writeln!(s, "{k} = {v:e}  # {u}");
         }
@@ -34,10 +37,10 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     s
 }
 
-/// The vehicle spec with the accepted effects that the engine's bicycle model supports
-/// (`steer_compliance`, `friction_change`) in its `[lateral]` section, and the tyre path made
-/// absolute, so that `vehsim run` can use it from any folder. Effects the engine cannot represent
-/// yet are listed in the header comment.
+/// The vehicle spec with the accepted vehicle effects in its `[lateral]` section (the engine's
+/// bicycle model runs every one of them), and the tyre path made absolute, so that `vehsim run`
+/// can use it from any folder. Effects that are not vehicle properties (a friction stretch of the
+/// road, sensor offsets) are listed in the header comment and kept in effects.toml.
 pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
     let path = &opts.vehicle;
     let text = crate::error::read_input(path)?;
@@ -50,18 +53,23 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
     let mut lateral = toml::Table::new();
     let mut not_in_spec = Vec::new();
+    let p = &d.params;
+    let mut put = |k: &str, v: f64| {
+        lateral.insert(k.into(), toml::Value::Float(v));
+    };
     for st in &d.steps {
-        match st.effect.as_str() {
-            "steer_compliance" => {
-                lateral.insert(
-                    "steer_compliance_rad_per_kn".into(),
-                    toml::Value::Float(d.params.steer_compliance_rad_per_kn),
-                );
+        match (st.effect.as_str(), st.form.as_str()) {
+            ("steer_compliance", "force") => put("steer_compliance_rad_per_kn", p.steer_compliance_rad_per_kn),
+            ("steer_compliance", "lag") => put("steer_lag_s", p.steer_lag_s),
+            ("friction_change", "global") => put("mu_scale", p.mu_scale),
+            ("tyre_relaxation", _) => put("relaxation_length_y_m", p.sigma_y_m),
+            ("load_transfer", _) => put("load_transfer_height_m", p.load_transfer_height_m),
+            ("thermal_friction", _) => put("thermal_mu_per_k", p.thermal_mu_per_k),
+            // A friction stretch belongs to the road, sensor offsets to the instruments: neither
+            // is a property of the vehicle.
+            (other, form) => {
+                not_in_spec.push(if form.is_empty() { other.to_string() } else { format!("{other} ({form})") })
             }
-            "friction_change" => {
-                lateral.insert("mu_scale".into(), toml::Value::Float(d.params.mu_scale));
-            }
-            other => not_in_spec.push(other.to_string()),
         }
     }
     if !lateral.is_empty() {
@@ -75,10 +83,30 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
         if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
     );
     if !not_in_spec.is_empty() {
-        s.push_str(&format!("# Not representable in this spec yet (see effects.toml): {}.\n", not_in_spec.join(", ")));
+        s.push_str(&format!(
+            "# Not vehicle properties, so not in this spec (see effects.toml): {}.\n",
+            not_in_spec.join(", ")
+        ));
+    }
+    if d.params.thermal_mu_per_k != 0.0 {
+        s.push_str("# thermal_mu_per_k acts only in manoeuvres with [contact] model = \"atiim\".\n");
     }
     s.push_str(&body);
     Ok(s)
+}
+
+/// `name (form)` or `name`.
+fn label(effect: &str, form: &str) -> String {
+    if form.is_empty() {
+        effect.to_string()
+    } else {
+        format!("{effect} ({form})")
+    }
+}
+
+/// The one-sentence description of an effect form.
+fn describe(effect: &str, form: &str) -> &'static str {
+    super::Effect::ALL.iter().find(|e| e.name() == effect && e.form() == form).map_or("", |e| e.describe())
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -103,6 +131,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
         "final_rmse": { "fitted": rmse_json(&d.final_scores.rmse(false)), "heldout": rmse_json(&d.final_scores.rmse(true)) },
         "steps": d.steps.iter().map(|s| json!({
             "effect": s.effect,
+            "form": s.form,
             "params": s.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
             "rmse_before": rmse_json(&s.rmse_before),
             "rmse_after": rmse_json(&s.rmse_after),
@@ -111,7 +140,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "evidence": s.evidence,
         })).collect::<Vec<_>>(),
         "rejected": d.rejected.iter().map(|t| json!({
-            "effect": t.effect, "round": t.round, "delta_bic": t.delta_bic,
+            "effect": t.effect, "form": t.form, "round": t.round, "delta_bic": t.delta_bic,
             "heldout_rss_ratio": t.heldout_rss_ratio,
             "params": t.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
@@ -212,8 +241,8 @@ fn markdown(
         let _ = writeln!(
             s,
             "- **{}** ({}): {}. Held-out yaw-rate RMS {:.5} -> {:.5} rad/s. {}",
-            st.effect,
-            super::Effect::from_name(&st.effect).map_or("", |e| e.describe()),
+            label(&st.effect, &st.form),
+            describe(&st.effect, &st.form),
             ps.join(", "),
             st.heldout_rmse_before.yaw_rate_radps,
             st.heldout_rmse_after.yaw_rate_radps,
@@ -228,7 +257,7 @@ fn markdown(
             s,
             "| {} | {} | {:.1} | {:.3} | {} |",
             t.round,
-            t.effect,
+            label(&t.effect, &t.form),
             t.delta_bic,
             t.heldout_rss_ratio,
             ps.join(", ")

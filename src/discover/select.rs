@@ -180,6 +180,8 @@ fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
 #[derive(Debug, Clone, Serialize)]
 pub struct Trial {
     pub effect: String,
+    /// The effect's form (`force`/`lag`, `global`/`stretch`; empty for one-form effects).
+    pub form: String,
     pub round: usize,
     /// Fitted parameters: (name, value, unit).
     pub params: Vec<(String, f64, String)>,
@@ -197,6 +199,8 @@ pub struct Trial {
 #[derive(Debug, Clone, Serialize)]
 pub struct Step {
     pub effect: String,
+    /// The effect's form (see [`Trial::form`]).
+    pub form: String,
     pub params: Vec<(String, f64, String)>,
     pub rmse_before: Rmse,
     pub rmse_after: Rmse,
@@ -242,6 +246,15 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
             }
         }
         x0[0] = best.1;
+    } else {
+        let mut best = f(&x0);
+        for s in e.starts() {
+            let c = f(&s);
+            if c < best {
+                best = c;
+                x0 = s;
+            }
+        }
     }
     let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
     let mut p = *base;
@@ -275,6 +288,7 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
                 let k = k_params + e.params().len();
                 let trial = Trial {
                     effect: e.name().to_string(),
+                    form: e.form().to_string(),
                     round,
                     params: e
                         .params()
@@ -305,6 +319,7 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         }
         steps.push(Step {
             effect: t.effect.clone(),
+            form: t.form.clone(),
             params: t.params.clone(),
             rmse_before: current.rmse(false),
             rmse_after: t.scores.rmse(false),
@@ -321,7 +336,8 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         k_params += e.params().len();
         current = t.scores;
         p = pc;
-        left.retain(|x| *x != e);
+        // Both forms of a named effect leave the pool together.
+        left.retain(|x| x.name() != e.name());
     }
     let chi2 = current.rss_held / (2.0 * current.n_held.max(1) as f64);
     let verdict = if chi2 <= EXPLAINED_CHI2 {

@@ -88,9 +88,24 @@ pub struct LateralSection {
     /// axle lateral force, rad/kN (0 = rigid steering, default; typical 0.001–0.01; at most 0.1).
     #[serde(default)]
     pub steer_compliance_rad_per_kn: f64,
-    /// Scale on the surface friction seen by every tyre, dimensionless (default 1; (0.05, 3]).
+    /// Scale on the surface friction seen by every tyre, dimensionless (default 1; [0.05, 3]).
     #[serde(default = "one")]
     pub mu_scale: f64,
+    /// First-order steering lag between the commanded and the effective road-wheel angle, s
+    /// (0 = none, default; at most 2).
+    #[serde(default)]
+    pub steer_lag_s: f64,
+    /// Lateral relaxation length of the axle forces, m (0 = none, default; at most 10).
+    #[serde(default)]
+    pub relaxation_length_y_m: f64,
+    /// Effective height of quasi-static lateral load transfer, m (0 = none, default; at most 2):
+    /// each tyre of an axle is evaluated at its own load.
+    #[serde(default)]
+    pub load_transfer_height_m: f64,
+    /// Friction change per kelvin of contact-temperature rise above the surface, 1/K (0 = none,
+    /// default; [-2, 0]). Acts only when the manoeuvre's `[contact] model = "atiim"`.
+    #[serde(default)]
+    pub thermal_mu_per_k: f64,
 }
 
 fn one() -> f64 {
@@ -104,11 +119,26 @@ pub struct Lateral {
     pub steer_compliance_rad_per_kn: f64,
     /// Friction scale.
     pub mu_scale: f64,
+    /// Steering lag, s.
+    pub steer_lag_s: f64,
+    /// Lateral relaxation length, m.
+    pub relaxation_length_y_m: f64,
+    /// Lateral load-transfer height, m.
+    pub load_transfer_height_m: f64,
+    /// Friction change per kelvin of contact-temperature rise, 1/K.
+    pub thermal_mu_per_k: f64,
 }
 
 impl Default for Lateral {
     fn default() -> Self {
-        Lateral { steer_compliance_rad_per_kn: 0.0, mu_scale: 1.0 }
+        Lateral {
+            steer_compliance_rad_per_kn: 0.0,
+            mu_scale: 1.0,
+            steer_lag_s: 0.0,
+            relaxation_length_y_m: 0.0,
+            load_transfer_height_m: 0.0,
+            thermal_mu_per_k: 0.0,
+        }
     }
 }
 
@@ -318,6 +348,15 @@ impl VehicleFile {
                     0.1,
                 )?,
                 mu_scale: c.range("lateral.mu_scale", l.mu_scale, 0.05, 3.0)?,
+                steer_lag_s: c.range("lateral.steer_lag_s", l.steer_lag_s, 0.0, 2.0)?,
+                relaxation_length_y_m: c.range("lateral.relaxation_length_y_m", l.relaxation_length_y_m, 0.0, 10.0)?,
+                load_transfer_height_m: c.range(
+                    "lateral.load_transfer_height_m",
+                    l.load_transfer_height_m,
+                    0.0,
+                    2.0,
+                )?,
+                thermal_mu_per_k: c.range("lateral.thermal_mu_per_k", l.thermal_mu_per_k, -2.0, 0.0)?,
             },
             None => Lateral::default(),
         };

@@ -1,7 +1,9 @@
 //! Nonlinear bicycle (single-track) model with wheel spin and transient longitudinal slip.
 //!
-//! State (10): X, Y (m, ground frame), yaw psi (rad), body-frame vx, vy (m/s), yaw rate r (rad/s),
-//! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios.
+//! State (13): X, Y (m, ground frame), yaw psi (rad), body-frame vx, vy (m/s), yaw rate r (rad/s),
+//! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios, front
+//! and rear relaxed axle lateral forces (N; used only with a lateral relaxation length) and the
+//! lagged road-wheel angle (rad; used only with a steering lag).
 //! Each axle carries two identical tyres at half the axle load; the axle force is twice the tyre
 //! force. Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
 //! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
@@ -14,8 +16,17 @@
 //!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
 //!
 //! with the slips from [`super::wheel`]. Optional `[lateral]` extensions of the vehicle spec
-//! (found by `vehsim discover`): a steer compliance, delta_e = delta - c Fy_f, and a friction scale
-//! on the surface mu; their defaults (0 and 1) leave the model exactly as above.
+//! (the effects `vehsim discover` names; the same equations as its replay model,
+//! `crate::discover::model`); every default leaves the model exactly as above:
+//! - steering lag: d(delta_l)/dt = (delta - delta_l) / tau, and delta_l replaces delta;
+//! - steer compliance: delta_e = delta_l - c Fy_f (c in rad/kN; Fy_f the acting front force);
+//! - lateral relaxation: dFy/dt = (max(|vx|, 1 m/s) / sigma_y) (Fy_ss - Fy) per axle, and the
+//!   relaxed Fy acts on the body (the longitudinal force is relaxed through the slip ratio);
+//! - lateral load transfer: each axle's tyres carry Fz/2 +- m vx r h / track x (axle share of the
+//!   weight), so the tyre's load sensitivity lowers the axle force;
+//! - friction: mu_e = mu s_mu max(1 + k_T (T_contact - T_surface), 0.1), where T_contact comes
+//!   from the contact-temperature estimator (isothermal unless the manoeuvre sets
+//!   `[contact] model = "atiim"`).
 
 use nalgebra::SVector;
 
@@ -28,7 +39,7 @@ use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
 use crate::tyre::{TyreForces, TyreInput};
 
 /// State dimension of the bicycle model.
-pub const N: usize = 10;
+pub const N: usize = 13;
 /// State indices.
 pub mod ix {
     pub const X: usize = 0;
@@ -41,7 +52,15 @@ pub mod ix {
     pub const OMEGA_R: usize = 7;
     pub const KAPPA_F: usize = 8;
     pub const KAPPA_R: usize = 9;
+    pub const FY_F: usize = 10;
+    pub const FY_R: usize = 11;
+    pub const DELTA_L: usize = 12;
 }
+
+/// Floor on |vx| in the lateral relaxation rate, m/s (keeps the relaxed force decaying at rest).
+const V_RELAX: f64 = 1.0;
+/// Floor of the thermal friction factor.
+const THERMAL_FLOOR: f64 = 0.1;
 
 /// The bicycle model: a validated vehicle plus precomputed constants.
 #[derive(Debug, Clone)]
@@ -78,19 +97,46 @@ impl Bicycle {
     }
 
     fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
-        let c = self.vehicle.lateral.steer_compliance_rad_per_kn * 1e-3;
-        let first = self.axles_at(x, u, env, u.steer_rad);
+        let lat = &self.vehicle.lateral;
+        let c = lat.steer_compliance_rad_per_kn * 1e-3;
+        let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
         if c == 0.0 {
-            return first;
+            return self.axles_at(x, u, env, steer);
         }
-        // Steer compliance (vehicle `[lateral]` section): effective steer delta - c Fy_f, solved
-        // by damped fixed-point iteration on the front axle lateral force.
-        let mut fyf = first.f[0].fy_n;
+        if lat.relaxation_length_y_m > 0.0 {
+            // With relaxation the acting front force is a state: no iteration needed.
+            return self.axles_at(x, u, env, steer - c * x[ix::FY_F]);
+        }
+        // Steer compliance: effective steer delta - c Fy_f, solved by damped fixed-point
+        // iteration on the front axle lateral force.
+        let mut fyf = self.axles_at(x, u, env, steer).f[0].fy_n;
         for _ in 0..4 {
-            let g = self.axles_at(x, u, env, u.steer_rad - c * fyf).f[0].fy_n;
+            let g = self.axles_at(x, u, env, steer - c * fyf).f[0].fy_n;
             fyf = 0.5 * (fyf + g);
         }
-        self.axles_at(x, u, env, u.steer_rad - c * fyf)
+        self.axles_at(x, u, env, steer - c * fyf)
+    }
+
+    /// Lateral load transfer per axle (added to one tyre, taken from the other), N.
+    fn load_transfer(&self, x: &SVector<f64, N>, axle: usize) -> f64 {
+        let v = &self.vehicle;
+        let h = v.lateral.load_transfer_height_m;
+        if h == 0.0 {
+            return 0.0;
+        }
+        let share = self.fz_tyre[axle] / (self.fz_tyre[0] + self.fz_tyre[1]);
+        v.mass_kg * x[ix::VX] * x[ix::R] * h / v.track_m * share
+    }
+
+    /// Axle forces acting on the body: the steady-state tyre forces, with the lateral ones
+    /// replaced by the relaxed states when a relaxation length is set.
+    fn acting(&self, x: &SVector<f64, N>, ax: &Axles) -> [TyreForces; 2] {
+        let mut f = ax.f;
+        if self.vehicle.lateral.relaxation_length_y_m > 0.0 {
+            f[0].fy_n = x[ix::FY_F];
+            f[1].fy_n = x[ix::FY_R];
+        }
+        f
     }
 
     /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
@@ -113,18 +159,39 @@ impl Bicycle {
         let mut f = [TyreForces::default(); 2];
         let mut torque = [0.0; 2];
         for i in 0..2 {
+            let mut mu = env.mu * v.lateral.mu_scale;
+            if v.lateral.thermal_mu_per_k != 0.0 {
+                let rise = u.contact_temp_c[i] - env.surface_temp_c;
+                mu *= (1.0 + v.lateral.thermal_mu_per_k * rise).max(THERMAL_FLOOR);
+            }
             let input = TyreInput {
                 fz_n: self.fz_tyre[i],
                 kappa: kappa[i],
                 alpha_rad: alpha[i],
                 camber_rad: 0.0,
                 vx_mps: vxw[i],
-                mu_surface: env.mu * v.lateral.mu_scale,
+                mu_surface: mu,
                 surface_temp_c: env.surface_temp_c,
                 contact_temp_c: u.contact_temp_c[i],
             };
-            let t = v.tyre.model.forces(&input);
-            f[i] = TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm };
+            let dfz = self.load_transfer(x, i);
+            f[i] = if dfz == 0.0 {
+                let t = v.tyre.model.forces(&input);
+                TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
+            } else {
+                // Each tyre at its own load (a lifted tyre carries nothing).
+                let dz = dfz.clamp(-self.fz_tyre[i], self.fz_tyre[i]);
+                let mut sum = TyreForces::default();
+                for fz in [self.fz_tyre[i] + dz, self.fz_tyre[i] - dz] {
+                    if fz > 0.0 {
+                        let t = v.tyre.model.forces(&TyreInput { fz_n: fz, ..input });
+                        sum.fx_n += t.fx_n;
+                        sum.fy_n += t.fy_n;
+                        sum.mz_nm += t.mz_nm;
+                    }
+                }
+                sum
+            };
             let roll = v.rolling_resistance * 2.0 * self.fz_tyre[i] * radius;
             let resist_max = self.brake_max[i] + roll;
             let resist = resisting_torque(brake[i] + roll, resist_max.max(1.0), self.axle_inertia, omega[i]);
@@ -133,10 +200,10 @@ impl Bicycle {
         Axles { vxw, alpha, f, torque, cos_d, sin_d }
     }
 
-    /// Body-frame force (x, y) and yaw moment of the tyres, plus drag.
-    fn body_loads(&self, ax: &Axles, vx: f64) -> (f64, f64, f64) {
+    /// Body-frame force (x, y) and yaw moment of the acting tyre forces `forces`, plus drag.
+    fn body_loads(&self, ax: &Axles, forces: &[TyreForces; 2], vx: f64) -> (f64, f64, f64) {
         let v = &self.vehicle;
-        let [f, r] = ax.f;
+        let [f, r] = *forces;
         let fxf_b = f.fx_n * ax.cos_d - f.fy_n * ax.sin_d;
         let fyf_b = f.fx_n * ax.sin_d + f.fy_n * ax.cos_d;
         let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
@@ -162,6 +229,9 @@ impl VehicleModel<N> for Bicycle {
             "omega_rear_radps",
             "kappa_front",
             "kappa_rear",
+            "fy_front_relaxed_n",
+            "fy_rear_relaxed_n",
+            "steer_lagged_rad",
         ]
     }
 
@@ -169,7 +239,8 @@ impl VehicleModel<N> for Bicycle {
         let v = &self.vehicle;
         let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
         let ax = self.axles(x, u, env);
-        let (fx, fy, mz) = self.body_loads(&ax, vx);
+        let acting = self.acting(x, &ax);
+        let (fx, fy, mz) = self.body_loads(&ax, &acting, vx);
         let (s, c) = yaw.sin_cos();
         let radius = v.tyre.rolling_radius_m;
         let sigma = v.tyre.relaxation_length_x_m;
@@ -184,6 +255,15 @@ impl VehicleModel<N> for Bicycle {
         d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
         d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
         d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
+        let lat = &v.lateral;
+        if lat.relaxation_length_y_m > 0.0 {
+            let rate = vx.abs().max(V_RELAX) / lat.relaxation_length_y_m;
+            d[ix::FY_F] = rate * (ax.f[0].fy_n - x[ix::FY_F]);
+            d[ix::FY_R] = rate * (ax.f[1].fy_n - x[ix::FY_R]);
+        }
+        if lat.steer_lag_s > 0.0 {
+            d[ix::DELTA_L] = (u.steer_rad - x[ix::DELTA_L]) / lat.steer_lag_s;
+        }
         d
     }
 
@@ -207,17 +287,23 @@ impl VehicleModel<N> for Bicycle {
     fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
         let kin = self.kinematics(x);
         let ax = self.axles(x, u, env);
-        let (fx, fy, _) = self.body_loads(&ax, kin.vx_mps);
+        let acting = self.acting(x, &ax);
+        let (fx, fy, _) = self.body_loads(&ax, &acting, kin.vx_mps);
         Observation {
             kin,
             ax_mps2: fx / self.vehicle.mass_kg,
             ay_mps2: fy / self.vehicle.mass_kg,
             alpha_rad: ax.alpha,
             kappa: [x[ix::KAPPA_F], x[ix::KAPPA_R]],
-            fx_n: [ax.f[0].fx_n, ax.f[1].fx_n],
-            fy_n: [ax.f[0].fy_n, ax.f[1].fy_n],
+            fx_n: [acting[0].fx_n, acting[1].fx_n],
+            fy_n: [acting[0].fy_n, acting[1].fy_n],
             omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
-            fz_n: [self.fz_tyre[0], self.fz_tyre[0], self.fz_tyre[1], self.fz_tyre[1]],
+            fz_n: {
+                // vx r > 0 (turning left) moves load to the right (outer) tyres.
+                let d = [self.load_transfer(x, 0), self.load_transfer(x, 1)];
+                let l = |i: usize, s: f64| (self.fz_tyre[i] + s * d[i]).clamp(0.0, 2.0 * self.fz_tyre[i]);
+                [l(0, -1.0), l(0, 1.0), l(1, -1.0), l(1, 1.0)]
+            },
             roll_rad: 0.0,
             contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
         }
@@ -225,6 +311,7 @@ impl VehicleModel<N> for Bicycle {
 
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
         let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
         let radius = self.vehicle.tyre.rolling_radius_m;
         let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
         let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
@@ -233,7 +320,7 @@ impl VehicleModel<N> for Bicycle {
                 fz_n: self.fz_tyre[i],
                 roll_speed_mps: (omega[i] * radius).abs(),
                 slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
-                friction_force_n: 0.5 * ax.f[i].fx_n.hypot(ax.f[i].fy_n),
+                friction_force_n: 0.5 * acting[i].fx_n.hypot(acting[i].fy_n),
                 surface_temp_c: env.surface_temp_c,
             };
         }

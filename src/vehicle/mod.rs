@@ -104,8 +104,8 @@ pub struct Observation {
     pub fy_n: [f64; 2],
     /// Wheel spin speed per axle (front, rear), rad/s (mean over the axle).
     pub omega_radps: [f64; 2],
-    /// Normal load per wheel FL, FR, RL, RR, N (bicycle: its static tyre loads, each axle's load
-    /// split equally between its two tyres).
+    /// Normal load per wheel FL, FR, RL, RR, N (bicycle: each axle's static load split equally
+    /// between its two tyres, plus the quasi-static lateral transfer when `[lateral]` sets one).
     pub fz_n: [f64; 4],
     /// Roll angle, rad (0 for models without roll).
     pub roll_rad: f64,
