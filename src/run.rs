@@ -129,7 +129,6 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }
-    add_wheel_lift_events(&mut summary, &recorder.rows);
     let windows = maneuver.steady_state_windows();
     let steady_states = steady_state::steady_states(&windows, &recorder.rows);
     let understeer_gradient = steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m());
@@ -139,29 +138,6 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     }
     RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient }
 }
-/// Add a `wheel_lift` event at the first recorded row where a wheel carries no load, and a
-/// `wheel_contact` event when it touches down again (per wheel; resolution: the output interval).
-/// Events stay in time order.
-pub fn add_wheel_lift_events(summary: &mut Summary, rows: &[Row]) {
-    const NAMES: [&str; 4] = ["front-left", "front-right", "rear-left", "rear-right"];
-    let mut lifted = [false; 4];
-    let mut new = Vec::new();
-    for r in rows {
-        for (i, fz) in r.obs.fz_n.iter().enumerate() {
-            let up = *fz <= 0.0;
-            if up != lifted[i] {
-                lifted[i] = up;
-                let (kind, what) = if up { ("wheel_lift", "lifted off") } else { ("wheel_contact", "touched down") };
-                new.push(Event { t_s: r.t_s, kind: kind.into(), detail: format!("{} wheel {what}", NAMES[i]) });
-            }
-        }
-    }
-    if !new.is_empty() {
-        summary.events.extend(new);
-        summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
-    }
-}
-
 /// `summary.json`: the run's identity plus the engine's figures.
 #[derive(Debug, Serialize)]
 struct SummaryFile<'a> {

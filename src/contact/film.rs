@@ -20,6 +20,16 @@
 //! unconditionally stable for the stiff squeeze term), solved exactly for s = sqrt(u) >= 0 by a
 //! monotone Newton iteration on the increasing convex function g(s) = s^2 + dt B s + dt C s^4 - (u_n + dt A);
 //! g(0) <= 0 so a non-negative root always exists: no NaN, no negative film.
+//!
+//! A film below zero therefore cannot occur, by construction, and no run reports it as an event:
+//! the state is s = h >= 0 itself (u = s^2 is never formed from a difference), the Newton iterate
+//! is floored at 0 (a guard only: from the left of the root a Newton step on the increasing convex
+//! g moves right, from the right it stays right of the root), the start value and the water
+//! supply u_n + dt A are non-negative (A is floored at 0, NaN coefficients count as 0), and a
+//! non-finite result (only from non-finite input) falls back to 0. The film is solved only by the
+//! patch model (`vehsim atiim` and the flash table that `[contact] model = "atiim"` builds once per
+//! run); the engine's per-step estimator reads that table and computes no film of its own. The
+//! guards are tested below with hostile coefficients.
 
 use super::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
 
@@ -124,6 +134,45 @@ pub fn advance(h0_m: f64, dt_s: f64, substeps: usize, k: &FilmCoeffs) -> FilmSte
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The guards: for extreme coefficients, steps and start heights (far beyond validated input)
+    /// every backward-Euler step returns a finite s >= 0 that solves its equation; non-finite or
+    /// negative start heights and non-finite coefficients give a finite film >= 0.
+    #[test]
+    fn film_is_never_negative_and_solves_its_step() {
+        let mut n = 0;
+        for a in [0.0, 1e-20, 1e-12, 1e-6] {
+            for b in [0.0, 1e-6, 1e-2, 1e3] {
+                for c in [0.0, 1e6, 1e16, 1e22] {
+                    for s_n in [0.0, 1e-9, 1e-6, 1e-3] {
+                        for dt in [1e-9, 1e-5, 1e-3] {
+                            let k = FilmCoeffs { a, b, c };
+                            let s = implicit_step(s_n, dt, &k);
+                            assert!(s.is_finite() && s >= 0.0, "{k:?} {s_n} {dt}: {s}");
+                            let rhs = s_n * s_n + dt * a;
+                            let g = s * s + dt * b * s + dt * c * s.powi(4) - rhs;
+                            assert!(g.abs() <= 1e-9 * rhs.max(1e-300), "{k:?} {s_n} {dt}: residual {g} of {rhs}");
+                            n += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 768);
+        let fp = FilmParams { kappa: 1.0, asperity_d_m: 2e-4, substeps: 8 };
+        let hostile = [
+            (f64::NAN, FilmCoeffs::new(&fp, 5.0, 1e4, 3e5)),
+            (-1e-6, FilmCoeffs::new(&fp, 5.0, 1e4, 3e5)),
+            (f64::INFINITY, FilmCoeffs::new(&fp, 5.0, 1e4, 3e5)),
+            (1e-7, FilmCoeffs::new(&fp, f64::NAN, f64::NAN, f64::NAN)),
+            (1e-7, FilmCoeffs { a: -1.0, b: -1.0, c: -1.0 }),
+            (1e-7, FilmCoeffs::new(&fp, f64::INFINITY, 0.0, 0.0)),
+        ];
+        for (h0, k) in hostile {
+            let st = advance(h0, 1e-3, 8, &k);
+            assert!(st.h_end_m.is_finite() && st.h_end_m >= 0.0, "{h0} {k:?}: {st:?}");
+        }
+    }
 
     #[test]
     fn no_nan_from_zero_film_and_zero_speed() {

@@ -7,16 +7,20 @@
 //! 2. at the same instants update the contact-temperature estimate from every tyre's operating
 //!    conditions;
 //! 3. advance the state by one step with the chosen integrator;
-//! 4. check for divergence (non-finite state) and spin-out (|sideslip| > 60 deg above 1 m/s),
-//!    let the manoeuvre check its rules, update the summary and notify observers.
+//! 4. check for divergence (non-finite state), report the onset and recovery of the model's
+//!    unphysical conditions (wheel lift, negative normal load; [`super::watch`]) at the new state,
+//!    check for spin-out (|sideslip| > 60 deg above 1 m/s), let the manoeuvre check its rules,
+//!    update the summary and notify observers.
 //!
-//! Divergence and spin-out end the run with an event; they are results, not errors.
+//! Divergence and spin-out end the run with an event; they are results, not errors. The model's
+//! conditions are also checked once for the initial state, at t = 0.
 
 use nalgebra::SVector;
 use serde::Serialize;
 
 use super::integrator::{rk4_step, step, Method};
 use super::observer::{Observer, Row};
+use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::limit_steer;
 use crate::control::{Pid, PidParams};
@@ -130,6 +134,8 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
     let mut contacts = [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4];
     let mut temps = [env.surface_temp_c; 4];
     let mut events = Vec::new();
+    let mut watch = Watch::default();
+    watch.check(model, &x, &u, &env, 0.0, &mut events);
     let mut st = Stats {
         peak_r: 0.0,
         peak_beta_dir: (1.0, 0.0),
@@ -238,6 +244,7 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
             }
         };
         x = next;
+        watch.check(model, &x, &u, &env, t_next, &mut events);
         let kin = model.kinematics(&x);
         if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), spin_cos, spin_sin) {
             events.push(Event {

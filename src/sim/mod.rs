@@ -1,9 +1,11 @@
 //! Time stepping: the integrators and the engine that owns time, samples the controllers, updates
-//! the contact temperature, advances the state and notifies observers.
+//! the contact temperature, advances the state, reports the model's unphysical conditions and
+//! notifies observers.
 
 pub mod engine;
 pub mod integrator;
 pub mod observer;
+pub mod watch;
 
 pub use engine::{simulate, Controls, SimSettings, Summary};
 pub use integrator::Method;

@@ -6,6 +6,7 @@
 //! [`rigid_body`] reads them, so drivers, manoeuvres and output work with any model.
 
 pub mod bicycle;
+pub mod condition;
 pub mod roll4dof;
 pub mod wheel;
 
@@ -14,6 +15,7 @@ use nalgebra::SVector;
 use crate::contact::TyreContact;
 
 pub use bicycle::Bicycle;
+pub use condition::Condition;
 pub use roll4dof::Roll4Dof;
 
 /// Inputs held constant over one step (sampled from the controllers at the start of the step).
@@ -139,4 +141,10 @@ pub trait VehicleModel<const N: usize>: Sync {
 
     /// Operating conditions of every tyre (for the contact-temperature estimator), in `out[..TYRES]`.
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]);
+
+    /// Push the unphysical conditions this model watches, evaluated at state `x` under inputs `u`,
+    /// onto `out`: the same conditions in the same order at every call (the engine reports when
+    /// one starts or stops holding). The default watches nothing: the bicycle's normal loads are
+    /// static and positive, so it has nothing to report.
+    fn conditions(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<Condition>) {}
 }

@@ -34,6 +34,16 @@
 //! wheel load goes negative (a lifted wheel carries 0 and its partner the whole axle load), so the
 //! four loads sum to m g exactly at every evaluation.
 //!
+//! Watched conditions ([`VehicleModel::conditions`], reported by the engine at step resolution):
+//! - `wheel_lift` / `wheel_contact`, per wheel: its load is 0 after clamping (the lateral transfer
+//!   reaches half its axle's load, or the axle itself is unloaded), and when it carries load again.
+//!   The value is the wheel's load before clamping, N: (F_i0 -+ dX)/2 -+ dY_i, negative when
+//!   lifted. Beyond lift the model's roll balance no longer holds (the suspension of a lifted
+//!   wheel does not carry K_i phi), so the results after a `wheel_lift` are outside the model.
+//! - `negative_normal_load` / `normal_load_restored`, per axle: the longitudinal transfer makes the
+//!   axle's computed load F_i0 -+ dX negative (it is clamped to 0, both its wheels lift); the value
+//!   is that load before clamping, N.
+//!
 //! Drive: the drive torque is split between the axles by the layout and within an axle equally
 //! between its wheels (open differential, gear inertia neglected); brakes by the brake balance,
 //! equally left and right. Front steering: the input is the mean road-wheel angle delta; with an
@@ -45,7 +55,7 @@ use nalgebra::{Matrix3, SVector, Vector3};
 use super::wheel::{
     kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
-use super::{Environment, Inputs, Kinematics, Observation, VehicleModel};
+use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
 use crate::tyre::{TyreForces, TyreInput};
@@ -75,6 +85,10 @@ pub mod ix {
 
 /// Wheel names in state order.
 pub const WHEELS: [&str; 4] = ["front-left", "front-right", "rear-left", "rear-right"];
+
+/// Subjects of the watched conditions: wheels in state order, then the axles.
+const WHEEL_SUBJECTS: [&str; 4] = ["front-left wheel", "front-right wheel", "rear-left wheel", "rear-right wheel"];
+const AXLE_SUBJECTS: [&str; 2] = ["front axle", "rear axle"];
 
 /// The 4-DOF roll model: a validated vehicle with roll data plus precomputed constants.
 #[derive(Debug, Clone)]
@@ -191,6 +205,27 @@ impl Roll4Dof {
             fz[2 * i + 1] = half + dy;
         }
         fz
+    }
+
+    /// Loads before clamping, N: the axle loads (front, rear) from the longitudinal transfer,
+    /// F_i0 -+ dX, and the wheel loads (FL, FR, RL, RR) (F_i0 -+ dX)/2 -+ dY_i. Where neither
+    /// transfer is clamped they equal [`Self::normal_loads`].
+    pub fn unclamped_loads(&self, x: &SVector<f64, N>) -> ([f64; 2], [f64; 4]) {
+        let t = self.vehicle.track_m;
+        let [f0, r0] = self.axle_load0;
+        let dx = self.long_gain * x[ix::AX_LAG];
+        let axle = [f0 - dx, r0 + dx];
+        let (phi, p, ay) = (x[ix::PHI], x[ix::P], x[ix::AY_LAG]);
+        let mut fz = [0.0; 4];
+        for i in 0..2 {
+            let k = self.roll.stiffness_nm_per_rad[i];
+            let c = self.roll.damping_nms_per_rad[i];
+            let half = 0.5 * axle[i];
+            let dy = (k * phi + c * p) / t + self.lat_gain[i] * ay;
+            fz[2 * i] = half - dy;
+            fz[2 * i + 1] = half + dy;
+        }
+        (axle, fz)
     }
 
     fn wheels(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Wheels {
@@ -366,6 +401,34 @@ impl VehicleModel<N> for Roll4Dof {
             fz_n: w.fz,
             roll_rad: x[ix::PHI],
             contact_temp_axle_c: [mean(u.contact_temp_c, 0), mean(u.contact_temp_c, 1)],
+        }
+    }
+
+    /// Wheel lift per wheel and negative axle load per axle (see the module docs).
+    fn conditions(&self, x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, out: &mut Vec<Condition>) {
+        let (axle, wheel) = self.unclamped_loads(x);
+        for (i, &fz) in wheel.iter().enumerate() {
+            out.push(Condition {
+                onset: "wheel_lift",
+                recovery: "wheel_contact",
+                subject: WHEEL_SUBJECTS[i],
+                quantity: "normal load before clamping",
+                value: fz,
+                unit: "N",
+                // An unloaded axle (clamped to 0) lifts both its wheels whatever their own value.
+                active: fz <= 0.0 || axle[i / 2] <= 0.0,
+            });
+        }
+        for (i, &fz) in axle.iter().enumerate() {
+            out.push(Condition {
+                onset: "negative_normal_load",
+                recovery: "normal_load_restored",
+                subject: AXLE_SUBJECTS[i],
+                quantity: "axle load from longitudinal transfer before clamping",
+                value: fz,
+                unit: "N",
+                active: fz < 0.0,
+            });
         }
     }
 
