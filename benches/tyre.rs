@@ -3,8 +3,10 @@
 //! Run: `cargo bench --bench tyre -- --warm-up-time 1 --measurement-time 2`
 //! Each iteration evaluates one input from a small ring of combined-slip inputs (kappa 0.01–0.3,
 //! alpha 0.01–0.2 rad, Fz 2–6 kN, mu 0.15, Delta-T 2 K), so branch prediction cannot lock onto one
-//! point. The `reference` group times one libm `atan` and `sin` call: the Magic Formula with
-//! non-zero curvature E needs four atan and two sin per Fx/Fy pair, and those dominate its time.
+//! point. The `reference` group times one libm `atan`, `sin`, `sin_cos`, `tan`, `pow`, `exp`, a
+//! `sqrt` and a block of 64 multiply-adds: the Magic Formula with non-zero curvature E needs four
+//! atan and two sin per Fx/Fy pair, and those dominate its time; the physical floor of a DLC run
+//! (docs/performance.md) is counted in these operations.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -63,6 +65,51 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             k = (k + 1) & 63;
             black_box(black_box(xs[k]).sin())
+        })
+    });
+    // The other operations the physical floor of a run is counted in (docs/performance.md).
+    g.bench_function("libm_sin_cos", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            black_box(black_box(xs[k]).sin_cos())
+        })
+    });
+    g.bench_function("libm_tan", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            black_box(black_box(xs[k]).tan())
+        })
+    });
+    g.bench_function("libm_pow", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            black_box(black_box(xs[k]).powf(0.8))
+        })
+    });
+    g.bench_function("libm_exp", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            black_box(black_box(xs[k]).exp())
+        })
+    });
+    g.bench_function("sqrt", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            black_box(black_box(xs[k]).sqrt())
+        })
+    });
+    // 64 multiply-adds in four independent chains: the throughput cost of the plain arithmetic.
+    g.bench_function("flops_64", |b| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            let x = black_box(xs[k]);
+            let mut acc = [x, x + 1.0, x + 2.0, x + 3.0];
+            for _ in 0..16 {
+                for a in acc.iter_mut() {
+                    *a = *a * 0.999 + 0.001;
+                }
+            }
+            black_box(acc)
         })
     });
     g.finish();

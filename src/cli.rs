@@ -3,13 +3,12 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
 
 use clap::{Parser, Subcommand};
 
 use crate::error::Error;
 use crate::output::table::Table;
-use crate::{batch, compare, run};
+use crate::{batch, compare};
 
 #[derive(Debug, Parser)]
 #[command(name = "vehsim", version, about = "Vehicle-dynamics simulation for driving on ice")]
@@ -83,12 +82,25 @@ pub enum Command {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// Time repeated runs of one spec (simulation only, no output files); prints median and min.
+    /// Time repeated runs of one spec (simulation only, no output files); prints median and min
+    /// wall time, real-time factor, steps and peak memory (format: src/bench.rs).
     Bench {
         file: PathBuf,
         /// Number of timed runs.
         #[arg(long, default_value_t = 200)]
         runs: usize,
+        /// Vehicle model instead of the spec's: bicycle or roll4dof.
+        #[arg(long)]
+        model: Option<String>,
+        /// Tyre provider instead of the spec's (linear, polynomial, pacejka, dugoff, ...).
+        #[arg(long)]
+        tyre_model: Option<String>,
+        /// Contact-temperature model instead of the spec's: isothermal or atiim.
+        #[arg(long)]
+        contact: Option<String>,
+        /// One tab-separated line (columns: see src/bench.rs) instead of the sentence.
+        #[arg(long)]
+        tsv: bool,
     },
     /// Find where measured runs and the baseline model disagree, name the missing effect, fit it and
     /// show the gap shrink on held-out data; writes report.json, report.md, effects.toml, plots.
@@ -360,36 +372,15 @@ pub fn main() -> ExitCode {
                 ExitCode::from(1)
             }
         }
-        Command::Bench { file, runs } => {
-            let cfg = match run::load(&file) {
-                Ok(c) => c,
-                Err(e) => return report(&e),
-            };
-            let runs = runs.max(1);
-            let _ = run::execute(&cfg);
-            let mut times: Vec<f64> = (0..runs)
-                .map(|_| {
-                    let t0 = Instant::now();
-                    let o = run::execute(&cfg);
-                    std::hint::black_box(&o);
-                    t0.elapsed().as_secs_f64()
-                })
-                .collect();
-            times.sort_by(|a, b| a.total_cmp(b));
-            let o = run::execute(&cfg);
-            let sim_s = o.summary.end_time_s;
-            let med = times[times.len() / 2];
-            println!(
-                "{}: {} runs of {:.2} s simulated ({} steps): median {:.3} ms, min {:.3} ms, real-time factor {:.0}",
-                cfg.name,
-                runs,
-                sim_s,
-                o.summary.steps,
-                med * 1e3,
-                times[0] * 1e3,
-                sim_s / med
-            );
-            ExitCode::SUCCESS
+        Command::Bench { file, runs, model, tyre_model, contact, tsv } => {
+            let opts = crate::bench::Options { runs, model, tyre_model, contact };
+            match crate::bench::bench(&file, &opts) {
+                Ok(r) => {
+                    println!("{}", if tsv { r.tsv() } else { r.line() });
+                    ExitCode::SUCCESS
+                }
+                Err(e) => report(&e),
+            }
         }
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs } => {
             crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs)

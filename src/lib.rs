@@ -9,11 +9,12 @@
 //! - [`maneuver`]: ISO 3888-2, constant radius (ISO 4138) and open-loop manoeuvres, reference paths,
 //!   steady-state analysis.
 //! - [`sim`]: integrators and the engine that owns time.
-//! - [`run`]: one run from a spec to result files; [`cli`]: the command line.
+//! - [`run`]: one run from a spec to result files; [`cli`]: the command line; [`bench`]: timing runs.
 //! - [`discover`]: the discrepancy workflow (measured runs vs. model, effect discovery, synthetic data).
 //! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
 
 pub mod batch;
+pub mod bench;
 pub mod cli;
 pub mod compare;
 pub mod contact;

@@ -119,14 +119,30 @@ struct AxisNow {
 impl AtiimPacejkaTyre {
     /// Temperature factors (f_D, f_K) of `axis` at rise `dt_k`.
     pub fn factors(&self, axis: &AtiimAxis, dt_k: f64) -> (f64, f64) {
-        let w = if dt_k.is_finite() { self.k_shift.value(dt_k) * dt_k } else { 0.0 };
+        self.factors_at(axis, self.weighted_rise(dt_k))
+    }
+
+    /// The k_shift-weighted rise k_shift(Delta-T) Delta-T (0 for a non-finite rise); the same for
+    /// both axes, so [`TyreModel::forces`] computes it once.
+    #[inline]
+    fn weighted_rise(&self, dt_k: f64) -> f64 {
+        if dt_k.is_finite() {
+            self.k_shift.value(dt_k) * dt_k
+        } else {
+            0.0
+        }
+    }
+
+    /// Temperature factors (f_D, f_K) of `axis` at weighted rise `w`.
+    #[inline]
+    fn factors_at(&self, axis: &AtiimAxis, w: f64) -> (f64, f64) {
         let fd = (1.0 + axis.dmu_dt_per_k * w).max(self.min_factor);
         let fk = (1.0 + axis.dc_dt_per_k * w).max(self.min_factor);
         (if fd.is_finite() { fd } else { self.min_factor }, if fk.is_finite() { fk } else { self.min_factor })
     }
 
-    fn axis_now(&self, axis: &AtiimAxis, fz: f64, ratio: f64, dt_k: f64) -> AxisNow {
-        let (fd, fk) = self.factors(axis, dt_k);
+    fn axis_now(&self, axis: &AtiimAxis, fz: f64, ratio: f64, w: f64) -> AxisNow {
+        let (fd, fk) = self.factors_at(axis, w);
         let d = axis.mu * ratio * fz * fd;
         let k = axis.k_per_fz * fz * fk;
         AxisNow { b: k / (axis.c * d), c: axis.c, d, e: axis.e, k }
@@ -149,9 +165,9 @@ impl TyreModel for AtiimPacejkaTyre {
     fn forces(&self, i: &TyreInput) -> TyreForces {
         let Some(mu) = Self::active(i) else { return TyreForces::default() };
         let ratio = mu / self.mu_reference;
-        let dt = i.delta_t_k();
-        let x = self.axis_now(&self.x, i.fz_n, ratio, dt);
-        let y = self.axis_now(&self.y, i.fz_n, ratio, dt);
+        let w = self.weighted_rise(i.delta_t_k());
+        let x = self.axis_now(&self.x, i.fz_n, ratio, w);
+        let y = self.axis_now(&self.y, i.fz_n, ratio, w);
         let kref = x.d / x.k;
         let aref = y.d / y.k;
         let (s, wx, wy) = normalised(i.kappa / kref, i.alpha_rad / aref);

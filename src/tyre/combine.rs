@@ -1,5 +1,6 @@
-//! Shared pieces of the providers: the Magic Formula sine curve and its slope, and the
-//! normalised-slip friction-ellipse combination of two pure-slip curves.
+//! Shared pieces of the providers: the Magic Formula sine curve and its slope, the
+//! normalised-slip friction-ellipse combination of two pure-slip curves, and the memoised load
+//! factor power [`powf_memo`].
 //!
 //! Normalised-slip combination (the "similarity" idea of Pacejka, Tyre and Vehicle Dynamics,
 //! section 4.3): with reference slips kappa_r and alpha_r, define s_x = kappa / kappa_r,
@@ -14,6 +15,39 @@
 //! (|s_x|/s)^2 + (|s_y|/s)^2 = 1 the pair satisfies (Fx/Dx)^2 + (Fy/Dy)^2 <= 1 whenever
 //! |Fx0| <= Dx and |Fy0| <= Dy: a friction ellipse, never a friction square. Both weights stay
 //! bounded as s -> 0 and the pure curves vanish at zero slip, so the result is continuous there.
+
+/// `x.powf(p)`, bit for bit, remembering the last four distinct (x, p) pairs of the calling thread.
+///
+/// The providers' load factors (Fz / Fz_nominal)^p cost a libm `pow` (about 120 instructions) per
+/// evaluation, but a vehicle model with static loads (the bicycle) asks for the same two loads
+/// again and again: a hit costs a handful of compares instead. The memo stores `powf`'s own result,
+/// so the value returned is exactly `x.powf(p)` whether it hits or not (keys compare bit patterns;
+/// the initial entries hold the true value 1^1 = 1). Per thread, so batch workers share nothing.
+#[inline]
+pub fn powf_memo(x: f64, p: f64) -> f64 {
+    use std::cell::Cell;
+    const ONE: u64 = 0x3ff0_0000_0000_0000; // 1.0f64.to_bits()
+    thread_local! {
+        static MEMO: [Cell<(u64, u64, f64)>; 4] = const { [const { Cell::new((ONE, ONE, 1.0)) }; 4] };
+        static NEXT: Cell<usize> = const { Cell::new(0) };
+    }
+    let key = (x.to_bits(), p.to_bits());
+    MEMO.with(|m| {
+        for e in m {
+            let (kx, kp, v) = e.get();
+            if (kx, kp) == key {
+                return v;
+            }
+        }
+        let v = x.powf(p);
+        NEXT.with(|n| {
+            let k = n.get();
+            m[k & 3].set((key.0, key.1, v));
+            n.set(k.wrapping_add(1));
+        });
+        v
+    })
+}
 
 /// Magic Formula sine curve y = D sin(C atan(B x - E (B x - atan(B x)))).
 #[inline]
@@ -84,4 +118,30 @@ pub fn equivalent(sign: f64, s: f64, reference: f64) -> f64 {
 #[inline]
 pub fn positive(x: f64) -> bool {
     x > 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The memo returns `powf`'s result bit for bit: on hits, on misses, after evictions, for
+    /// special values, and for keys that differ only in the exponent.
+    #[test]
+    fn powf_memo_is_powf() {
+        let xs = [0.5, 1.0, 1.3, 0.5, 1.3, 0.0, -0.0, -2.0, f64::INFINITY, f64::NAN, 1e-300, 2.7, 0.9, 1.1, 0.5];
+        for round in 0..3 {
+            for (i, &x) in xs.iter().enumerate() {
+                for p in [0.8, 1.0, 0.5, 0.8 + 1e-16] {
+                    let (a, b) = (powf_memo(x, p), x.powf(p));
+                    assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "{round} {i}: {x}^{p}");
+                }
+            }
+        }
+        let mut x = 0.01;
+        while x < 3.0 {
+            assert_eq!(powf_memo(x, 0.8).to_bits(), x.powf(0.8).to_bits());
+            assert_eq!(powf_memo(x, 0.8).to_bits(), x.powf(0.8).to_bits());
+            x *= 1.0001;
+        }
+    }
 }

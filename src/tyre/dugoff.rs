@@ -32,7 +32,7 @@
 //! So |Fx| may exceed mu Fz: [`TyreModel::peak_friction`] returns mu max(1, |H|) for the input,
 //! an honest bound (|F|^2 = H^2 Fx^2 + Fy^2 <= max(1, H^2) mu^2 Fz^2).
 
-use super::combine::positive;
+use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Dugoff parameters, validated.
@@ -80,7 +80,7 @@ impl DugoffTyre {
     fn load_factor(&self, fz: f64) -> f64 {
         let r = fz / self.nominal_load_n;
         if r > 0.0 {
-            r.powf(self.load_exponent)
+            powf_memo(r, self.load_exponent)
         } else {
             0.0
         }

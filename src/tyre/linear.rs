@@ -7,6 +7,7 @@
 //! default; with `saturate = true` the combined force is scaled back onto the friction circle
 //! |F| <= mu Fz (a friction ellipse with equal semi-axes).
 
+use super::combine::powf_memo;
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Parameters of the linear tyre, validated.
@@ -33,7 +34,7 @@ impl LinearTyre {
         } else if self.load_exponent == 1.0 {
             r
         } else {
-            r.powf(self.load_exponent)
+            powf_memo(r, self.load_exponent)
         }
     }
 }

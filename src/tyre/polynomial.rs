@@ -23,7 +23,7 @@
 //! 1 + kappa is never formed: u is compared as psi' = sqrt((C_x kappa)^2 + (C_y tan alpha)^2) against
 //! (1 + kappa) F_max, so a locked wheel (kappa = -1) is simply fully sliding.
 
-use super::combine::positive;
+use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Shape of the normalised polynomial.
@@ -112,7 +112,7 @@ impl PolynomialTyre {
     fn load_factor(&self, fz: f64) -> f64 {
         let r = fz / self.nominal_load_n;
         if r > 0.0 {
-            r.powf(self.load_exponent)
+            powf_memo(r, self.load_exponent)
         } else {
             0.0
         }
