@@ -98,15 +98,20 @@ fn engine_and_replay_run_the_same_effect_extensions() {
     use vehsim::discover::Effect;
     let dir = common::temp_dir("discover-engine-replay");
     let sedan = common::root().join("vehicles/sedan.toml");
-    let spec = format!(
-        "name = \"cmp\"\nvehicle = {:?}\ntyre_model = \"pacejka\"\nduration_s = 8.0\n\
-         [surface]\nmu = 0.15\ntemperature_c = -3.0\n[maneuver]\nkind = \"sine_steer\"\nspeed_mps = 10.0\n\
-         steer_amplitude_deg = 2.5\nperiod_s = 3.0\n[output]\ninterval_s = 0.01\n",
-        sedan.to_string_lossy()
-    );
-    let path = dir.join("cmp.toml");
-    std::fs::write(&path, spec).unwrap();
-    let base = vehsim::run::load(&path).unwrap();
+    // Each effect on a surface where it shows: load transfer needs a dry road's lateral
+    // acceleration, the others act on ice (mu 0.15, 10 m/s) as well.
+    let spec = |mu: f64, speed: f64| {
+        let text = format!(
+            "name = \"cmp\"\nvehicle = {:?}\ntyre_model = \"pacejka\"\nduration_s = 8.0\n\
+             [surface]\nmu = {mu}\ntemperature_c = -3.0\n[maneuver]\nkind = \"sine_steer\"\nspeed_mps = {speed}\n\
+             steer_amplitude_deg = 2.5\nperiod_s = 3.0\n[output]\ninterval_s = 0.01\n",
+            sedan.to_string_lossy()
+        );
+        let path = dir.join(format!("cmp_{mu}_{speed}.toml"));
+        std::fs::write(&path, text).unwrap();
+        vehsim::run::load(&path).unwrap()
+    };
+    let (ice, dry) = (spec(0.15, 10.0), spec(1.0, 20.0));
     let cases: [(Effect, f64); 6] = [
         (Effect::SteerCompliance, 0.004),
         (Effect::SteerLag, 0.12),
@@ -116,7 +121,7 @@ fn engine_and_replay_run_the_same_effect_extensions() {
         (Effect::ThermalFriction, -0.6),
     ];
     for (e, value) in cases {
-        let mut cfg = base.clone();
+        let mut cfg = if e == Effect::LoadTransfer { dry.clone() } else { ice.clone() };
         let l = &mut cfg.vehicle.lateral;
         match e {
             Effect::SteerCompliance => l.steer_compliance_rad_per_kn = value,
@@ -129,7 +134,7 @@ fn engine_and_replay_run_the_same_effect_extensions() {
                 cfg.contact.model = "atiim".into();
             }
         }
-        let run = engine_run(&cfg, true);
+        let run = engine_run(&cfg, cfg.env.mu < 0.3);
         let replay = ReplayModel::new(cfg.vehicle.clone());
         let mut p = EffectParams::default();
         e.apply(&mut p, &[value]);
