@@ -190,30 +190,25 @@ impl Roll4Dof {
 
     /// Normal loads FL, FR, RL, RR, N, of a state (each >= 0; they sum to m g).
     pub fn normal_loads(&self, x: &SVector<f64, N>) -> [f64; 4] {
-        let t = self.vehicle.track_m;
-        let [f0, r0] = self.axle_load0;
-        let dx = (self.long_gain * x[ix::AX_LAG]).clamp(-r0, f0);
-        let axle = [f0 - dx, r0 + dx];
-        let (phi, p, ay) = (x[ix::PHI], x[ix::P], x[ix::AY_LAG]);
-        let mut fz = [0.0; 4];
-        for i in 0..2 {
-            let k = self.roll.stiffness_nm_per_rad[i];
-            let c = self.roll.damping_nms_per_rad[i];
-            let half = 0.5 * axle[i];
-            let dy = ((k * phi + c * p) / t + self.lat_gain[i] * ay).clamp(-half, half);
-            fz[2 * i] = half - dy;
-            fz[2 * i + 1] = half + dy;
-        }
-        fz
+        self.loads(x, true).1
     }
 
     /// Loads before clamping, N: the axle loads (front, rear) from the longitudinal transfer,
     /// F_i0 -+ dX, and the wheel loads (FL, FR, RL, RR) (F_i0 -+ dX)/2 -+ dY_i. Where neither
     /// transfer is clamped they equal [`Self::normal_loads`].
     pub fn unclamped_loads(&self, x: &SVector<f64, N>) -> ([f64; 2], [f64; 4]) {
+        self.loads(x, false)
+    }
+
+    /// Axle and wheel loads, N, with the longitudinal transfer clamped to the static axle loads
+    /// and each axle's lateral transfer to half its load (`clamp`), or as the equations give them.
+    fn loads(&self, x: &SVector<f64, N>, clamp: bool) -> ([f64; 2], [f64; 4]) {
         let t = self.vehicle.track_m;
         let [f0, r0] = self.axle_load0;
-        let dx = self.long_gain * x[ix::AX_LAG];
+        let mut dx = self.long_gain * x[ix::AX_LAG];
+        if clamp {
+            dx = dx.clamp(-r0, f0);
+        }
         let axle = [f0 - dx, r0 + dx];
         let (phi, p, ay) = (x[ix::PHI], x[ix::P], x[ix::AY_LAG]);
         let mut fz = [0.0; 4];
@@ -221,7 +216,10 @@ impl Roll4Dof {
             let k = self.roll.stiffness_nm_per_rad[i];
             let c = self.roll.damping_nms_per_rad[i];
             let half = 0.5 * axle[i];
-            let dy = (k * phi + c * p) / t + self.lat_gain[i] * ay;
+            let mut dy = (k * phi + c * p) / t + self.lat_gain[i] * ay;
+            if clamp {
+                dy = dy.clamp(-half, half);
+            }
             fz[2 * i] = half - dy;
             fz[2 * i + 1] = half + dy;
         }
