@@ -70,6 +70,13 @@ fn regression_inputs_never_panic() {
     assert!(failures.is_empty(), "{} of {n} regression inputs failed:\n{}", failures.len(), failures.join("\n"));
 }
 
+/// Is this a seed written from the project's own files (a readable name) rather than an input
+/// the fuzzer added (named by the SHA-1 of its content)?
+fn is_seed(p: &Path) -> bool {
+    let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    !(name.len() == 40 && name.chars().all(|c| c.is_ascii_hexdigit()))
+}
+
 /// The seeds taken from the project's own spec files are valid inputs, so fuzzing starts on the
 /// accepting paths (the relative paths inside them resolve from where the entry functions pretend
 /// the bytes come from).
@@ -78,6 +85,7 @@ fn spec_seeds_are_accepted_inputs() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let corpus = fuzz_dir().join("corpus");
     let text = |p: &Path| std::fs::read_to_string(p).unwrap();
+    let files = |d: &Path| files(d).into_iter().filter(|p| is_seed(p)).collect::<Vec<_>>();
     for f in files(&corpus.join("vehicle_toml")) {
         let path = root.join("vehicles/fuzz_input.toml");
         let v: vehsim::spec::VehicleFile = vehsim::error::parse_toml(&path, &text(&f)).unwrap();
@@ -101,5 +109,30 @@ fn spec_seeds_are_accepted_inputs() {
         let path = root.join("tests/data/atiim/fuzz_input.toml");
         let s: vehsim::contact::spec::ScenarioSpec = vehsim::error::parse_toml(&path, &text(&f)).unwrap();
         s.validate(&path).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+    }
+}
+
+/// Crash found by `pressure_png` (2026-11-21): a 573-byte indexed PNG whose header claims 24 x
+/// 620757056 pixels made the reader allocate a 60 GB frame buffer before decoding (an abort).
+/// Now the decoded size is checked against the limit first.
+#[test]
+fn png_claiming_a_huge_image_is_an_input_error_before_any_allocation() {
+    let f = fuzz_dir().join("regressions/pressure_png/huge_dimensions.png");
+    let bytes = std::fs::read(&f).unwrap();
+    let lay = vehsim::contact::patch::ImageLayout {
+        footprint: [0, 0, 10, 8],
+        colour_bar: [20, 0, 24, 64],
+        bar_min_pa: 0.0,
+        bar_max_pa: 630e3,
+        tolerance: 40.0,
+        dx_m: 0.005,
+        dy_m: 0.005,
+    };
+    match vehsim::contact::patch::read_png_map(Path::new("map.png"), &bytes, &lay) {
+        Err(e @ vehsim::Error::Input { .. }) => {
+            let msg = e.to_string();
+            assert!(msg.contains("map.png") && msg.contains("too large") && msg.contains("MiB"), "{msg}");
+        }
+        other => panic!("expected an input error, got {other:?}"),
     }
 }
