@@ -113,7 +113,17 @@ fn set_path(table: &mut toml::Table, key: &str, value: toml::Value) -> std::resu
 /// invalid runs.
 pub fn load(path: &Path) -> Result<Batch> {
     let text = read_input(path)?;
-    let mut table: toml::Table = crate::error::parse_toml(path, &text)?;
+    from_text(path, &text)
+}
+
+/// As [`load`], for spec text already read from `path` (named in messages; the vehicle file and
+/// other paths inside the spec are resolved against its folder).
+pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
+    from_table(path, crate::error::parse_toml(path, text)?)
+}
+
+/// As [`load`], for a spec already parsed into a TOML table.
+pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     let sweep = match table.remove("sweep") {
         None => None,
         Some(toml::Value::Table(t)) => Some(t),

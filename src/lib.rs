@@ -12,6 +12,7 @@
 //! - [`run`]: one run from a spec to result files; [`cli`]: the command line; [`bench`]: timing runs.
 //! - [`discover`]: the discrepancy workflow (measured runs vs. model, effect discovery, synthetic data).
 //! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
+//! - [`fuzz_entry`]: one bytes-in entry point per kind of input, for fuzzing and its corpus test.
 
 pub mod batch;
 pub mod bench;
@@ -21,6 +22,7 @@ pub mod contact;
 pub mod control;
 pub mod discover;
 pub mod error;
+pub mod fuzz_entry;
 pub mod maneuver;
 pub mod output;
 pub mod plot;

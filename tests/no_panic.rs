@@ -4,7 +4,8 @@
 //! input is an `Err`, a bad simulation an event. The mutations are deterministic (a fixed-seed
 //! xorshift generator), so a failure reproduces exactly; the failing input is printed.
 //!
-//! This is a property test over a few thousand inputs, not coverage-guided fuzzing.
+//! This is a property test over a few thousand inputs, not coverage-guided fuzzing; that is in
+//! `fuzz/` (docs/fuzzing.md), and `tests/fuzz_corpus.rs` replays its corpus.
 
 mod common;
 

@@ -314,12 +314,28 @@ pub struct ImageLayout {
     pub dy_m: f64,
 }
 
+/// Largest decoded PNG pressure map, bytes (64 MiB: 4096 x 4096 RGBA). Scanned maps are a few
+/// hundred pixels a side; the header's size is checked before the frame buffer is allocated, so
+/// a short file claiming a huge image is an input error instead of an allocation failure.
+pub const MAX_PNG_DECODED_BYTES: usize = 64 << 20;
+
 /// Decode an 8-bit RGB(A)/grey PNG into (width, height, RGB bytes).
 fn decode_png(file: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<[u8; 3]>)> {
     let mut dec = png::Decoder::new(bytes);
     dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
     let mut reader = dec.read_info().map_err(|e| Error::input(file, format!("not a readable PNG: {e}")))?;
-    let mut buf = vec![0; reader.output_buffer_size()];
+    let size = reader.output_buffer_size();
+    if size > MAX_PNG_DECODED_BYTES {
+        let (w, h) = (reader.info().width, reader.info().height);
+        return Err(Error::input(
+            file,
+            format!(
+                "PNG of {w}x{h} pixels is too large: {size} bytes decoded; at most {} MiB allowed (e.g. 4096 x 4096 RGBA)",
+                MAX_PNG_DECODED_BYTES >> 20
+            ),
+        ));
+    }
+    let mut buf = vec![0; size];
     let info = reader.next_frame(&mut buf).map_err(|e| Error::input(file, format!("not a readable PNG: {e}")))?;
     let ch = match info.color_type {
         png::ColorType::Grayscale => 1,
@@ -329,7 +345,7 @@ fn decode_png(file: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<[u8; 3]>)> {
         png::ColorType::Indexed => 3,
     };
     let (w, h) = (info.width, info.height);
-    let mut px = Vec::with_capacity((w * h) as usize);
+    let mut px = Vec::with_capacity(w as usize * h as usize);
     for row in buf[..info.buffer_size()].chunks(info.line_size) {
         for p in row.chunks(ch).take(w as usize) {
             px.push(if ch < 3 { [p[0], p[0], p[0]] } else { [p[0], p[1], p[2]] });

@@ -103,6 +103,14 @@ pub fn read_run(path: &Path) -> Result<MeasuredRun> {
 
 /// Parse and validate the text of a measured run read from `path` (the sidecar is looked up next to it).
 pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
+    let mut run = parse_run_csv(path, text)?;
+    read_sidecar(&mut run)?;
+    Ok(run)
+}
+
+/// Parse and validate the CSV text of a measured run alone: no sidecar is looked up, so the run
+/// keeps the defaults (mu 1.0, -3 degC, the first measured vx). `path` names the file in messages.
+pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
     let mut rdr = csv::ReaderBuilder::new().has_headers(true).trim(csv::Trim::All).from_reader(text.as_bytes());
     let headers: Vec<String> = rdr
         .headers()
@@ -195,7 +203,7 @@ pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
     }
     let vx = get("vx");
     let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
-    let mut run = MeasuredRun {
+    let run = MeasuredRun {
         path: path.to_path_buf(),
         name,
         optional: OPTIONAL
@@ -214,7 +222,6 @@ pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
         on_ice: false,
         notices,
     };
-    read_sidecar(&mut run)?;
     Ok(run)
 }
 
@@ -228,8 +235,14 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
         ));
         return Ok(());
     }
-    let s: Sidecar = parse_toml(&side, &read_input(&side)?)?;
-    let c = Checker::new(&side);
+    apply_sidecar(run, &side, &read_input(&side)?)
+}
+
+/// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
+/// ice temperature and initial speed, each checked against its allowed range.
+pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<()> {
+    let s: Sidecar = parse_toml(side, text)?;
+    let c = Checker::new(side);
     if let Some(mu) = s.surface.mu {
         run.mu = c.range("surface.mu", mu, 1e-3, 2.0)?;
     } else {

@@ -1,0 +1,4 @@
+//! Fuzz target `vehicle_toml`: bytes go to `vehsim::fuzz_entry::vehicle_toml` (see docs/fuzzing.md).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| vehsim::fuzz_entry::vehicle_toml(data));
