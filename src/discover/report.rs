@@ -25,12 +25,13 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     let _ = writeln!(s, "# Vehicle: {}", opts.vehicle.display());
     let _ = writeln!(s, "verdict = \"{}\"", d.verdict);
     let _ = writeln!(s, "named_effects = {:?}", d.named);
-    for st in &d.steps {
-        let _ = writeln!(s, "\n[{}]", st.effect);
-        if !st.form.is_empty() {
-            let _ = writeln!(s, "form = \"{}\"", st.form);
+    // Final values (after any joint refit; see report.json `steps` for the values at acceptance).
+    for (effect, form, params) in &d.final_effects {
+        let _ = writeln!(s, "\n[{effect}]");
+        if !form.is_empty() {
+            let _ = writeln!(s, "form = \"{form}\"");
         }
-        for (k, v, u) in &st.params {
+        for (k, v, u) in params {
             let _ = writeln!(s, "{k} = {v:e}  # {u}");
         }
     }
@@ -157,6 +158,10 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
                 "final_replay_finite": final_sims[i].ok,
             })
         }).collect::<Vec<_>>(),
+        "final_effects": d.final_effects.iter().map(|(e, f, ps)| json!({
+            "effect": e, "form": f,
+            "params": ps.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
         "named_effects": d.named,
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,
@@ -248,6 +253,13 @@ fn markdown(
             st.heldout_rmse_after.yaw_rate_radps,
             st.evidence
         );
+    }
+    if d.final_effects.len() >= 2 {
+        let _ = writeln!(s, "\nFinal parameters, all accepted effects refitted together:\n");
+        for (e, f, ps) in &d.final_effects {
+            let ps: Vec<String> = ps.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
+            let _ = writeln!(s, "- {}: {}", label(e, f), ps.join(", "));
+        }
     }
     let _ = writeln!(s, "\n## Candidates tried and rejected\n");
     let _ = writeln!(s, "| round | effect | held-out dBIC | held-out RSS ratio | parameters |\n|---|---|---|---|---|");

@@ -13,7 +13,9 @@
 //! BIC = n ln(RSS / n) + k ln(n). A candidate is accepted when it lowers the held-out BIC by more
 //! than [`BIC_MIN`] *and* lowers the held-out RSS by at least [`MIN_GAIN`] (a practical-significance
 //! floor against correlated residuals in long records). Effects are added greedily, one per round,
-//! until no candidate passes.
+//! until no candidate passes. From the second accepted effect on, every accepted effect's
+//! parameters are refitted together after each acceptance ([`refit_jointly`]), and the refit is
+//! kept when it does not raise the held-out RSS.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -216,6 +218,9 @@ pub struct Discovery {
     pub final_scores: Scores,
     pub params: EffectParams,
     pub steps: Vec<Step>,
+    /// Every accepted effect with its final parameters: (effect, form, [(name, value, unit)]).
+    /// They equal the steps' values unless a joint refit moved them (see [`refit_jointly`]).
+    pub final_effects: Vec<(String, String, Vec<(String, f64, String)>)>,
     pub rejected: Vec<Trial>,
     pub named: Vec<String>,
     pub verdict: String,
@@ -262,6 +267,45 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
     (x, p)
 }
 
+/// Refit the parameters of every accepted effect together (all of them free at once), starting
+/// from their current values, on the fitted samples only. Each greedy round fits only its new
+/// candidate, with the earlier effects held at values fitted without it; when effects overlap
+/// (both change the front axle's response, say) the earlier values are biased, and the joint
+/// refit removes that bias. Returns the new values per effect and the parameters.
+pub fn refit_jointly(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    accepted: &[(Effect, Vec<f64>)],
+) -> (Vec<Vec<f64>>, EffectParams) {
+    let defs: Vec<_> = accepted.iter().flat_map(|(e, _)| e.params().iter()).collect();
+    let x0: Vec<f64> = accepted.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+    let sc: Vec<f64> = defs.iter().map(|d| d.scale).collect();
+    let lo: Vec<f64> = defs.iter().map(|d| d.lo).collect();
+    let hi: Vec<f64> = defs.iter().map(|d| d.hi).collect();
+    let split = |x: &[f64]| -> Vec<Vec<f64>> {
+        let mut out = Vec::new();
+        let mut i = 0;
+        for (e, _) in accepted {
+            let n = e.params().len();
+            out.push(x[i..i + n].to_vec());
+            i += n;
+        }
+        out
+    };
+    let params_of = |x: &[f64]| {
+        let mut p = *base;
+        for ((e, _), v) in accepted.iter().zip(split(x)) {
+            e.apply(&mut p, &v);
+        }
+        p
+    };
+    let mut f = |x: &[f64]| fit_cost(model, data, &params_of(x));
+    let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
+    let x: Vec<f64> = x.iter().zip(lo.iter().zip(&hi)).map(|(v, (l, h))| v.clamp(*l, *h)).collect();
+    (split(&x), params_of(&x))
+}
+
 /// Run the greedy discovery over `candidates` from the plain bicycle baseline.
 pub fn discover(model: &ReplayModel, data: &Dataset, candidates: &[Effect]) -> Discovery {
     discover_from(model, data, EffectParams::default(), candidates)
@@ -277,6 +321,7 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
     let mut rejected = Vec::new();
     let mut named = Vec::new();
     let mut left: Vec<Effect> = candidates.to_vec();
+    let mut accepted: Vec<(Effect, Vec<f64>)> = Vec::new();
     let mut round = 0;
     while !left.is_empty() {
         round += 1;
@@ -336,6 +381,20 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         k_params += e.params().len();
         current = t.scores;
         p = pc;
+        accepted.push((e, t.values.clone()));
+        if accepted.len() >= 2 {
+            // Joint refit of everything accepted so far; kept only when it does not make the
+            // held-out data worse.
+            let (vals, pj) = refit_jointly(model, data, &base, &accepted);
+            let sj = score(data, &simulate_all(model, data, &pj));
+            if sj.rss_held <= current.rss_held {
+                for (a, v) in accepted.iter_mut().zip(vals) {
+                    a.1 = v;
+                }
+                current = sj;
+                p = pj;
+            }
+        }
         // Both forms of a named effect leave the pool together.
         left.retain(|x| x.name() != e.name());
     }
@@ -349,7 +408,23 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
     } else {
         "unexplained"
     };
-    Discovery { baseline, final_scores: current, params: p, steps, rejected, named, verdict: verdict.to_string() }
+    let final_effects = accepted
+        .iter()
+        .map(|(e, v)| {
+            let ps = e.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect();
+            (e.name().to_string(), e.form().to_string(), ps)
+        })
+        .collect();
+    Discovery {
+        baseline,
+        final_scores: current,
+        params: p,
+        steps,
+        final_effects,
+        rejected,
+        named,
+        verdict: verdict.to_string(),
+    }
 }
 
 /// A time window where the residuals exceed the noise.
