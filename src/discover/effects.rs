@@ -118,10 +118,21 @@ impl Effect {
         }
     }
 
-    /// Start points of the fit to try before the simplex search (for effects with more than one
-    /// parameter whose objective has several basins); the best is kept.
+    /// Start points of the fit to try before the simplex search; the best (with the start value)
+    /// is kept, so that the simplex begins in the right basin.
     pub fn starts(self) -> Vec<Vec<f64>> {
         match self {
+            // One parameter: a coarse 7-point scan over the bounds, geometric when the lower
+            // bound is positive.
+            _ if self.params().len() == 1 => {
+                let d = self.params()[0];
+                (0..7)
+                    .map(|j| {
+                        let u = j as f64 / 6.0;
+                        vec![if d.lo > 0.0 { d.lo * (d.hi / d.lo).powf(u) } else { d.lo + u * (d.hi - d.lo) }]
+                    })
+                    .collect()
+            }
             // The stretch: a grid over where it starts and how long it is, at a clear friction
             // change, so that the simplex starts near the right window.
             Effect::FrictionStretch => {

@@ -14,7 +14,7 @@
 //! than [`BIC_MIN`] *and* lowers the held-out RSS by at least [`MIN_GAIN`] (a practical-significance
 //! floor against correlated residuals in long records). Effects are added greedily, one per round,
 //! until no candidate passes. From the second accepted effect on, every accepted effect's
-//! parameters are refitted together after each acceptance ([`refit_jointly`]), and the refit is
+//! parameters are refitted together after each acceptance ([`fit_jointly`]), and the refit is
 //! kept when it does not raise the held-out RSS.
 
 use rayon::prelude::*;
@@ -219,7 +219,7 @@ pub struct Discovery {
     pub params: EffectParams,
     pub steps: Vec<Step>,
     /// Every accepted effect with its final parameters: (effect, form, [(name, value, unit)]).
-    /// They equal the steps' values unless a joint refit moved them (see [`refit_jointly`]).
+    /// They equal the steps' values unless a joint refit moved them (see [`fit_jointly`]).
     pub final_effects: Vec<(String, String, Vec<(String, f64, String)>)>,
     pub rejected: Vec<Trial>,
     pub named: Vec<String>,
@@ -227,66 +227,47 @@ pub struct Discovery {
 }
 
 fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effect) -> (Vec<f64>, EffectParams) {
-    let defs = e.params();
-    let x0: Vec<f64> = defs.iter().map(|d| d.start).collect();
-    let sc: Vec<f64> = defs.iter().map(|d| d.scale).collect();
-    let lo: Vec<f64> = defs.iter().map(|d| d.lo).collect();
-    let hi: Vec<f64> = defs.iter().map(|d| d.hi).collect();
-    let mut f = |v: &[f64]| {
+    let cost = |v: &[f64]| {
         let mut p = *base;
         e.apply(&mut p, v);
         fit_cost(model, data, &p)
     };
-    // One-parameter effects: coarse scan over the bounds first (7 points, geometric when the
-    // lower bound is positive), so that the simplex starts in the right basin.
-    let mut x0 = x0;
-    if defs.len() == 1 {
-        let mut best = (f(&x0), x0[0]);
-        for j in 0..7 {
-            let u = j as f64 / 6.0;
-            let v = if lo[0] > 0.0 { lo[0] * (hi[0] / lo[0]).powf(u) } else { lo[0] + u * (hi[0] - lo[0]) };
-            let c = f(&[v]);
-            if c < best.0 {
-                best = (c, v);
-            }
-        }
-        x0[0] = best.1;
-    } else {
-        let mut best = f(&x0);
-        for s in e.starts() {
-            let c = f(&s);
-            if c < best {
-                best = c;
-                x0 = s;
-            }
+    // The simplex starts from the best of the start value and the effect's start points, so
+    // that it begins in the right basin.
+    let mut x0: Vec<f64> = e.params().iter().map(|d| d.start).collect();
+    let mut best = cost(&x0);
+    for s in e.starts() {
+        let c = cost(&s);
+        if c < best {
+            best = c;
+            x0 = s;
         }
     }
-    let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
-    let mut p = *base;
-    e.apply(&mut p, &x);
-    (x, p)
+    let (mut vals, p) = fit_jointly(model, data, base, &[(e, x0)]);
+    (vals.remove(0), p)
 }
 
-/// Refit the parameters of every accepted effect together (all of them free at once), starting
-/// from their current values, on the fitted samples only. Each greedy round fits only its new
-/// candidate, with the earlier effects held at values fitted without it; when effects overlap
-/// (both change the front axle's response, say) the earlier values are biased, and the joint
-/// refit removes that bias. Returns the new values per effect and the parameters.
-pub fn refit_jointly(
+/// Fit the parameters of `effects` together (all of them free at once) from their given values,
+/// on the fitted samples only, by bounded Nelder–Mead. One effect: the fit of a candidate. All
+/// accepted effects: the joint refit. Each greedy round fits only its new candidate, with the
+/// earlier effects held at values fitted without it; when effects overlap (both change the front
+/// axle's response, say) the earlier values are biased, and the joint refit removes that bias.
+/// Returns the new values per effect and the parameters.
+pub fn fit_jointly(
     model: &ReplayModel,
     data: &Dataset,
     base: &EffectParams,
-    accepted: &[(Effect, Vec<f64>)],
+    effects: &[(Effect, Vec<f64>)],
 ) -> (Vec<Vec<f64>>, EffectParams) {
-    let defs: Vec<_> = accepted.iter().flat_map(|(e, _)| e.params().iter()).collect();
-    let x0: Vec<f64> = accepted.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+    let defs: Vec<_> = effects.iter().flat_map(|(e, _)| e.params().iter()).collect();
+    let x0: Vec<f64> = effects.iter().flat_map(|(_, v)| v.iter().copied()).collect();
     let sc: Vec<f64> = defs.iter().map(|d| d.scale).collect();
     let lo: Vec<f64> = defs.iter().map(|d| d.lo).collect();
     let hi: Vec<f64> = defs.iter().map(|d| d.hi).collect();
     let split = |x: &[f64]| -> Vec<Vec<f64>> {
         let mut out = Vec::new();
         let mut i = 0;
-        for (e, _) in accepted {
+        for (e, _) in effects {
             let n = e.params().len();
             out.push(x[i..i + n].to_vec());
             i += n;
@@ -295,14 +276,14 @@ pub fn refit_jointly(
     };
     let params_of = |x: &[f64]| {
         let mut p = *base;
-        for ((e, _), v) in accepted.iter().zip(split(x)) {
+        for ((e, _), v) in effects.iter().zip(split(x)) {
             e.apply(&mut p, &v);
         }
         p
     };
     let mut f = |x: &[f64]| fit_cost(model, data, &params_of(x));
+    // The simplex returns its best point inside the bounds.
     let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
-    let x: Vec<f64> = x.iter().zip(lo.iter().zip(&hi)).map(|(v, (l, h))| v.clamp(*l, *h)).collect();
     (split(&x), params_of(&x))
 }
 
@@ -385,7 +366,7 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         if accepted.len() >= 2 {
             // Joint refit of everything accepted so far; kept only when it does not make the
             // held-out data worse.
-            let (vals, pj) = refit_jointly(model, data, &base, &accepted);
+            let (vals, pj) = fit_jointly(model, data, &base, &accepted);
             let sj = score(data, &simulate_all(model, data, &pj));
             if sj.rss_held <= current.rss_held {
                 for (a, v) in accepted.iter_mut().zip(vals) {
