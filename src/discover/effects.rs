@@ -21,6 +21,15 @@ pub struct ParamDef {
     pub hi: f64,
 }
 
+/// `name (form)`, or `name` for a one-form effect (form `""`).
+pub fn label(name: &str, form: &str) -> String {
+    if form.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name} ({form})")
+    }
+}
+
 /// A candidate effect. Two effects come in two forms each, tried as separate candidates under
 /// one name: `steer_compliance` (force compliance [`Effect::SteerCompliance`] or a steering lag
 /// [`Effect::SteerLag`]) and `friction_change` (global [`Effect::FrictionChange`] or over a
@@ -82,10 +91,12 @@ impl Effect {
 
     /// The name with its form, e.g. `steer_compliance (lag)`.
     pub fn label(self) -> String {
-        match self.form() {
-            "" => self.name().to_string(),
-            f => format!("{} ({f})", self.name()),
-        }
+        label(self.name(), self.form())
+    }
+
+    /// The candidate with this name and form (as reports record them).
+    pub fn find(name: &str, form: &str) -> Option<Effect> {
+        Self::ALL.into_iter().find(|e| e.name() == name && e.form() == form)
     }
 
     /// The first (primary) form of an effect name.

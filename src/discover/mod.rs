@@ -124,8 +124,7 @@ pub fn cli_discover(
             }
             for st in &d.steps {
                 let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
-                let name = if st.form.is_empty() { st.effect.clone() } else { format!("{} ({})", st.effect, st.form) };
-                println!("accepted {name}: {} ({})", ps.join(", "), st.evidence);
+                println!("accepted {}: {} ({})", effects::label(&st.effect, &st.form), ps.join(", "), st.evidence);
             }
             let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
             println!(

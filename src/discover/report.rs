@@ -8,6 +8,7 @@ use std::path::Path;
 
 use serde_json::json;
 
+use super::effects::label;
 use super::model::{EffectParams, ReplayModel};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse};
 use super::DiscoverOptions;
@@ -68,9 +69,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
             ("thermal_friction", _) => put("thermal_mu_per_k", p.thermal_mu_per_k),
             // A friction stretch belongs to the road, sensor offsets to the instruments: neither
             // is a property of the vehicle.
-            (other, form) => {
-                not_in_spec.push(if form.is_empty() { other.to_string() } else { format!("{other} ({form})") })
-            }
+            (other, form) => not_in_spec.push(label(other, form)),
         }
     }
     if !lateral.is_empty() {
@@ -96,18 +95,9 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     Ok(s)
 }
 
-/// `name (form)` or `name`.
-fn label(effect: &str, form: &str) -> String {
-    if form.is_empty() {
-        effect.to_string()
-    } else {
-        format!("{effect} ({form})")
-    }
-}
-
 /// The one-sentence description of an effect form.
 fn describe(effect: &str, form: &str) -> &'static str {
-    super::Effect::ALL.iter().find(|e| e.name() == effect && e.form() == form).map_or("", |e| e.describe())
+    super::Effect::find(effect, form).map_or("", |e| e.describe())
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
