@@ -63,30 +63,6 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
     assert!(peak(&c.rows) < 0.98 * peak(&o.rows), "{} vs {}", peak(&c.rows), peak(&o.rows));
 }
 
-/// A noise-free measured run from an engine run (steer as applied, vx, yaw rate, ay every 10 ms).
-fn engine_run(cfg: &vehsim::spec::maneuver::RunConfig, on_ice: bool) -> vehsim::discover::measured::MeasuredRun {
-    let o = vehsim::run::execute(cfg);
-    assert!(!o.summary.failed(), "{:?}", o.summary.events);
-    let rows: Vec<_> = o.rows.iter().filter(|r| (r.t_s * 100.0 - (r.t_s * 100.0).round()).abs() < 1e-6).collect();
-    let col = |f: &dyn Fn(&vehsim::sim::observer::Row) -> f64| rows.iter().map(|r| f(r)).collect::<Vec<f64>>();
-    let vx = col(&|r| r.obs.kin.vx_mps);
-    vehsim::discover::measured::MeasuredRun {
-        path: "engine.csv".into(),
-        name: "engine".into(),
-        t: col(&|r| r.t_s),
-        steer: col(&|r| r.inputs.steer_rad),
-        initial_vx: vx[0],
-        vx,
-        yaw_rate: col(&|r| r.obs.kin.yaw_rate_radps),
-        ay: col(&|r| r.obs.ay_mps2),
-        optional: Vec::new(),
-        mu: cfg.env.mu,
-        ice_temp_c: cfg.env.surface_temp_c,
-        on_ice,
-        notices: Vec::new(),
-    }
-}
-
 /// Every vehicle effect that `vehsim discover` can write into `[lateral]` is the same extension
 /// in the engine's bicycle model and in the discovery's replay model: an engine run with the
 /// effect on is reproduced by the replay with the same parameter much better than by the replay
@@ -134,7 +110,7 @@ fn engine_and_replay_run_the_same_effect_extensions() {
                 cfg.contact.model = "atiim".into();
             }
         }
-        let run = engine_run(&cfg, cfg.env.mu < 0.3);
+        let run = vehsim::discover::synth::engine_run(&cfg, &cfg.spec_file).unwrap();
         let replay = ReplayModel::new(cfg.vehicle.clone());
         let mut p = EffectParams::default();
         e.apply(&mut p, &[value]);
