@@ -15,7 +15,8 @@
 //!   I_z dr/dt         = a Fy_f cos(delta_e) - b Fy_r
 //!   alpha_f = delta_e - atan((vy + a r) / vx),  alpha_r = -atan((vy - b r) / vx)
 //!
-//! Effects (all off by default; each default gives the baseline exactly):
+//! Effects (all off by default; each default gives the baseline exactly; the relaxation rate, load
+//! transfer and thermal factor are the engine's own, from [`crate::vehicle::lateral`]):
 //! - `tyre_relaxation`: dFy/dt = (|vx| / sigma_y) (Fy_ss(alpha) - Fy), relaxation length sigma_y (m);
 //!   sigma_y = 0 uses the steady-state force directly.
 //! - `steer_compliance`, force form: delta_e = delta - c_s Fy_f, c_s in rad/kN of front axle lateral
@@ -51,6 +52,7 @@ use crate::maneuver::path::RefPath;
 use crate::sim::integrator::rk4_step;
 use crate::spec::vehicle::Vehicle;
 use crate::tyre::TyreInput;
+use crate::vehicle::lateral;
 use crate::vehicle::wheel::slide_speed;
 use crate::vehicle::Kinematics;
 
@@ -111,8 +113,6 @@ impl EffectParams {
 
 /// Width of the logistic edges of a friction stretch, m.
 pub const STRETCH_EDGE_M: f64 = 1.0;
-/// Floor of the thermal friction factor.
-const THERMAL_FLOOR: f64 = 0.1;
 
 /// Simulated channels at the measured sample times.
 #[derive(Debug, Clone, Default)]
@@ -178,7 +178,7 @@ impl ReplayModel {
         let thermal = if p.thermal_mu_per_k == 0.0 {
             1.0
         } else {
-            (1.0 + p.thermal_mu_per_k * (d.contact_c[axle] - d.ice_c)).max(THERMAL_FLOOR)
+            lateral::thermal_friction_factor(p.thermal_mu_per_k, d.contact_c[axle] - d.ice_c)
         };
         let eval = |fz: f64| {
             let input = TyreInput {
@@ -210,8 +210,8 @@ impl ReplayModel {
             return 0.0;
         }
         let v = &self.vehicle;
-        let total = self.fz_axle[0] + self.fz_axle[1];
-        v.mass_kg * vx * r * p.load_transfer_height_m / v.track_m * self.fz_axle[axle] / total
+        let share = self.fz_axle[axle] / (self.fz_axle[0] + self.fz_axle[1]);
+        lateral::load_transfer_n(v.mass_kg, vx, r, p.load_transfer_height_m, v.track_m, share)
     }
 
     /// Steady-state axle forces, the effective steer and the slip angles for a state.
@@ -263,7 +263,7 @@ impl ReplayModel {
         dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
         dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / v.yaw_inertia_kgm2;
         if p.sigma_y_m > 0.0 {
-            let rate = d.vx.abs().max(V_FLOOR) / p.sigma_y_m;
+            let rate = lateral::relaxation_rate(d.vx, p.sigma_y_m);
             dx[2] = rate * (f.fy[0] - x[2]);
             dx[3] = rate * (f.fy[1] - x[3]);
         }

@@ -16,8 +16,8 @@
 //!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
 //!
 //! with the slips from [`super::wheel`]. Optional `[lateral]` extensions of the vehicle spec
-//! (the effects `vehsim discover` names; the same equations as its replay model,
-//! `crate::discover::model`); every default leaves the model exactly as above:
+//! (the effects `vehsim discover` names; the same equations as its replay model, shared through
+//! [`super::lateral`]); every default leaves the model exactly as above:
 //! - steering lag: d(delta_l)/dt = (delta - delta_l) / tau, and delta_l replaces delta;
 //! - steer compliance: delta_e = delta_l - c Fy_f (c in rad/kN; Fy_f the acting front force);
 //! - lateral relaxation: dFy/dt = (max(|vx|, 1 m/s) / sigma_y) (Fy_ss - Fy) per axle, and the
@@ -33,7 +33,7 @@ use nalgebra::SVector;
 use super::wheel::{
     kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
-use super::{Environment, Inputs, Kinematics, Observation, VehicleModel};
+use super::{lateral, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
 use crate::tyre::{TyreForces, TyreInput};
@@ -56,11 +56,6 @@ pub mod ix {
     pub const FY_R: usize = 11;
     pub const DELTA_L: usize = 12;
 }
-
-/// Floor on |vx| in the lateral relaxation rate, m/s (keeps the relaxed force decaying at rest).
-const V_RELAX: f64 = 1.0;
-/// Floor of the thermal friction factor.
-const THERMAL_FLOOR: f64 = 0.1;
 
 /// The bicycle model: a validated vehicle plus precomputed constants.
 #[derive(Debug, Clone)]
@@ -125,7 +120,7 @@ impl Bicycle {
             return 0.0;
         }
         let share = self.fz_tyre[axle] / (self.fz_tyre[0] + self.fz_tyre[1]);
-        v.mass_kg * x[ix::VX] * x[ix::R] * h / v.track_m * share
+        lateral::load_transfer_n(v.mass_kg, x[ix::VX], x[ix::R], h, v.track_m, share)
     }
 
     /// Axle forces acting on the body: the steady-state tyre forces, with the lateral ones
@@ -162,7 +157,7 @@ impl Bicycle {
             let mut mu = env.mu * v.lateral.mu_scale;
             if v.lateral.thermal_mu_per_k != 0.0 {
                 let rise = u.contact_temp_c[i] - env.surface_temp_c;
-                mu *= (1.0 + v.lateral.thermal_mu_per_k * rise).max(THERMAL_FLOOR);
+                mu *= lateral::thermal_friction_factor(v.lateral.thermal_mu_per_k, rise);
             }
             let input = TyreInput {
                 fz_n: self.fz_tyre[i],
@@ -257,7 +252,7 @@ impl VehicleModel<N> for Bicycle {
         d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
         let lat = &v.lateral;
         if lat.relaxation_length_y_m > 0.0 {
-            let rate = vx.abs().max(V_RELAX) / lat.relaxation_length_y_m;
+            let rate = lateral::relaxation_rate(vx, lat.relaxation_length_y_m);
             d[ix::FY_F] = rate * (ax.f[0].fy_n - x[ix::FY_F]);
             d[ix::FY_R] = rate * (ax.f[1].fy_n - x[ix::FY_R]);
         }

@@ -7,6 +7,7 @@
 
 pub mod bicycle;
 pub mod condition;
+pub mod lateral;
 pub mod roll4dof;
 pub mod wheel;
 
