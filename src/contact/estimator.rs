@@ -214,23 +214,23 @@ impl FlashTable {
         nodes.extend([0.2f64, 0.35, 0.5, 0.65, 0.8, 0.9, 0.97, 1.0].iter().map(|v| v.ln()));
         let roll = Axis::from_nodes(nodes);
         let w = Axis::new(rg.w.0, rg.w.1, rg.w.2);
-        let grids = (0..load.n())
-            .map(|il| {
-                synthesize(
-                    file,
-                    &SynthInputs {
-                        load_n: load.node(il).exp(),
-                        inflation_pa: tyre.inflation_pa,
-                        tread_width_m: tyre.tread_width_m,
-                        rated_load_n: tyre.rated_load_n,
-                        camber_deg: 0.0,
-                        pattern: tyre.pattern,
-                        rows: rg.grid.0,
-                        cols: rg.grid.1,
-                    },
-                )
-            })
-            .collect::<Result<Vec<_>>>()?;
+        // The tyre's synthesized pressure grid at load node `il` on a rows x cols grid.
+        let grid_at = |il: usize, (rows, cols): (usize, usize)| {
+            synthesize(
+                file,
+                &SynthInputs {
+                    load_n: load.node(il).exp(),
+                    inflation_pa: tyre.inflation_pa,
+                    tread_width_m: tyre.tread_width_m,
+                    rated_load_n: tyre.rated_load_n,
+                    camber_deg: 0.0,
+                    pattern: tyre.pattern,
+                    rows,
+                    cols,
+                },
+            )
+        };
+        let grids = (0..load.n()).map(|il| grid_at(il, rg.grid)).collect::<Result<Vec<_>>>()?;
         // The table is built with the whole patch sliding (no brush adhesion zone): the brush's
         // sliding onset makes the rise a steep, grid-lumpy function of slip and load at small slip,
         // where the flash is negligible anyway (an upper bound there).
@@ -268,19 +268,7 @@ impl FlashTable {
             .into_par_iter()
             .map(|il| {
                 let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
-                let fine = synthesize(
-                    file,
-                    &SynthInputs {
-                        load_n: load.node(il).exp(),
-                        inflation_pa: tyre.inflation_pa,
-                        tread_width_m: tyre.tread_width_m,
-                        rated_load_n: tyre.rated_load_n,
-                        camber_deg: 0.0,
-                        pattern: tyre.pattern,
-                        rows: REFERENCE_GRID.0,
-                        cols: REFERENCE_GRID.1,
-                    },
-                );
+                let fine = grid_at(il, REFERENCE_GRID);
                 let coarse = solve_patch(&grids[il], &op, &params).summary.mean_rise_k;
                 match fine {
                     Ok(g) if coarse > 0.0 => (solve_patch(&g, &op, &params).summary.mean_rise_k / coarse).ln(),
