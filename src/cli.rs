@@ -102,6 +102,17 @@ pub enum Command {
         #[arg(long)]
         tsv: bool,
     },
+    /// ISO 3888-2: the highest entry speed that clears the course; constant radius: the highest
+    /// steady lateral acceleration; for every [sweep] combination. Writes <out>/<name>/envelope.csv
+    /// and plots/envelope.png/.svg (spec keys: src/envelope.rs, docs/iso3888-2.md).
+    Envelope {
+        file: PathBuf,
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Worker threads (default: all cores); the output does not depend on it.
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
     /// Find where measured runs and the baseline model disagree, name the missing effect, fit it and
     /// show the gap shrink on held-out data; writes report.json, report.md, effects.toml, plots.
     Discover {
@@ -285,6 +296,7 @@ pub fn main() -> ExitCode {
                         Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
                         None => "no pass rule".to_string(),
                     };
+                    let verdict = if s.plausible { verdict } else { format!("{verdict}, IMPLAUSIBLE") };
                     println!(
                         "{}: {} at t = {:.2} s, {}; peak yaw rate {:.3} rad/s, peak sideslip {:.2} deg, peak ay {:.2} m/s^2 -> {}",
                         b.name,
@@ -296,6 +308,9 @@ pub fn main() -> ExitCode {
                         s.peak_ay_mps2,
                         result.dir.display()
                     );
+                    for r in &s.implausible {
+                        println!("  implausible: {r}");
+                    }
                 }
             }
             code
@@ -377,6 +392,23 @@ pub fn main() -> ExitCode {
             match crate::bench::bench(&file, &opts) {
                 Ok(r) => {
                     println!("{}", if tsv { r.tsv() } else { r.line() });
+                    ExitCode::SUCCESS
+                }
+                Err(e) => report(&e),
+            }
+        }
+        Command::Envelope { file, out, jobs } => {
+            if jobs == Some(0) {
+                return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread"));
+            }
+            match crate::envelope::load(&file).and_then(|e| crate::envelope::run_envelope(&e, &out, jobs)) {
+                Ok((dir, rows)) => {
+                    for r in &rows {
+                        let what = if r.label.is_empty() { r.params.join(", ") } else { r.label.clone() };
+                        let v = r.limit.value.map_or("none".into(), |v| format!("{v:.3}"));
+                        println!("{what}: {v} ({} runs) {}", r.limit.runs, r.limit.note);
+                    }
+                    println!("-> {}", dir.display());
                     ExitCode::SUCCESS
                 }
                 Err(e) => report(&e),

@@ -21,6 +21,7 @@ pub mod compare;
 pub mod contact;
 pub mod control;
 pub mod discover;
+pub mod envelope;
 pub mod error;
 pub mod fuzz_entry;
 pub mod maneuver;

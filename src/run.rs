@@ -15,6 +15,7 @@ use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, Maneuver};
 use crate::output::{create_dir, write_atomic};
+use crate::sim::plausibility::{self, Plausibility};
 use crate::sim::{simulate, Controls, Recorder, Row, Summary};
 use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
@@ -31,8 +32,10 @@ pub struct RunOutput {
     pub layout: Option<serde_json::Value>,
     /// Means over the manoeuvre's steady-state windows (empty unless it defines any).
     pub steady_states: Vec<SteadyState>,
-    /// Understeer gradient fitted to the steady states (needs at least three).
+    /// Understeer gradient fitted to the steady windows (needs at least three).
     pub understeer_gradient: Option<UndersteerGradient>,
+    /// Why there is no understeer gradient, for a manoeuvre with steady-state windows.
+    pub understeer_gradient_note: Option<String>,
 }
 
 /// Load and validate a manoeuvre spec (with its vehicle and tyre files).
@@ -103,11 +106,14 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
                         kind: "diverged".into(),
                         detail: "the 4-DOF model needs the vehicle's [roll] data; nothing was simulated".into(),
                     }],
+                    plausible: true,
+                    implausible: Vec::new(),
                 },
                 rows: Vec::new(),
                 layout: None,
                 steady_states: Vec::new(),
                 understeer_gradient: None,
+                understeer_gradient_note: None,
             },
         },
     }
@@ -129,14 +135,32 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }
+    if summary.end_reason == "completed" {
+        if let Some(r) = maneuver.end_reason() {
+            summary.end_reason = r.into();
+        }
+    }
+    let mut plausibility = Plausibility::for_run(cfg);
+    for r in &recorder.rows {
+        plausibility.check(r);
+    }
     let windows = maneuver.steady_state_windows();
-    let steady_states = steady_state::steady_states(&windows, &recorder.rows);
-    let understeer_gradient = steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m());
+    let tol = plausibility::path_tolerance_m(cfg);
+    let steady_states = steady_state::steady_states(&windows, &recorder.rows, tol);
+    plausibility.finish(&mut summary, &steady_states);
+    let (understeer_gradient, understeer_gradient_note) = if windows.is_empty() {
+        (None, None)
+    } else {
+        match steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m()) {
+            Ok(g) => (Some(g), None),
+            Err(e) => (None, Some(e)),
+        }
+    };
     let mut rows = recorder.rows;
     if !cfg.output.timeseries {
         rows = Vec::new();
     }
-    RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient }
+    RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient, understeer_gradient_note }
 }
 /// `summary.json`: the run's identity plus the engine's figures.
 #[derive(Debug, Serialize)]
@@ -160,6 +184,8 @@ struct SummaryFile<'a> {
     steady_states: &'a [SteadyState],
     #[serde(skip_serializing_if = "Option::is_none")]
     understeer_gradient: Option<&'a UndersteerGradient>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    understeer_gradient_note: Option<&'a str>,
 }
 
 /// Column names of timeseries.csv, units in the names.
@@ -278,6 +304,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         summary: &out.summary,
         steady_states: &out.steady_states,
         understeer_gradient: out.understeer_gradient.as_ref(),
+        understeer_gradient_note: out.understeer_gradient_note.as_deref(),
     };
     let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;

@@ -6,11 +6,15 @@
 //! steps so that the nominal lateral acceleration v^2 / R rises by at most 0.5 m/s^2 per step. Each
 //! step lasts `settle_s + window_s`: the speed target ramps to the step's speed at `speed_ramp_mps2`
 //! and the vehicle settles; the last `window_s` seconds are the step's steady-state window, over
-//! which [`super::steady_state`] averages the recorded rows. The run ends after the last window.
+//! which [`super::steady_state`] averages the recorded rows. The run ends after the last window,
+//! or as soon as the CG is farther than [`circle_tolerance_m`] (max(1 m, 5 % of R)) from the
+//! circle, with end reason `left_path` and a `left_path` event: the later steps would not be
+//! driven on the circle, so they are not measured.
 
 use super::path::RefPath;
 use super::{Command, Event, Maneuver, Outcome, Start, SteadyWindow};
 use crate::control::{Driver, DriverParams};
+pub use crate::sim::plausibility::circle_tolerance_m;
 use crate::vehicle::Kinematics;
 
 /// Turn direction.
@@ -73,6 +77,7 @@ pub struct ConstantRadius {
     driver: Driver,
     laps_done: usize,
     last_s: f64,
+    left_path: bool,
 }
 
 impl ConstantRadius {
@@ -89,7 +94,14 @@ impl ConstantRadius {
             .collect();
         let path = RefPath::new(pts, true);
         let driver = Driver::new(driver, wheelbase_m);
-        Self { params, path, driver, laps_done: 0, last_s: 0.0 }
+        Self { params, path, driver, laps_done: 0, last_s: 0.0, left_path: false }
+    }
+
+    /// Signed radial error of the CG at `kin`, m: distance from the centre minus R (outside > 0).
+    pub fn radial_error_m(&self, kin: &Kinematics) -> f64 {
+        let r = self.params.radius_m;
+        let cy = self.params.direction.sign() * r;
+        kin.x_m.hypot(kin.y_m - cy) - r
     }
 
     /// Speed target at time t, m/s: continuous in t. Each step ramps at `speed_ramp_mps2` from the
@@ -148,7 +160,22 @@ impl Maneuver for ConstantRadius {
             events.push(Event { t_s: t, kind: "lap_complete".into(), detail: format!("lap {}", self.laps_done) });
         }
         self.last_s = s;
+        let err = self.radial_error_m(kin);
+        let tol = circle_tolerance_m(self.params.radius_m);
+        if err.abs() > tol {
+            self.left_path = true;
+            events.push(Event {
+                t_s: t,
+                kind: "left_path".into(),
+                detail: format!("CG {err:+.2} m from the circle (tolerance {tol:.2} m); the run ends"),
+            });
+            return true;
+        }
         t >= self.params.total_s() - 1e-9
+    }
+
+    fn end_reason(&self) -> Option<&'static str> {
+        self.left_path.then_some("left_path")
     }
 
     fn outcome(&self) -> Outcome {
@@ -177,6 +204,34 @@ impl Maneuver for ConstantRadius {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The run ends at the first step whose CG is beyond the tolerance, with its own end reason.
+    #[test]
+    fn leaving_the_circle_ends_the_run() {
+        let p = ConstantRadiusParams {
+            radius_m: 20.0,
+            direction: Direction::Right,
+            step_speeds_mps: vec![5.0],
+            settle_s: 1.0,
+            window_s: 1.0,
+            speed_ramp_mps2: 0.5,
+        };
+        let mut m = ConstantRadius::new(p, DriverParams::default(), 2.8);
+        let mut ev = Vec::new();
+        // Right circle: centre (0, -20). Drifting outward along +y: 0.5 m per step.
+        for k in 0..10 {
+            let kin = Kinematics { x_m: 0.0, y_m: 0.5 * k as f64, ..Kinematics::default() };
+            assert!((m.radial_error_m(&kin) - 0.5 * k as f64).abs() < 1e-12);
+            let done = m.after_step(0.1 * k as f64, &kin, &mut ev);
+            // Tolerance max(1, 0.05 x 20) = 1 m: 1.5 m (k = 3) is the first error beyond it.
+            assert_eq!(done, k >= 3, "step {k}");
+            if done {
+                break;
+            }
+        }
+        assert_eq!(m.end_reason(), Some("left_path"));
+        assert_eq!(ev.last().map(|e| e.kind.as_str()), Some("left_path"));
+    }
 
     #[test]
     fn stepped_speeds_give_half_metre_steps_of_lateral_acceleration() {

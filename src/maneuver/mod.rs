@@ -83,6 +83,12 @@ pub trait Maneuver: Send {
         None
     }
 
+    /// Why the manoeuvre ended the run when that is not plain completion (e.g. `left_path`);
+    /// `None` by default.
+    fn end_reason(&self) -> Option<&'static str> {
+        None
+    }
+
     /// Steady-state windows the run's rows are averaged over afterwards (none by default).
     fn steady_state_windows(&self) -> Vec<SteadyWindow> {
         Vec::new()

@@ -10,6 +10,13 @@
 //! K_us = (m / L) (b / C_f - a / C_r) describes. It excludes the driver's small radius error and the
 //! change of the kinematic angles with speed (sideslip), which on a small circle at low speed make
 //! the two slopes differ by a few per cent.
+//!
+//! A window counts as steady when all of these hold (else it is left out of the gradient and the
+//! run's plausibility says why): the run reached the window's end; max |v_x - target| <=
+//! max([`SPEED_TOL_MPS`], [`SPEED_TOL_FRACTION`] x target); max a_y - min a_y <=
+//! max([`AY_RANGE_TOL_MPS2`], [`AY_RANGE_TOL_FRACTION`] x |nominal a_y|); and max |path error| <=
+//! the manoeuvre's path tolerance (constant radius: max(1 m, 5 % of R)). With fewer than three
+//! steady windows no gradient is reported.
 
 use serde::Serialize;
 
@@ -17,8 +24,15 @@ use super::SteadyWindow;
 use crate::sim::Row;
 use crate::spec::vehicle::GRAVITY;
 
+/// Speed error a steady window allows: the larger of this (m/s) and the fraction of the target.
+pub const SPEED_TOL_MPS: f64 = 0.2;
+pub const SPEED_TOL_FRACTION: f64 = 0.03;
+/// Spread of a_y a steady window allows: the larger of this (m/s^2) and the fraction of |nominal a_y|.
+pub const AY_RANGE_TOL_MPS2: f64 = 0.1;
+pub const AY_RANGE_TOL_FRACTION: f64 = 0.1;
+
 /// Means of one steady-state window (signed quantities: left turns positive).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SteadyState {
     pub step: usize,
     pub t0_s: f64,
@@ -45,6 +59,14 @@ pub struct SteadyState {
     pub path_error_m: f64,
     /// Largest |v_x - target| in the window, m/s.
     pub max_speed_error_mps: f64,
+    /// Largest |lateral deviation| from the path in the window, m (NaN when open loop).
+    pub max_path_error_m: f64,
+    /// max a_y - min a_y in the window, m/s^2.
+    pub ay_range_mps2: f64,
+    /// True when the window meets the criteria in the module docs.
+    pub steady: bool,
+    /// Why the window is not steady (empty when it is).
+    pub not_steady: String,
 }
 
 /// A straight-line least-squares fit y = intercept + slope x.
@@ -107,8 +129,11 @@ pub fn linear_fit(x: &[f64], y: &[f64]) -> Option<LinearFit> {
 }
 
 /// Average the rows inside each window (rows with t in [t0, t1]); windows without rows are skipped.
-pub fn steady_states(windows: &[SteadyWindow], rows: &[Row]) -> Vec<SteadyState> {
+/// Each window is judged steady or not (module docs) with path tolerance `path_tol_m` (m; `None`:
+/// no path criterion).
+pub fn steady_states(windows: &[SteadyWindow], rows: &[Row], path_tol_m: Option<f64>) -> Vec<SteadyState> {
     let mut out = Vec::new();
+    let t_last = rows.last().map_or(f64::NEG_INFINITY, |r| r.t_s);
     for w in windows {
         let sel: Vec<&Row> = rows.iter().filter(|r| r.t_s >= w.t0_s - 1e-9 && r.t_s <= w.t1_s + 1e-9).collect();
         if sel.is_empty() {
@@ -136,9 +161,41 @@ pub fn steady_states(windows: &[SteadyWindow], rows: &[Row]) -> Vec<SteadyState>
             curvature_1pm: mean(&|r| r.obs.kin.yaw_rate_radps / r.obs.kin.vx_mps.abs().max(0.5)),
             path_error_m: mean(&|r| r.path_error_m),
             max_speed_error_mps: sel.iter().map(|r| (r.obs.kin.vx_mps - w.speed_target_mps).abs()).fold(0.0, f64::max),
+            max_path_error_m: sel.iter().map(|r| r.path_error_m.abs()).fold(f64::NAN, f64::max),
+            ay_range_mps2: sel.iter().map(|r| r.obs.ay_mps2).fold(f64::NEG_INFINITY, f64::max)
+                - sel.iter().map(|r| r.obs.ay_mps2).fold(f64::INFINITY, f64::min),
+            steady: true,
+            not_steady: String::new(),
         });
+        if let Some(q) = out.last_mut() {
+            judge(q, t_last, path_tol_m);
+        }
     }
     out
+}
+
+/// Set `steady` and `not_steady` of a window from the criteria in the module docs; the run's last
+/// recorded row is at `t_last`.
+pub fn judge(q: &mut SteadyState, t_last: f64, path_tol_m: Option<f64>) {
+    let mut why = Vec::new();
+    if t_last < q.t1_s - 1e-9 {
+        why.push(format!("the run ended at t = {t_last:.2} s, before the window's end at {:.2} s", q.t1_s));
+    }
+    let v_tol = SPEED_TOL_MPS.max(SPEED_TOL_FRACTION * q.speed_target_mps.abs());
+    if !(q.max_speed_error_mps <= v_tol) {
+        why.push(format!("speed off its target by up to {:.2} m/s (allowed {v_tol:.2})", q.max_speed_error_mps));
+    }
+    let ay_tol = AY_RANGE_TOL_MPS2.max(AY_RANGE_TOL_FRACTION * q.nominal_ay_mps2.abs());
+    if !(q.ay_range_mps2 <= ay_tol) {
+        why.push(format!("a_y varies by {:.2} m/s^2 (allowed {ay_tol:.2})", q.ay_range_mps2));
+    }
+    if let Some(tol) = path_tol_m {
+        if q.max_path_error_m > tol {
+            why.push(format!("off the circle by up to {:.2} m (tolerance {tol:.2} m)", q.max_path_error_m));
+        }
+    }
+    q.steady = why.is_empty();
+    q.not_steady = why.join("; ");
 }
 
 /// The understeer gradient of a constant-radius run.
@@ -163,14 +220,24 @@ pub struct UndersteerGradient {
     pub method: &'static str,
 }
 
-/// Understeer gradient from steady states (`None` with fewer than three).
-pub fn understeer_gradient(states: &[SteadyState], wheelbase_m: f64) -> Option<UndersteerGradient> {
+/// Understeer gradient from the steady windows among `states`; with fewer than three, or no
+/// spread of a_y among them, the error says why.
+pub fn understeer_gradient(states: &[SteadyState], wheelbase_m: f64) -> Result<UndersteerGradient, String> {
+    let all = states.len();
+    let states: Vec<&SteadyState> = states.iter().filter(|s| s.steady).collect();
+    if states.len() < 3 {
+        return Err(format!(
+            "no understeer gradient: {} of {all} steady-state windows are steady, at least 3 are needed",
+            states.len()
+        ));
+    }
+    let none = || "no understeer gradient: the steady windows have no spread of a_y".to_string();
     let ay: Vec<f64> = states.iter().map(|s| s.ay_mps2).collect();
     let steer: Vec<f64> = states.iter().map(|s| s.steer_rad).collect();
     let corrected: Vec<f64> = states.iter().map(|s| s.steer_rad - wheelbase_m * s.curvature_1pm).collect();
-    let f = linear_fit(&ay, &steer)?;
-    let c = linear_fit(&ay, &corrected)?;
-    Some(UndersteerGradient {
+    let f = linear_fit(&ay, &steer).ok_or_else(none)?;
+    let c = linear_fit(&ay, &corrected).ok_or_else(none)?;
+    Ok(UndersteerGradient {
         rad_per_mps2: f.slope,
         deg_per_g: f.slope.to_degrees() * GRAVITY,
         std_error_rad_per_mps2: f.slope_std_error,
@@ -189,7 +256,8 @@ pub fn understeer_gradient(states: &[SteadyState], wheelbase_m: f64) -> Option<U
 pub fn steady_states_csv(states: &[SteadyState]) -> String {
     let mut s = String::from(
         "step,t0_s,t1_s,samples,speed_target_mps,nominal_ay_mps2,vx_mps,ay_mps2,steer_rad,yaw_rate_radps,\
-         sideslip_rad,roll_rad,fz_fl_n,fz_fr_n,fz_rl_n,fz_rr_n,curvature_1pm,path_error_m,max_speed_error_mps\n",
+         sideslip_rad,roll_rad,fz_fl_n,fz_fr_n,fz_rl_n,fz_rr_n,curvature_1pm,path_error_m,max_speed_error_mps,\
+         max_path_error_m,ay_range_mps2,steady\n",
     );
     for q in states {
         let vals = [
@@ -211,6 +279,8 @@ pub fn steady_states_csv(states: &[SteadyState]) -> String {
             q.curvature_1pm,
             q.path_error_m,
             q.max_speed_error_mps,
+            q.max_path_error_m,
+            q.ay_range_mps2,
         ];
         s.push_str(&q.step.to_string());
         for v in vals {
@@ -219,6 +289,8 @@ pub fn steady_states_csv(states: &[SteadyState]) -> String {
                 s.push_str(&v.to_string());
             }
         }
+        s.push(',');
+        s.push_str(if q.steady { "true" } else { "false" });
         s.push('\n');
     }
     s
@@ -242,6 +314,73 @@ mod tests {
         assert!((half - 3.182 * g.slope_std_error).abs() < 1e-15);
         assert!(g.slope_ci95[0] < g.slope && g.slope < g.slope_ci95[1]);
         assert!(linear_fit(&x[..2], &y[..2]).is_none());
+    }
+
+    /// Rows at 100 Hz over 4 s-steps of a 40 m circle (a_y = 0.5 k, steer = 0.07 + 0.004 a_y);
+    /// `off` lists the steps whose window drifts 3 m off the circle (tolerance 2 m).
+    fn circle_rows(off: &[usize]) -> (Vec<SteadyWindow>, Vec<Row>) {
+        use crate::vehicle::{Inputs, Kinematics, Observation};
+        let windows: Vec<SteadyWindow> = (1..=5)
+            .map(|k| SteadyWindow {
+                step: k,
+                t0_s: 4.0 * k as f64 - 1.0,
+                t1_s: 4.0 * k as f64,
+                speed_target_mps: (0.5 * k as f64 * 40.0).sqrt(),
+                nominal_ay_mps2: 0.5 * k as f64,
+            })
+            .collect();
+        let rows = (0..=2000)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                let w = &windows[((t / 4.0 - 1e-9).ceil().max(1.0) as usize - 1).min(4)];
+                let ay = w.nominal_ay_mps2;
+                let drift = if off.contains(&w.step) && t >= w.t0_s - 1e-9 { 3.0 } else { 0.1 };
+                Row {
+                    t_s: t,
+                    obs: Observation {
+                        kin: Kinematics { vx_mps: w.speed_target_mps, ..Kinematics::default() },
+                        ay_mps2: ay,
+                        ..Observation::default()
+                    },
+                    inputs: Inputs { steer_rad: 0.07 + 0.004 * ay, ..Inputs::default() },
+                    speed_target_mps: w.speed_target_mps,
+                    path_error_m: drift,
+                }
+            })
+            .collect();
+        (windows, rows)
+    }
+
+    /// The constant-radius guard: an off-circle window is marked and left out of the gradient,
+    /// which the other windows still give exactly; with fewer than three steady windows there is
+    /// no gradient and the error says why; a run ended early leaves its last window unsteady.
+    #[test]
+    fn off_circle_windows_are_dropped_from_the_gradient() {
+        let (w, rows) = circle_rows(&[]);
+        let ss = steady_states(&w, &rows, Some(2.0));
+        assert!(ss.iter().all(|s| s.steady), "{ss:?}");
+        assert_eq!(understeer_gradient(&ss, 2.8).unwrap().steps, 5);
+
+        let (w, rows) = circle_rows(&[2, 5]);
+        let ss = steady_states(&w, &rows, Some(2.0));
+        let flags: Vec<bool> = ss.iter().map(|s| s.steady).collect();
+        assert_eq!(flags, [true, false, true, true, false]);
+        assert!(ss[1].not_steady.contains("off the circle by up to 3.00 m"), "{}", ss[1].not_steady);
+        let g = understeer_gradient(&ss, 2.8).unwrap();
+        assert_eq!(g.steps, 3);
+        assert!((g.rad_per_mps2 - 0.004).abs() < 1e-12 && (g.intercept_rad - 0.07).abs() < 1e-12);
+        // Without a path tolerance the drift is not judged.
+        assert!(steady_states(&w, &rows, None).iter().all(|s| s.steady));
+
+        let (w, rows) = circle_rows(&[1, 3, 4]);
+        let ss = steady_states(&w, &rows, Some(2.0));
+        let e = understeer_gradient(&ss, 2.8).unwrap_err();
+        assert!(e.contains("2 of 5"), "{e}");
+
+        let (w, rows) = circle_rows(&[]);
+        let ss = steady_states(&w, &rows[..1950], Some(2.0));
+        assert_eq!(ss.len(), 5);
+        assert!(!ss[4].steady && ss[4].not_steady.contains("the run ended"), "{:?}", ss[4]);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! The font (DejaVu Sans) comes from the `dejavu` crate as bytes, so no system font library is
 //! needed. Files are written under a temporary name and renamed (see [`crate::output`]).
 
+pub mod envelope;
 pub mod runs;
 
 use std::path::Path;

@@ -80,6 +80,9 @@ pub struct Summary {
     /// `completed` (manoeuvre finished), `duration` (time limit reached), `spin_out`, `diverged`.
     pub end_reason: String,
     pub events: Vec<Event>,
+    /// False when a plausibility check failed ([`super::plausibility`]); the reasons follow.
+    pub plausible: bool,
+    pub implausible: Vec<String>,
 }
 
 impl Summary {
@@ -294,5 +297,7 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
         end_time_s: t_end,
         end_reason: end_reason.to_string(),
         events,
+        plausible: true,
+        implausible: Vec::new(),
     }
 }

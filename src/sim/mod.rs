@@ -5,8 +5,10 @@
 pub mod engine;
 pub mod integrator;
 pub mod observer;
+pub mod plausibility;
 pub mod watch;
 
 pub use engine::{simulate, Controls, SimSettings, Summary};
 pub use integrator::Method;
 pub use observer::{Observer, Recorder, Row};
+pub use plausibility::Plausibility;

@@ -1,0 +1,44 @@
+//! The envelope chart: the limit (highest passing entry speed, m/s, or highest steady lateral
+//! acceleration, m/s^2) against the first swept factor, one line per value of the remaining factors
+//! (the second first), and each reference as a horizontal line across the chart.
+
+use std::path::Path;
+
+use super::{line_chart, LineChart, Series};
+use crate::envelope::{Envelope, Kind, Row};
+use crate::error::Result;
+
+/// Write `<stem>.png` and `<stem>.svg`. The first factor's values are the x axis when they are
+/// numbers, else their position (1, 2, ...).
+pub fn plot(stem: &Path, env: &Envelope, rows: &[Row]) -> Result<()> {
+    let combos: Vec<&Row> = rows.iter().filter(|r| r.label.is_empty()).collect();
+    let x_of = |i: usize, r: &Row| r.params.first().and_then(|p| p.parse::<f64>().ok()).unwrap_or((i + 1) as f64);
+    let mut series: Vec<Series> = Vec::new();
+    for (i, r) in combos.iter().enumerate() {
+        let rest = env.keys.iter().zip(&r.params).skip(1).map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>();
+        let label = if rest.is_empty() { "limit".to_string() } else { rest.join(", ") };
+        let point = (x_of(i, r), r.limit.value.unwrap_or(f64::NAN));
+        match series.iter_mut().find(|s| s.label == label) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series { label, points: vec![point] }),
+        }
+    }
+    let xs: Vec<f64> = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).collect();
+    let (x0, x1) = xs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let (x0, x1) = if x0.is_finite() { (x0, x1) } else { (0.0, 1.0) };
+    for r in rows.iter().filter(|r| !r.label.is_empty()) {
+        let v = r.limit.value.unwrap_or(f64::NAN);
+        series.push(Series { label: format!("{} (reference)", r.label), points: vec![(x0, v), (x1, v)] });
+    }
+    let (what, y_label) = match env.kind {
+        Kind::Speed => ("highest passing ISO 3888-2 entry speed", "entry speed (m/s)"),
+        Kind::LateralAcceleration => ("highest steady lateral acceleration", "a_y (m/s^2)"),
+    };
+    let chart = LineChart {
+        title: format!("{}: {what}", env.name),
+        x_label: env.keys.first().cloned().unwrap_or_else(|| "run".into()),
+        y_label: y_label.into(),
+        series,
+    };
+    line_chart(stem, &chart)
+}

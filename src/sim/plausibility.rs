@@ -1,0 +1,386 @@
+//! Plausibility of a run: checks that say when a result should not be trusted, with events at the
+//! recorded row where a check starts and stops failing, and a verdict for the summary
+//! (`plausible` and the reasons).
+//!
+//! The checks, on every recorded row (the output interval, `[output] interval_s`):
+//! - **tyre force beyond the friction bound**: per axle, |F| = sqrt(Fx^2 + Fy^2) (sum over the
+//!   axle, N) against the bound sum(mu_i Fz_i) over the axle's tyres, with mu_i the provider's peak
+//!   friction coefficient at that tyre's load, slip, surface and contact temperature
+//!   ([`TyreModel::peak_friction`]); a provider without a bound (the unsaturated linear tyre) is
+//!   held to the surface's mu. Fails when |F| / bound > [`FORCE_RATIO_LIMIT`] (1.05): only an
+//!   unsaturated tyre can get there.
+//! - **lateral acceleration beyond the surface's friction**: |a_y| against mu_eff g, with mu_eff =
+//!   (sum of the tyres' bounds) / (sum of their loads), the friction the provider realises on this
+//!   surface (the spec's mu for the unsaturated linear tyre). Fails when |a_y| / (mu_eff g) >
+//!   [`AY_RATIO_LIMIT`] (1.05).
+//! - **leaving the path**: |lateral deviation of the CG from the reference path| beyond the
+//!   manoeuvre's tolerance ([`path_tolerance_m`]): constant radius max(1 m, 5 % of R); lane change
+//!   half the widest lane's width (the CG is then outside a lane-wide band around the path: the car
+//!   has left the course, not merely clipped a cone).
+//!
+//! After the run, [`Plausibility::finish`] also folds in a constant-radius run that ended by
+//! leaving the circle (end reason `left_path`) and the steady-state windows that were not steady
+//! ([`crate::maneuver::steady_state`]). Each check gives one onset event when it starts failing and
+//! one recovery event when it stops (the first [`super::watch::MAX_ONSETS`] times), so a summary
+//! never floods.
+
+use std::sync::Arc;
+
+use super::engine::Summary;
+use super::observer::Row;
+use super::watch::MAX_ONSETS;
+use crate::maneuver::iso3888_2;
+use crate::maneuver::steady_state::SteadyState;
+use crate::maneuver::Event;
+use crate::spec::maneuver::ManeuverConfig;
+use crate::spec::vehicle::GRAVITY;
+use crate::spec::RunConfig;
+use crate::tyre::{TyreInput, TyreModel};
+use crate::vehicle::Environment;
+
+/// Largest plausible |F| / (mu Fz) of an axle.
+pub const FORCE_RATIO_LIMIT: f64 = 1.05;
+/// Largest plausible |a_y| / (mu_eff g).
+pub const AY_RATIO_LIMIT: f64 = 1.05;
+
+/// Radial tolerance of a constant-radius run on a circle of radius `radius_m`, m: max(1, 0.05 R).
+pub fn circle_tolerance_m(radius_m: f64) -> f64 {
+    (0.05 * radius_m).max(1.0)
+}
+
+/// The path tolerance of a run's manoeuvre, m (`None` for open-loop manoeuvres, which have no path).
+pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
+    match &cfg.maneuver {
+        ManeuverConfig::ConstantRadius(p) => Some(circle_tolerance_m(p.radius_m)),
+        ManeuverConfig::Iso3888_2(p) => {
+            let gates = iso3888_2::layout(cfg.vehicle.body_width_m, p.lane5_min_width_m);
+            Some(0.5 * gates.iter().map(|g| g.width_m()).fold(0.0, f64::max))
+        }
+        ManeuverConfig::OpenLoop { .. } => None,
+    }
+}
+
+/// The three row checks, in the order of [`CHECKS`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Check {
+    Force,
+    LateralAcceleration,
+    Path,
+}
+
+/// Onset and recovery event kinds of each check.
+const CHECKS: [(Check, &str, &str); 3] = [
+    (Check::Force, "tyre_force_beyond_friction", "tyre_force_within_friction"),
+    (Check::LateralAcceleration, "ay_beyond_friction", "ay_within_friction"),
+    (Check::Path, "path_exit", "path_return"),
+];
+
+/// The worst excess of one check over the run.
+#[derive(Debug, Clone, Copy, Default)]
+struct Worst {
+    /// Ratio (force, a_y) or deviation (path, m); 0 when never checked.
+    value: f64,
+    t_s: f64,
+    /// Axle of the worst force (0 front, 1 rear).
+    axle: usize,
+    first_t_s: Option<f64>,
+}
+
+/// The running checker of one run.
+#[derive(Debug)]
+pub struct Plausibility {
+    tyre: Arc<dyn TyreModel>,
+    env: Environment,
+    path_tolerance_m: Option<f64>,
+    active: [bool; 3],
+    onsets: [u32; 3],
+    worst: [Worst; 3],
+    events: Vec<Event>,
+}
+
+impl Plausibility {
+    /// A checker for a run with tyre provider `tyre` on `env`, path tolerance `path_tolerance_m`
+    /// (m; `None`: no path check).
+    pub fn new(tyre: Arc<dyn TyreModel>, env: Environment, path_tolerance_m: Option<f64>) -> Self {
+        Self {
+            tyre,
+            env,
+            path_tolerance_m,
+            active: [false; 3],
+            onsets: [0; 3],
+            worst: [Worst::default(); 3],
+            events: Vec::new(),
+        }
+    }
+
+    /// The checker of a validated run.
+    pub fn for_run(cfg: &RunConfig) -> Self {
+        Self::new(cfg.vehicle.tyre.model.clone(), cfg.env, path_tolerance_m(cfg))
+    }
+
+    /// The friction bound of axle `axle` (N) and its tyres' load (N) at `row`.
+    fn axle_bound(&self, row: &Row, axle: usize) -> (f64, f64) {
+        let o = &row.obs;
+        let mut bound = 0.0;
+        let mut load = 0.0;
+        for &fz in &o.fz_n[2 * axle..2 * axle + 2] {
+            if !(fz > 0.0) {
+                continue;
+            }
+            let input = TyreInput {
+                fz_n: fz,
+                kappa: o.kappa[axle],
+                alpha_rad: o.alpha_rad[axle],
+                camber_rad: 0.0,
+                vx_mps: o.kin.vx_mps.abs(),
+                mu_surface: self.env.mu,
+                surface_temp_c: self.env.surface_temp_c,
+                contact_temp_c: o.contact_temp_axle_c[axle],
+            };
+            let mu = self.tyre.peak_friction(&input);
+            bound += if mu.is_finite() { mu } else { self.env.mu } * fz;
+            load += fz;
+        }
+        (bound, load)
+    }
+
+    /// Check one recorded row.
+    pub fn check(&mut self, row: &Row) {
+        let o = &row.obs;
+        let mut force = (0.0_f64, 0);
+        let (mut bound_sum, mut load_sum) = (0.0, 0.0);
+        for axle in 0..2 {
+            let (bound, load) = self.axle_bound(row, axle);
+            bound_sum += bound;
+            load_sum += load;
+            let f = o.fx_n[axle].hypot(o.fy_n[axle]);
+            if bound > 0.0 && f.is_finite() && f / bound > force.0 {
+                force = (f / bound, axle);
+            }
+        }
+        self.update(Check::Force, row.t_s, force.0, FORCE_RATIO_LIMIT, force.1);
+        if bound_sum > 0.0 && o.ay_mps2.is_finite() {
+            let mu_eff = bound_sum / load_sum;
+            self.update(Check::LateralAcceleration, row.t_s, o.ay_mps2.abs() / (mu_eff * GRAVITY), AY_RATIO_LIMIT, 0);
+        }
+        if let Some(tol) = self.path_tolerance_m {
+            if row.path_error_m.is_finite() {
+                self.update(Check::Path, row.t_s, row.path_error_m.abs(), tol, 0);
+            }
+        }
+    }
+
+    fn update(&mut self, check: Check, t_s: f64, value: f64, limit: f64, axle: usize) {
+        let i = check as usize;
+        let w = &mut self.worst[i];
+        if value > w.value {
+            *w = Worst { value, t_s, axle, first_t_s: w.first_t_s };
+        }
+        let failing = value > limit;
+        if failing && w.first_t_s.is_none() {
+            w.first_t_s = Some(t_s);
+        }
+        if failing == self.active[i] {
+            return;
+        }
+        self.active[i] = failing;
+        if failing {
+            self.onsets[i] += 1;
+        }
+        if self.onsets[i] > MAX_ONSETS {
+            return;
+        }
+        let (_, onset, recovery) = CHECKS[i];
+        let detail = match check {
+            Check::Force => format!(
+                "{} axle: |F| = {value:.2} x its friction bound (allowed {limit})",
+                if axle == 0 { "front" } else { "rear" }
+            ),
+            Check::LateralAcceleration => format!("|a_y| = {value:.2} x mu_eff g (allowed {limit})"),
+            Check::Path => format!("CG {value:.2} m from the reference path (tolerance {limit:.2} m)"),
+        };
+        self.events.push(Event { t_s, kind: if failing { onset } else { recovery }.into(), detail });
+    }
+
+    /// The reasons found by the row checks so far.
+    fn reasons(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for (i, (check, _, _)) in CHECKS.iter().enumerate() {
+            let w = &self.worst[i];
+            let Some(t0) = w.first_t_s else { continue };
+            out.push(match check {
+                Check::Force => format!(
+                    "tyre force beyond the friction bound from t = {t0:.2} s: up to {:.2} x (mu Fz) on the {} axle at \
+                     t = {:.2} s (the tyre does not saturate)",
+                    w.value,
+                    if w.axle == 0 { "front" } else { "rear" },
+                    w.t_s
+                ),
+                Check::LateralAcceleration => format!(
+                    "lateral acceleration beyond the surface's friction from t = {t0:.2} s: up to {:.2} x mu g at t = \
+                     {:.2} s",
+                    w.value, w.t_s
+                ),
+                Check::Path => format!(
+                    "left the path from t = {t0:.2} s: CG up to {:.2} m from it at t = {:.2} s (tolerance {:.2} m)",
+                    w.value,
+                    w.t_s,
+                    self.path_tolerance_m.unwrap_or(f64::NAN)
+                ),
+            });
+        }
+        out
+    }
+
+    /// Fold the checks into `summary`: the events (merged in time order, stable), `plausible` and
+    /// the reasons, including a run ended by leaving the path and the steady-state windows that
+    /// were not steady.
+    pub fn finish(self, summary: &mut Summary, steady: &[SteadyState]) {
+        let mut reasons = self.reasons();
+        if summary.end_reason == "left_path" && self.worst[Check::Path as usize].first_t_s.is_none() {
+            reasons.push(format!("left the path: the run ended at t = {:.2} s", summary.end_time_s));
+        }
+        for s in steady.iter().filter(|s| !s.steady) {
+            reasons.push(format!("steady-state window of step {} not steady: {}", s.step, s.not_steady));
+        }
+        summary.events.extend(self.events);
+        summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+        summary.plausible = reasons.is_empty();
+        summary.implausible = reasons;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tyre::LinearTyre;
+    use crate::vehicle::{Inputs, Kinematics, Observation};
+
+    const ENV: Environment = Environment { mu: 0.15, surface_temp_c: -3.0 };
+
+    /// A row at time t with axle forces (front, rear) and lateral acceleration ay; 4000 N per tyre.
+    fn row(t: f64, fy: [f64; 2], ay: f64, path: f64) -> Row {
+        Row {
+            t_s: t,
+            obs: Observation {
+                kin: Kinematics { vx_mps: 10.0, ..Kinematics::default() },
+                ay_mps2: ay,
+                fy_n: fy,
+                fz_n: [4000.0; 4],
+                contact_temp_axle_c: [-3.0; 2],
+                ..Observation::default()
+            },
+            inputs: Inputs::default(),
+            speed_target_mps: 10.0,
+            path_error_m: path,
+        }
+    }
+
+    fn linear(saturate: bool) -> Arc<dyn TyreModel> {
+        Arc::new(LinearTyre {
+            cornering_stiffness_n_per_rad: 69000.0,
+            longitudinal_stiffness_n: 80000.0,
+            nominal_load_n: 4000.0,
+            load_exponent: 0.8,
+            saturate,
+        })
+    }
+
+    fn empty_summary() -> Summary {
+        Summary {
+            passed: None,
+            cones_hit: 0,
+            peak_yaw_rate_radps: 0.0,
+            peak_sideslip_rad: 0.0,
+            peak_ay_mps2: 0.0,
+            max_path_deviation_m: None,
+            min_speed_mps: 0.0,
+            max_speed_mps: 0.0,
+            max_speed_error_mps: None,
+            steps: 0,
+            end_time_s: 10.0,
+            end_reason: "completed".into(),
+            events: Vec::new(),
+            plausible: true,
+            implausible: Vec::new(),
+        }
+    }
+
+    /// The unsaturated linear tyre: the bound is mu Fz = 0.15 x 8000 = 1200 N per axle. A force
+    /// ramp crosses 1.05 x 1200 = 1260 N at row 13 (1300 N) and falls back at row 30: one onset at
+    /// row 13, one recovery at row 30; a_y is checked against mu g = 1.471 m/s^2 in the same way.
+    #[test]
+    fn force_and_ay_events_fire_at_the_right_row() {
+        let mut p = Plausibility::new(linear(false), ENV, Some(1.5));
+        for k in 0..40 {
+            let f = if k < 30 { 100.0 * k as f64 } else { 0.0 };
+            let ay = if (20..25).contains(&k) { 1.6 } else { 1.5 };
+            p.check(&row(k as f64 * 0.01, [f, 0.5 * f], ay, 0.0));
+        }
+        let mut s = empty_summary();
+        p.finish(&mut s, &[]);
+        let ev: Vec<(String, &str)> = s.events.iter().map(|e| (format!("{:.2}", e.t_s), e.kind.as_str())).collect();
+        assert_eq!(
+            ev,
+            [
+                ("0.13".to_string(), "tyre_force_beyond_friction"),
+                ("0.20".to_string(), "ay_beyond_friction"),
+                ("0.25".to_string(), "ay_within_friction"),
+                ("0.30".to_string(), "tyre_force_within_friction"),
+            ]
+        );
+        assert!(!s.plausible);
+        assert_eq!(s.implausible.len(), 2, "{:?}", s.implausible);
+        // Worst force ratio: 2900 N / 1200 N at row 29 on the front axle.
+        assert!(s.implausible[0].contains("2.42 x") && s.implausible[0].contains("front"), "{:?}", s.implausible);
+        // 1.6 / (0.15 g) = 1.088 (1.5 / 1.471 = 1.0197 stays inside the 5 %).
+        assert!(s.implausible[1].contains("1.09 x"), "{:?}", s.implausible);
+    }
+
+    /// A saturating tyre at its bound and a_y at exactly mu g: nothing fires.
+    #[test]
+    fn a_run_at_the_friction_limit_is_plausible() {
+        let mut p = Plausibility::new(linear(true), ENV, Some(1.5));
+        for k in 0..50 {
+            p.check(&row(k as f64 * 0.01, [1200.0, 1200.0], 0.15 * GRAVITY, 1.49));
+        }
+        let mut s = empty_summary();
+        p.finish(&mut s, &[]);
+        assert!(s.plausible && s.implausible.is_empty() && s.events.is_empty(), "{:?}", s);
+    }
+
+    /// Leaving the path fires at the first row beyond the tolerance; a run ended by leaving the
+    /// circle is implausible even when no recorded row shows it; a check that flaps is capped.
+    #[test]
+    fn path_exit_and_end_reason_and_cap() {
+        let mut p = Plausibility::new(linear(true), ENV, Some(2.0));
+        for k in 0..10 {
+            p.check(&row(k as f64, [0.0; 2], 0.0, 0.5 * k as f64));
+        }
+        let mut s = empty_summary();
+        p.finish(&mut s, &[]);
+        assert_eq!((s.events[0].t_s, s.events[0].kind.as_str()), (5.0, "path_exit"));
+        assert!(s.implausible[0].contains("4.50 m"), "{:?}", s.implausible);
+
+        let p = Plausibility::new(linear(true), ENV, Some(2.0));
+        let mut s = empty_summary();
+        s.end_reason = "left_path".into();
+        p.finish(&mut s, &[]);
+        assert!(!s.plausible && s.implausible[0].starts_with("left the path"), "{:?}", s.implausible);
+
+        let mut p = Plausibility::new(linear(true), ENV, None);
+        for k in 0..1000 {
+            p.check(&row(k as f64, [0.0; 2], if k % 2 == 0 { 2.0 } else { 0.0 }, 99.0));
+        }
+        let mut s = empty_summary();
+        p.finish(&mut s, &[]);
+        assert_eq!(s.events.len(), 2 * MAX_ONSETS as usize, "no path check without a tolerance, capped onsets");
+    }
+
+    #[test]
+    fn tolerances() {
+        assert_eq!(circle_tolerance_m(0.5), 1.0);
+        assert_eq!(circle_tolerance_m(40.0), 2.0);
+        assert_eq!(circle_tolerance_m(100.0), 5.0);
+    }
+}
