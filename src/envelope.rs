@@ -293,10 +293,12 @@ pub fn load(path: &Path) -> Result<Envelope> {
     }
     // Check every job's spec now (at the lowest search speed), so bad input stops before any run.
     for (i, j) in jobs.iter().enumerate() {
-        let what = if j.label.is_empty() {
-            format!("sweep combination {} ({})", i + 1, describe(&keys, &j.params))
-        } else {
+        let what = if !j.label.is_empty() {
             format!("reference '{}'", j.label)
+        } else if keys.is_empty() {
+            "the spec".to_string()
+        } else {
+            format!("sweep combination {} ({})", i + 1, describe(&keys, &j.params))
         };
         job_config(path, j, search.map(|s| s.min_mps))
             .map_err(|e| Error::input(path, format!("{what}: {}", strip_file(path, &e.to_string()))))?;
@@ -402,7 +404,9 @@ fn csv_field(s: &str) -> String {
 /// Column names of the value and its bracket for `kind`.
 pub fn value_columns(kind: Kind) -> [&'static str; 3] {
     match kind {
-        Kind::Speed => ["highest_passing_speed_mps", "lowest_failing_speed_above_mps", "lowest_failing_speed_below_mps"],
+        Kind::Speed => {
+            ["highest_passing_speed_mps", "lowest_failing_speed_above_mps", "lowest_failing_speed_below_mps"]
+        }
         Kind::LateralAcceleration => {
             ["highest_steady_ay_mps2", "next_step_nominal_ay_mps2", "unsteady_step_below_nominal_ay_mps2"]
         }

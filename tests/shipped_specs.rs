@@ -47,6 +47,13 @@ fn every_shipped_maneuver_spec_validates() {
         if !table.contains_key("maneuver") {
             continue; // a spec of another command (tyre curves, ATIIM scenarios)
         }
+        if table.contains_key("envelope") {
+            // A `vehsim envelope` spec: its loader checks every combination and reference.
+            let e = vehsim::envelope::load(&f);
+            assert!(e.is_ok(), "{}: {}", f.display(), e.unwrap_err());
+            n += 1;
+            continue;
+        }
         let b = vehsim::batch::load(&f);
         assert!(b.is_ok(), "{}: {}", f.display(), b.unwrap_err());
         assert!(b.unwrap().runs.iter().all(|r| r.config.is_ok()), "{}: an invalid sweep combination", f.display());
