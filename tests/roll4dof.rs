@@ -142,7 +142,7 @@ fn steady_roll_and_lateral_transfer_match_closed_forms() {
     let raw = Raw::of(&vehicle_path(&cfg));
     let ss = &out.steady_states;
     assert_eq!(ss.len(), 1);
-    let s = ss[0];
+    let s = ss[0].clone();
     assert!((s.ay_mps2 - 1.6).abs() < 0.05, "a_y = {} (8^2 / 40 = 1.6)", s.ay_mps2);
     let phi = raw.roll(s.ay_mps2);
     let err = (s.roll_rad - phi).abs() / phi;
