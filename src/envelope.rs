@@ -12,7 +12,9 @@
 //!   step.
 //! - Constant radius: one stepped run; the highest mean |a_y| (m/s^2) over the steady windows
 //!   ([`crate::maneuver::steady_state`]) and, as the bracket's upper end, the nominal v^2 / R of the
-//!   first step that was not steady (or not reached): the resolution is the spec's a_y step.
+//!   first step that was not steady (or not reached): the resolution is the spec's a_y step. Its
+//!   `plausible` is false only when a tyre force or a_y passed the friction bound (leaving the
+//!   circle and unsteady steps above the limit are how such a run ends).
 //!
 //! Each combination is searched on one thread; the combinations run on a pool of `--jobs` threads
 //! and are written in sweep order, so the output is the same whatever the thread count.
@@ -141,13 +143,19 @@ pub fn search_speed(s: &SpeedSearch, mut trial: impl FnMut(f64) -> Result<Trial>
     Ok(out)
 }
 
+/// Onset events of the friction checks ([`crate::sim::plausibility`]).
+const FRICTION_EVENTS: [&str; 2] = ["tyre_force_beyond_friction", "ay_beyond_friction"];
+
 /// The steady lateral-acceleration limit of one constant-radius run.
 fn steady_limit(cfg: &RunConfig) -> Limit {
     let out = run::execute(cfg);
     let ManeuverConfig::ConstantRadius(p) = &cfg.maneuver else { return Limit::default() };
     let nominal: Vec<f64> = p.step_speeds_mps.iter().map(|v| v * v / p.radius_m).collect();
     let steady_at = |step: usize| out.steady_states.iter().any(|s| s.step == step && s.steady);
-    let mut limit = Limit { runs: 1, plausible: Some(out.summary.plausible), ..Limit::default() };
+    // The run ends by leaving the circle or with unsteady steps by design; what makes its limit
+    // implausible is a tyre force or a_y beyond friction.
+    let beyond = out.summary.events.iter().any(|e| FRICTION_EVENTS.contains(&e.kind.as_str()));
+    let mut limit = Limit { runs: 1, plausible: Some(!beyond), ..Limit::default() };
     limit.value = out.steady_states.iter().filter(|s| s.steady).map(|s| s.ay_mps2.abs()).reduce(f64::max);
     let top_step = out.steady_states.iter().filter(|s| s.steady).map(|s| s.step).max().unwrap_or(0);
     limit.fail_above = (top_step + 1..=nominal.len()).find(|&k| !steady_at(k)).map(|k| nominal[k - 1]);

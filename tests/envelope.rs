@@ -160,4 +160,7 @@ preview_time_s = 0.5
     // mu 0.15: no steady a_y above the friction the tyre realises, and not every step was steady.
     assert!(best > 0.9 && best < 0.19 * 9.81, "{best}");
     assert_eq!(f[4], "1");
+    // The run ends by leaving the circle, yet no tyre force passed its bound: plausible.
+    assert_eq!(out.summary.end_reason, "left_path");
+    assert_eq!(f[5], "true");
 }
