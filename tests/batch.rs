@@ -191,28 +191,28 @@ fn compare_accepts_identical_and_detects_a_perturbed_trajectory() {
 }
 
 /// A run that spins out is marked `failed` with its event while the other runs of the batch
-/// finish: at 8 m/s on mu 0.15 a 40 m circle needs more than mu g, a 100 m circle does not.
+/// finish: a 15 m/s sine steer on mu 0.15 ice, rear drive, 4-DOF, ATIIM-Pacejka: 0.5 degrees of
+/// steer stays within friction, 2 degrees spins the car. (A constant-radius run that is too fast
+/// for its circle now ends earlier, leaving the circle: see tests/plausibility.rs.)
 #[test]
 fn a_spin_out_is_a_failed_run_and_the_batch_goes_on() {
     let dir = common::temp_dir("spinout");
-    let src = common::root().join("maneuvers/dissertation/constant_radius_8mps_pacejka_vs_atiim.toml");
-    let spec = std::fs::read_to_string(&src)
-        .unwrap()
-        .replace("../../vehicles/", &format!("{}/vehicles/", common::root().display()))
-        .replace(
-            "tyre_model = [\"pacejka\", \"atiim_pacejka\"]",
-            "tyre_model = [\"atiim_pacejka\"]\n\"maneuver.radius_m\" = [100.0, 40.0]",
-        );
+    let spec = format!(
+        "name = \"spin\"\nvehicle = \"{}/vehicles/sedan_rwd.toml\"\ntyre_model = \"atiim_pacejka\"\n\
+         vehicle_model = \"roll4dof\"\nduration_s = 12.0\n[surface]\nmu = 0.15\n[maneuver]\nkind = \"sine_steer\"\n\
+         speed_mps = 15.0\nsteer_amplitude_deg = 1.0\nperiod_s = 4.0\n[contact]\nmodel = \"atiim\"\n[sweep]\n\
+         \"maneuver.steer_amplitude_deg\" = [0.5, 2.0]\n",
+        common::root().display()
+    );
     std::fs::write(dir.join("cr.toml"), spec).unwrap();
     let (code, out, err) = vehsim(&dir, &["run", "--quiet", "cr.toml"]);
     assert_eq!(code, 1, "{out}{err}");
-    let csv = String::from_utf8(read(&dir.join("results/dissertation_constant_radius_8mps/summary.csv"))).unwrap();
+    let csv = String::from_utf8(read(&dir.join("results/spin/summary.csv"))).unwrap();
     let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
     assert_eq!((rows[0][1], rows[1][1]), ("ok", "failed"), "{csv}");
     assert!(rows[1].contains(&"spin_out"), "{csv}");
     let json: serde_json::Value =
-        serde_json::from_slice(&read(&dir.join("results/dissertation_constant_radius_8mps/run_0001/summary.json")))
-            .unwrap();
+        serde_json::from_slice(&read(&dir.join("results/spin/run_0001/summary.json"))).unwrap();
     assert!(json["events"].as_array().unwrap().iter().any(|e| e["kind"] == "spin_out"));
 }
 

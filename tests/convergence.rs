@@ -72,16 +72,6 @@ fn is_dugoff(tyre: TyreModelKind) -> bool {
 }
 
 /// The smooth regime of a provider (see the module docs).
-/// The shipped SRTT file's `mu_scale` of a Dugoff provider: 1.0 for `[dugoff]`, 1.1 for
-/// `[dugoff_thermal]`.
-fn mu_scale(tyre: TyreModelKind) -> f64 {
-    if tyre == TyreModelKind::Dugoff {
-        1.0
-    } else {
-        1.1
-    }
-}
-
 fn smooth_config(tyre: TyreModelKind, model: &str) -> RunConfig {
     config(tyre, model, is_dugoff(tyre).then_some(DUGOFF_AMPLITUDE_DEG))
 }
@@ -128,8 +118,8 @@ fn noise_floor(r12: &RunOutput, r13: &RunOutput) -> f64 {
 /// How far above the noise floor an error must be for its halving to count.
 const ABOVE_FLOOR: f64 = 30.0;
 
-/// Largest friction use |F| / (mu_tyre Fz) per axle over a run (axle sums; mu_tyre = mu_scale mu,
-/// see [`mu_scale`]).
+/// Largest friction use |F| / (mu_tyre Fz) per axle over a run (axle sums; mu_tyre = mu, the
+/// Dugoff sections' `mu_scale` being 1).
 fn friction_use(out: &RunOutput, mu_tyre: f64) -> f64 {
     let mut worst = 0.0_f64;
     for r in &out.rows {
@@ -186,7 +176,7 @@ fn rk4_step_halving_is_fourth_order_for_every_model_and_provider() {
                     .push(format!("{model}/{}: only {asserted} halvings above the floor {floor:.1e}", tyre.as_str()));
             }
             if is_dugoff(tyre) {
-                let u = friction_use(&r12, mu_scale(tyre) * base.env.mu);
+                let u = friction_use(&r12, base.env.mu);
                 if u >= 0.45 {
                     failures.push(format!("{model}/{}: friction use {u:.3} reaches the z = 1 switch", tyre.as_str()));
                 }
@@ -214,7 +204,7 @@ fn rk4_step_halving_is_fourth_order_for_every_model_and_provider() {
                 "-",
                 fmt_all(&errs, |e| format!("{e:.2e}")),
                 fmt_all(&orders, |p| format!("{p:.2}")),
-                friction_use(&r12, mu_scale(tyre) * base.env.mu)
+                friction_use(&r12, base.env.mu)
             );
         }
     }
