@@ -182,11 +182,11 @@ pub fn judge(q: &mut SteadyState, t_last: f64, path_tol_m: Option<f64>) {
         why.push(format!("the run ended at t = {t_last:.2} s, before the window's end at {:.2} s", q.t1_s));
     }
     let v_tol = SPEED_TOL_MPS.max(SPEED_TOL_FRACTION * q.speed_target_mps.abs());
-    if !(q.max_speed_error_mps <= v_tol) {
+    if q.max_speed_error_mps.is_nan() || q.max_speed_error_mps > v_tol {
         why.push(format!("speed off its target by up to {:.2} m/s (allowed {v_tol:.2})", q.max_speed_error_mps));
     }
     let ay_tol = AY_RANGE_TOL_MPS2.max(AY_RANGE_TOL_FRACTION * q.nominal_ay_mps2.abs());
-    if !(q.ay_range_mps2 <= ay_tol) {
+    if q.ay_range_mps2.is_nan() || q.ay_range_mps2 > ay_tol {
         why.push(format!("a_y varies by {:.2} m/s^2 (allowed {ay_tol:.2})", q.ay_range_mps2));
     }
     if let Some(tol) = path_tol_m {

@@ -124,7 +124,7 @@ impl Plausibility {
         let mut bound = 0.0;
         let mut load = 0.0;
         for &fz in &o.fz_n[2 * axle..2 * axle + 2] {
-            if !(fz > 0.0) {
+            if fz.is_nan() || fz <= 0.0 {
                 continue;
             }
             let input = TyreInput {
