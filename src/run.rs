@@ -153,7 +153,9 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     } else {
         match steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m()) {
             Ok(g) => (Some(g), None),
-            Err(e) => (None, Some(e)),
+            Err(e) => {
+                (None, Some(format!("{e} ({} of {} steps reached their window)", steady_states.len(), windows.len())))
+            }
         }
     };
     let mut rows = recorder.rows;
