@@ -1,6 +1,6 @@
 //! Tyre-force providers behind one trait.
 //!
-//! Conventions (ISO 8855, wheel axes; DESIGN.md §4):
+//! Conventions (ISO 8855, wheel axes):
 //! - x along the wheel heading, y to the left, z up. Forces act on the tyre from the road.
 //! - Slip ratio `kappa = (omega R_e - V_x) / |V_x|`: positive when driving, -1 at a locked wheel.
 //! - Slip angle `alpha = -atan(V_y / |V_x|)` with V_y the lateral velocity of the wheel centre in
@@ -12,7 +12,7 @@
 //!
 //! Providers (selected by [`TyreModelKind`]): [`linear`], [`polynomial`] (brush), [`pacejka`]
 //! (MF 5.2 / PAC2002, `.tir` files via [`tir`]), [`dugoff`] (plain and thermal), [`atiim`]
-//! (ATIIM-modified Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
+//! (the ATIIM modifier on top of the Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
 //! [`sweep`] is the `vehsim tyre` command. Equations and conventions: docs/tyres.md.
 //!
 //! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and

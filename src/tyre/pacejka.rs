@@ -201,6 +201,26 @@ pub enum Combination {
     Ellipse,
 }
 
+/// Multipliers a modifier applies on top of the coefficients (the ATIIM temperature law of
+/// [`super::atiim`]): peak friction (multiplies LMUX', LMUY') and slip stiffness (multiplies LKX',
+/// LKY'), dimensionless. [`Scale::ONE`] is the plain Magic Formula, bit for bit (x * 1.0 == x).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scale {
+    /// Factor on the longitudinal peak friction (LMUX').
+    pub mu_x: f64,
+    /// Factor on the longitudinal slip stiffness (LKX').
+    pub k_x: f64,
+    /// Factor on the lateral peak friction (LMUY').
+    pub mu_y: f64,
+    /// Factor on the cornering stiffness (LKY').
+    pub k_y: f64,
+}
+
+impl Scale {
+    /// No modification.
+    pub const ONE: Scale = Scale { mu_x: 1.0, k_x: 1.0, mu_y: 1.0, k_y: 1.0 };
+}
+
 /// A built Magic Formula tyre with per-file constants precomputed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PacejkaTyre {
@@ -275,12 +295,12 @@ impl PacejkaTyre {
         self.fz0p
     }
 
-    fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64) -> Pure {
+    fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64, m: &Scale) -> Pure {
         let c = &self.coeffs;
         let dfz = (fz - self.fz0p) / self.fz0p;
         let r = mu_surface / self.mu_reference;
-        let lmux = c.lmux * r;
-        let lmuy = c.lmuy * r;
+        let lmux = c.lmux * r * m.mu_x;
+        let lmuy = c.lmuy * r * m.mu_y;
         let rk = if self.stiffness_mu_exponent == 0.0 {
             1.0
         } else if self.stiffness_mu_exponent == 0.5 {
@@ -296,7 +316,7 @@ impl PacejkaTyre {
         let dx = (c.pdx1 + c.pdx2 * dfz) * (1.0 - c.pdx3 * gx * gx) * lmux * fz;
         let ex0 = (c.pex1 + c.pex2 * dfz + c.pex3 * dfz * dfz) * c.lex;
         let kexp = if c.pkx3 == 0.0 { 1.0 } else { (c.pkx3 * dfz).exp() };
-        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk;
+        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk * m.k_x;
         let bx = safe_div(kx, cx * dx);
         let svx = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx * lmux;
 
@@ -308,7 +328,7 @@ impl PacejkaTyre {
         let ey_asym = c.pey3 + c.pey4 * gy;
         // sin(2 atan(x)) = 2x / (1 + x^2).
         let xk = safe_div(fz, c.pky2 * self.fz0p);
-        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk;
+        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk * m.k_y;
         let by = safe_div(ky, cy * dy);
         let svy = fz * ((c.pvy1 + c.pvy2 * dfz) * c.lvy + (c.pvy3 + c.pvy4 * dfz) * gy) * lmuy;
         Pure { dfz, lmuy, gy, shx, cx, dx, ex0, bx, kx, svx, shy, cy, dy, ey0, ey_asym, by, ky, svy, muy }
@@ -347,10 +367,11 @@ impl PacejkaTyre {
 
     /// (Fx, Fy, bound on |F|) in file axes at file slip angle `a` and camber `g`.
     /// With `want_bound` false the returned bound is 0 (it is only needed by `peak_friction`).
-    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, want_bound: bool) -> (f64, f64, f64, f64) {
+    #[allow(clippy::too_many_arguments)]
+    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, m: &Scale, want_bound: bool) -> (f64, f64, f64, f64) {
         let want_mz = !want_bound;
         let c = &self.coeffs;
-        let p = self.pure(fz, mu, g);
+        let p = self.pure(fz, mu, g, m);
         let (fx, fy, bound);
         match self.combination {
             Combination::MagicFormula => {
@@ -460,18 +481,55 @@ fn inactive(i: &TyreInput) -> bool {
     !positive(i.fz_n) || !positive(i.mu_surface) || !i.fz_n.is_finite()
 }
 
+impl PacejkaTyre {
+    /// Forces with the modifier `m` applied (see [`Scale`]).
+    pub fn forces_scaled(&self, i: &TyreInput, m: &Scale) -> TyreForces {
+        if inactive(i) {
+            return TyreForces::default();
+        }
+        let (a, g) = self.file_angles(i);
+        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, false);
+        TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
+    }
+
+    /// [`TyreModel::peak_friction`] with the modifier `m` applied.
+    pub fn peak_friction_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (a, g) = self.file_angles(i);
+        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, true);
+        bound / i.fz_n
+    }
+
+    /// [`TyreModel::longitudinal_stiffness`] with the modifier `m` applied.
+    pub fn longitudinal_stiffness_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g, m);
+        mf_sin_slope(p.bx, p.cx, p.dx, self.ex(&p, p.shx), p.shx)
+    }
+
+    /// [`TyreModel::cornering_stiffness`] with the modifier `m` applied.
+    pub fn cornering_stiffness_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g, m);
+        self.sign_iso * mf_sin_slope(p.by, p.cy, p.dy, Self::ey(&p, p.shy), p.shy)
+    }
+}
+
 impl TyreModel for PacejkaTyre {
     fn name(&self) -> &'static str {
         "pacejka"
     }
 
     fn forces(&self, i: &TyreInput) -> TyreForces {
-        if inactive(i) {
-            return TyreForces::default();
-        }
-        let (a, g) = self.file_angles(i);
-        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, false);
-        TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
+        self.forces_scaled(i, &Scale::ONE)
     }
 
     /// A guaranteed bound on |F|/Fz at this input. With the MF combined-slip functions it is
@@ -480,31 +538,16 @@ impl TyreModel for PacejkaTyre {
     /// combined force can exceed max(Dx, Dy) (by up to ~40 % in the worst direction). With the
     /// ellipse fallback the bound is max(|Dx|, |Dy|)/Fz plus the vertical shifts.
     fn peak_friction(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (a, g) = self.file_angles(i);
-        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, true);
-        bound / i.fz_n
+        self.peak_friction_scaled(i, &Scale::ONE)
     }
 
     /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (_, g) = self.file_angles(i);
-        let p = self.pure(i.fz_n, i.mu_surface, g);
-        mf_sin_slope(p.bx, p.cx, p.dx, self.ex(&p, p.shx), p.shx)
+        self.longitudinal_stiffness_scaled(i, &Scale::ONE)
     }
 
     /// dFy/dalpha (vehsim alpha) at kappa = 0, alpha = 0.
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (_, g) = self.file_angles(i);
-        let p = self.pure(i.fz_n, i.mu_surface, g);
-        self.sign_iso * mf_sin_slope(p.by, p.cy, p.dy, Self::ey(&p, p.shy), p.shy)
+        self.cornering_stiffness_scaled(i, &Scale::ONE)
     }
 }

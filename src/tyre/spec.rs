@@ -26,7 +26,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::atiim::{AtiimAxis, AtiimPacejkaTyre, KShift};
+use super::atiim::{AtiimPacejkaTyre, AxisLaw, KShift, MeltLaw};
 use super::dugoff::{DugoffThermalTyre, DugoffTyre, ThermalFactor};
 use super::pacejka::{Combination, MfCoefficients, PacejkaTyre};
 use super::polynomial::{PolyShape, PolynomialTyre};
@@ -218,44 +218,37 @@ fn h_mu() -> f64 {
     0.75
 }
 
-/// One axis of `[atiim_pacejka]`.
+/// One axis of `[atiim_pacejka]`: the temperature factors at melting.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AtiimAxisSection {
-    /// Shape factor C, in (1, 2).
-    pub c: f64,
-    /// Curvature factor E, <= 1.
-    pub e: f64,
-    /// Peak friction coefficient at mu_reference and Delta-T = 0.
-    pub mu: f64,
-    /// K0/Fz, per unit slip (longitudinal) or per rad (lateral).
-    pub k_per_fz: f64,
-    /// dmu/dT, 1/K.
-    pub dmu_dt_per_k: f64,
-    /// dC_p/dT, 1/K.
-    pub dc_dt_per_k: f64,
+    /// Peak friction with the contact at melting over that at the ice temperature, in
+    /// [min_factor, 1].
+    pub peak_factor_at_melt: f64,
+    /// Slip stiffness factor at melting, in [min_factor, 1]; default 1 (stiffness unchanged).
+    #[serde(default = "one")]
+    pub stiffness_factor_at_melt: f64,
 }
 
-/// Raw `[atiim_pacejka]` section (see [`AtiimPacejkaTyre`]).
+/// Raw `[atiim_pacejka]` section (see [`AtiimPacejkaTyre`]). The base curve is the file's
+/// `[pacejka]` section.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AtiimSection {
-    /// Friction of the surface the coefficients belong to.
-    pub mu_reference: f64,
     /// `"srtt"`, `"all_season"`, `"directional"`, `"average"`, `"none"` or `"quadratic"`.
     pub k_shift: String,
-    /// a of the user quadratic a dT^2 + b, 1/K^2 (only with `k_shift = "quadratic"`).
+    /// a of the user quadratic a dT^2 + b, 1/K^2, >= 0 (only with `k_shift = "quadratic"`).
     #[serde(default)]
     pub k_shift_a: Option<f64>,
-    /// b of the user quadratic (only with `k_shift = "quadratic"`).
+    /// b of the user quadratic, >= 0 (only with `k_shift = "quadratic"`).
     #[serde(default)]
     pub k_shift_b: Option<f64>,
     /// Floor of the temperature factors, in (0, 1]; default 0.1.
     #[serde(default = "min_factor")]
     pub min_factor: f64,
-    /// Longitudinal coefficients.
+    /// Longitudinal factors at melting.
     pub longitudinal: AtiimAxisSection,
-    /// Lateral coefficients.
+    /// Lateral factors at melting.
     pub lateral: AtiimAxisSection,
 }
 
@@ -374,7 +367,11 @@ impl TyreFileSpec {
             }
             TyreModelKind::Dugoff => Arc::new(self.build_dugoff(path)?),
             TyreModelKind::DugoffThermal => Arc::new(self.build_dugoff_thermal(path)?),
-            TyreModelKind::AtiimPacejka => Arc::new(self.build_atiim(path)?),
+            TyreModelKind::AtiimPacejka => {
+                let (t, w) = self.build_atiim(path)?;
+                warnings.extend(w);
+                Arc::new(t)
+            }
         };
         let tyre = Tyre {
             name: self.name.clone(),
@@ -481,10 +478,10 @@ impl TyreFileSpec {
         Ok(DugoffThermalTyre { base, h: ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient } })
     }
 
-    fn build_atiim(&self, path: &Path) -> Result<AtiimPacejkaTyre> {
+    /// Build the ATIIM-modified Magic Formula: the `[pacejka]` base and the temperature law.
+    fn build_atiim(&self, path: &Path) -> Result<(AtiimPacejkaTyre, Vec<String>)> {
         let s = self.atiim_pacejka.as_ref().ok_or_else(|| missing(path, "atiim_pacejka"))?;
         let c = Checker::new(path);
-        c.positive("atiim_pacejka.mu_reference", s.mu_reference)?;
         c.require(
             "atiim_pacejka.min_factor",
             s.min_factor,
@@ -505,8 +502,14 @@ impl TyreFileSpec {
                         "k_shift = \"quadratic\" needs k_shift_a and k_shift_b",
                     ));
                 };
-                c.finite("atiim_pacejka.k_shift_a", a)?;
-                c.finite("atiim_pacejka.k_shift_b", b)?;
+                c.range("atiim_pacejka.k_shift_a", a, 0.0, 1e3)?;
+                c.range("atiim_pacejka.k_shift_b", b, 0.0, 1e3)?;
+                c.require(
+                    "atiim_pacejka.k_shift_b",
+                    b,
+                    a + b > 0.0,
+                    "expected k_shift_a + k_shift_b > 0 (the shift must grow with the rise)",
+                )?;
                 KShift::Quadratic { a, b }
             }
             other => {
@@ -526,30 +529,29 @@ impl TyreFileSpec {
                 "k_shift_a/k_shift_b are only used with k_shift = \"quadratic\"",
             ));
         }
-        let axis = |name: &str, a: &AtiimAxisSection| -> Result<AtiimAxis> {
-            let k = |f: &str| format!("atiim_pacejka.{name}.{f}");
-            c.require(&k("c"), a.c, a.c > 1.0 && a.c < 2.0, "expected 1 < c < 2 (a curve with a peak)")?;
-            c.require(&k("e"), a.e, a.e <= 1.0, "expected e <= 1")?;
-            c.range(&k("mu"), a.mu, 1e-3, 5.0)?;
-            c.positive(&k("k_per_fz"), a.k_per_fz)?;
-            c.range(&k("dmu_dt_per_k"), a.dmu_dt_per_k, -1.0, 1.0)?;
-            c.range(&k("dc_dt_per_k"), a.dc_dt_per_k, -1.0, 1.0)?;
-            Ok(AtiimAxis {
-                c: a.c,
-                e: a.e,
-                mu: a.mu,
-                k_per_fz: a.k_per_fz,
-                dmu_dt_per_k: a.dmu_dt_per_k,
-                dc_dt_per_k: a.dc_dt_per_k,
-            })
+        let floor = s.min_factor;
+        let axis = |name: &str, a: &AtiimAxisSection| -> Result<AxisLaw> {
+            let allowed = format!("expected min_factor ({floor}) <= value <= 1");
+            for (key, v) in [("peak_factor_at_melt", a.peak_factor_at_melt), ("stiffness_factor_at_melt", a.stiffness_factor_at_melt)] {
+                c.require(&format!("atiim_pacejka.{name}.{key}"), v, v >= floor && v <= 1.0, &allowed)?;
+            }
+            Ok(AxisLaw { peak_at_melt: a.peak_factor_at_melt, stiffness_at_melt: a.stiffness_factor_at_melt })
         };
-        Ok(AtiimPacejkaTyre {
+        let law = MeltLaw {
+            k_shift,
             x: axis("longitudinal", &s.longitudinal)?,
             y: axis("lateral", &s.lateral)?,
-            mu_reference: s.mu_reference,
-            k_shift,
-            min_factor: s.min_factor,
-        })
+            floor,
+        };
+        if self.pacejka.is_none() {
+            return Err(Error::key(
+                path,
+                "atiim_pacejka",
+                "the ATIIM-modified Magic Formula needs a base curve: add a [pacejka] section (tir_file or coefficients)",
+            ));
+        }
+        let (base, warnings) = self.build_pacejka(path)?;
+        Ok((AtiimPacejkaTyre { base, law }, warnings))
     }
 
     /// Build the Magic Formula provider of the `[pacejka]` section, with reader warnings.
