@@ -264,21 +264,36 @@ fn k_shift_families_are_the_published_quadratics() {
 
 // -------------------------------------------------------------------------------- Dugoff thermal
 
-/// H(S = 0) = 1.27 (eq. 5.6): at small slip the thermal model is 1.27 times the plain Dugoff force
-/// whatever the rise; at S = 0.5 (kappa = 1) H = 1.27 - (dT - 0.75 mu)/4.
+/// H as applied is clamp(H_published, 0, 1), H_published = (dT - 0.75 mu) S^2 - (dT - 0.75 mu) S
+/// + 1.27 (eq. 5.6): 1 at small slip whatever the rise (1.27 clamped); at S = 0.5 (kappa = 1)
+/// 1.27 - (dT - 0.75 mu)/4 when that lies in [0, 1] and 0 where it is negative (dT = 8 K: the
+/// published factor would reverse Fx); Fy untouched. A reversal is noted once, then forgotten.
 #[test]
-fn dugoff_thermal_factor_is_the_published_h() {
+fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
     let plain = srtt(TyreModelKind::Dugoff);
     let th = srtt(TyreModelKind::DugoffThermal);
     let mu = 0.15 * 1.1; // mu_scale 1.1 in the SRTT file
-    for dt in [0.0, 2.0, 5.0] {
+    for dt in [0.0, 2.0, 5.0, 8.0] {
         let i = heated(4000.0, 1e-7, 0.0, dt);
-        assert!(rel(th.forces(&i).fx_n / plain.forces(&i).fx_n, 1.27) < 1e-5);
+        assert!(rel(th.forces(&i).fx_n / plain.forces(&i).fx_n, 1.0) < 1e-12);
         let i = heated(4000.0, 1.0, 0.0, dt);
-        let h = 1.27 - (dt - 0.75 * mu) / 4.0;
-        assert!(rel(th.forces(&i).fx_n / plain.forces(&i).fx_n, h) < 1e-12, "H at S = 0.5, dT = {dt}");
+        let published = 1.27 - (dt - 0.75 * mu) / 4.0;
+        let ratio = th.forces(&i).fx_n / plain.forces(&i).fx_n;
+        let want = published.clamp(0.0, 1.0);
+        assert!((ratio - want).abs() < 1e-12, "H at S = 0.5, dT = {dt}: {ratio} vs {want} (published {published})");
         assert_eq!(th.forces(&i).fy_n, plain.forces(&i).fy_n);
+        assert!(th.forces(&i).fx_n.hypot(th.forces(&i).fy_n) <= th.peak_friction(&i) * 4000.0 * (1.0 + 1e-12));
+        let notes = th.take_run_notes();
+        if published < 0.0 {
+            assert_eq!(notes.len(), 1, "{notes:?}");
+            assert_eq!(notes[0].0, "thermal_factor_clamped");
+            assert!(notes[0].1.contains("reverse"), "{notes:?}");
+            assert!(th.take_run_notes().is_empty(), "reported once");
+        } else {
+            assert!(notes.is_empty(), "dT = {dt}: {notes:?}");
+        }
     }
+    assert_eq!(th.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)), plain.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)));
 }
 
 // --------------------------------------------------------------------------------------- bad input

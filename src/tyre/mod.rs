@@ -107,4 +107,12 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
 
     /// dFy/dalpha at zero slip for this input's load and conditions, N/rad.
     fn cornering_stiffness(&self, input: &TyreInput) -> f64;
+
+    /// What the provider noticed since the last call, as (event kind, detail) pairs, and forget it.
+    /// The run calls it once before and once after simulating, so each note is reported once per
+    /// run (thermal Dugoff: a force the published H would reverse). The notes do not change any
+    /// force. Default: nothing.
+    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
 }

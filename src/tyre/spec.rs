@@ -475,7 +475,7 @@ impl TyreFileSpec {
         let c = Checker::new(path);
         c.positive("dugoff_thermal.h_offset", s.h_offset)?;
         c.finite("dugoff_thermal.h_mu_coefficient", s.h_mu_coefficient)?;
-        Ok(DugoffThermalTyre { base, h: ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient } })
+        Ok(DugoffThermalTyre::new(base, ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient }))
     }
 
     /// Build the ATIIM-modified Magic Formula: the `[pacejka]` base and the temperature law.
