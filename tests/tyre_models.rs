@@ -91,7 +91,9 @@ fn pacejka_peak_equals_d_at_the_closed_form_slip() {
 
 /// Public PAC2002 file (Project Chrono's sedan tyre, ../shared/data/tir) against values computed
 /// independently by tests/data/pac2002_reference.py (pure-slip PAC2002 equations typed from the
-/// book; ISO file, so vehsim alpha = -alpha_file). mu_surface = mu_reference = 1.
+/// book; ISO file, so vehsim alpha = -alpha_file). mu_surface = mu_reference = 1. The file has no
+/// combined-slip coefficients: PAC2002 reads them as 0, so Gxa = Gyk = 1 and the combined rows are
+/// the pure-slip values of the same evaluator (with a warning naming the absent coefficients).
 #[test]
 fn public_pac2002_file_matches_independent_values() {
     if !Path::new(SHARED_TIR).exists() {
@@ -100,7 +102,10 @@ fn public_pac2002_file_matches_independent_values() {
     }
     let toml = format!("{HEADER}[pacejka]\ntir_file = \"{SHARED_TIR}\"\n");
     let (m, warnings) = build_text("public", &toml, None, TyreModelKind::Pacejka).unwrap();
-    assert!(warnings.iter().any(|w| w.contains("RBX1")), "expected the ellipse-fallback warning: {warnings:?}");
+    assert!(
+        warnings.iter().any(|w| w.contains("RBX1") && w.contains("RCY1") && w.contains("PAC2002")),
+        "expected the absent-R-coefficients warning: {warnings:?}"
+    );
     #[rustfmt::skip]
     let fx = [
         (2000.0, 0.02, 805.9178926478817), (2000.0, 0.1, 2343.0656343750575), (2000.0, -0.1, -2329.597376215266),
@@ -121,10 +126,14 @@ fn public_pac2002_file_matches_independent_values() {
         let got = m.forces(&TyreInput::new(fz, 0.0, a, 1.0)).fy_n;
         assert!(rel(got, want) < 1e-9, "Fy(Fz {fz}, alpha {a}) = {got}, expected {want}");
     }
+    for ((fz, k, wx), (_, a, wy)) in fx.iter().zip(fy.iter()) {
+        let got = m.forces(&TyreInput::new(*fz, *k, *a, 1.0));
+        assert!(rel(got.fx_n, *wx) < 1e-9 && rel(got.fy_n, *wy) < 1e-9, "combined {got:?} vs {wx}, {wy}");
+    }
 }
 
 /// The public file has shifts (so no zero force at zero slip and no symmetry), and no combined-slip
-/// coefficients (so the ellipse fallback): over the whole input box it must still be finite,
+/// coefficients (so no combined-slip interaction): over the whole input box it must still be finite,
 /// bounded by its declared peak friction, and free of jumps (step bound as in the property suite).
 #[test]
 fn public_pac2002_file_is_finite_bounded_and_continuous() {
@@ -195,6 +204,49 @@ fn own_tir_matches_independent_values() {
     assert!(rel(got, 719.8412440848938) < 1e-9, "ice Fx {got}");
     let got = m.forces(&TyreInput::new(4000.0, 0.0, 0.05, 0.15)).fy_n;
     assert!(rel(got, 594.5345358165815) < 1e-9, "ice Fy {got}");
+}
+
+/// Combined-slip Mz (MF 5.2 / PAC2002: trail and residual moment at the equivalent slip angles,
+/// Fy' = Fy - SVyk, the s Fx arm) of vehsim's SRTT .tir, with QDZ6 = 0.003, SSZ1 = 0.02 and
+/// SSZ2 = 0.03 set as overrides so that every term is non-zero, against
+/// tests/data/pac2002_reference.py (`mz_combined`) at 1e-9: pure and combined rows, driving and
+/// braking, both slip-angle signs, three loads.
+#[test]
+fn own_tir_combined_mz_matches_independent_values() {
+    let p = Path::new(SRTT);
+    let mut spec = TyreFileSpec::load(p).unwrap();
+    let pj = spec.pacejka.as_mut().unwrap();
+    pj.aligning_moment = true;
+    for (k, v) in [("QDZ6", 0.003), ("SSZ1", 0.02), ("SSZ2", 0.03)] {
+        pj.overrides.insert(k.to_string(), v);
+    }
+    let m = spec.build(p, TyreModelKind::Pacejka).unwrap().model;
+    #[rustfmt::skip]
+    let rows = [
+        (2000.0, 0.0, 0.05, -17.52407946842925),
+        (2000.0, 0.05, 0.05, 4.772007474011181),
+        (2000.0, 0.1, 0.0873, 17.791658771494255),
+        (2000.0, -0.1, 0.05, -23.694712368947812),
+        (2000.0, 0.02, -0.1, 14.1427501111913),
+        (2000.0, 0.3, 0.02, 19.200852828528753),
+        (4000.0, 0.0, 0.05, -64.29698259411175),
+        (4000.0, 0.05, 0.05, 0.1922399016916927),
+        (4000.0, 0.1, 0.0873, 41.48314475253437),
+        (4000.0, -0.1, 0.05, -60.13659606456797),
+        (4000.0, 0.02, -0.1, 48.198398303764776),
+        (4000.0, 0.3, 0.02, 40.19858297083778),
+        (8000.0, 0.0, 0.05, -171.07874031499378),
+        (8000.0, 0.05, 0.05, 8.40153788185836),
+        (8000.0, 0.1, 0.0873, 109.74138970358264),
+        (8000.0, -0.1, 0.05, -118.81250729983041),
+        (8000.0, 0.02, -0.1, 158.75503187267748),
+        (8000.0, 0.3, 0.02, 79.07277987316183),
+
+    ];
+    for (fz, kappa, alpha, mz) in rows {
+        let got = m.forces(&TyreInput::new(fz, kappa, alpha, 1.0)).mz_nm;
+        assert!(rel(got, mz) < 1e-9, "Mz at Fz {fz}, kappa {kappa}, alpha {alpha}: {got} vs {mz}");
+    }
 }
 
 /// Mz (opt-in): an aligning (restoring) moment, negative for a positive slip angle at small slip,

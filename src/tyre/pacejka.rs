@@ -1,4 +1,4 @@
-//! Magic Formula tyre (MF 5.2 / PAC2002 equations): pure and combined slip Fx, Fy and a simplified Mz.
+//! Magic Formula tyre (MF 5.2 / PAC2002 equations): pure and combined slip Fx, Fy and Mz.
 //!
 //! Equations: H. B. Pacejka, *Tyre and Vehicle Dynamics*, 2nd ed., section 4.3.2 (eq. 4.E1–4.E67),
 //! the PAC2002 set that `.tir` files with `PROPERTY_FILE_FORMAT = 'PAC2002'` or `'MF_05'` carry.
@@ -23,9 +23,7 @@
 //!           SVyk = mu_y Fz (RVY1 + RVY2 dfz + RVY3 gy) cos(atan(RVY4 alpha)) sin(RVY5 atan(RVY6 kappa)) LVYKA
 //! ```
 //!
-//! gx = camber LGAX, gy = camber LGAY. Mz is the pure-slip pneumatic trail and residual moment
-//! (eq. 4.E31–4.E49) applied to the combined Fy: Mz = -t(alpha) Fy + Mzr(alpha). The s Fx arm and
-//! the equivalent-slip arguments of the full combined Mz are left out (a documented simplification).
+//! gx = camber LGAX, gy = camber LGAY. Mz: see below.
 //!
 //! Surface friction: `LMUX' = LMUX mu_surface / mu_reference` (likewise LMUY'), so a coefficient set
 //! fitted on a road of friction `mu_reference` (1.0 for dry-road files) is scaled to the surface.
@@ -41,12 +39,20 @@
 //! PKY1 > 0 is taken to use vehsim's signs already and is evaluated unchanged. Kappa is positive when
 //! driving in both systems.
 //!
-//! Combined slip without R-coefficients. Files without RBX1/RBY1 (the public Sedan file has none)
-//! would give Gxa = Gyk = 1, a friction square. vehsim then combines with the normalised-slip
-//! friction ellipse of [`super::combine`] instead and says so in a warning: with reference slips
-//! kappa_r = Dx/Kx, alpha_r = Dy/|Ky|, weights w_x, w_y and equivalent slips kappa_eq, alpha_eq,
-//! Fx = Fx0(0) + w_x (Fx0(kappa_eq) - Fx0(0)) and likewise Fy, so pure slip is exact (including the
-//! shifts) and the zero-slip offsets Fx0(0), Fy0(0) keep the result continuous at the origin.
+//! Combined slip without R-coefficients. PAC2002 implementations read an absent coefficient as 0,
+//! so a file without RBX1/RCX1 (RBY1/RCY1) has Gxa = cos(0) = 1 (Gyk = 1): no interaction, each
+//! force keeps its pure-slip value (a friction square). vehsim does the same (the `auto` and
+//! `magic_formula` methods) and warns that the combined forces may exceed a friction ellipse. The
+//! normalised-slip friction ellipse of [`super::combine`] is only used when asked for
+//! (`combined = "ellipse"`): with reference slips kappa_r = Dx/Kx, alpha_r = Dy/|Ky|, weights w_x,
+//! w_y and equivalent slips kappa_eq, alpha_eq, Fx = Fx0(0) + w_x (Fx0(kappa_eq) - Fx0(0)) and
+//! likewise Fy, so pure slip is exact (including the shifts) and the zero-slip offsets Fx0(0),
+//! Fy0(0) keep the result continuous at the origin.
+//!
+//! Aligning moment (MF 5.2 / PAC2002 combined slip, eq. 4.E71–4.E78): Mz = -t Fy' + Mzr + s Fx with
+//! the trail and residual moment at the equivalent slip angles
+//! alpha_eq = atan(sqrt(tan^2 alpha + (Kx/Ky)^2 kappa^2)) sgn(alpha), Fy' = Fy - SVyk and
+//! s = R0 (SSZ1 + SSZ2 Fy/Fz0' + (SSZ3 + SSZ4 dfz) camber) LS.
 
 use std::f64::consts::FRAC_2_PI;
 
@@ -112,6 +118,7 @@ mf_coefficients! {
     lxal = "LXAL", Some(1.0), "Scale of the alpha influence on Fx.";
     lyka = "LYKA", Some(1.0), "Scale of the kappa influence on Fy.";
     lvyka = "LVYKA", Some(1.0), "Scale of the kappa-induced Fy.";
+    ls = "LS", Some(1.0), "Scale of the moment arm s of Fx in Mz.";
     pcx1 = "PCX1", None, "Shape factor Cx (1.4–1.8).";
     pdx1 = "PDX1", None, "Longitudinal friction at Fz0' (dry road 1.0–1.3).";
     pdx2 = "PDX2", Some(0.0), "Variation of mu_x with load (-0.2–0).";
@@ -145,6 +152,10 @@ mf_coefficients! {
     pvy2 = "PVY2", Some(0.0), "Variation of SVy/Fz with load.";
     pvy3 = "PVY3", Some(0.0), "Variation of SVy/Fz with camber.";
     pvy4 = "PVY4", Some(0.0), "Variation of SVy/Fz with camber and load.";
+    ssz1 = "SSZ1", Some(0.0), "Moment arm of Fx in Mz, s/R0, at Fz0'.";
+    ssz2 = "SSZ2", Some(0.0), "Variation of s/R0 with Fy/Fz0'.";
+    ssz3 = "SSZ3", Some(0.0), "Variation of s/R0 with camber.";
+    ssz4 = "SSZ4", Some(0.0), "Variation of s/R0 with camber and load.";
     qbz1 = "QBZ1", Some(0.0), "Trail slope Bt at Fz0'.";
     qbz2 = "QBZ2", Some(0.0), "Variation of Bt with load.";
     qbz3 = "QBZ3", Some(0.0), "Variation of Bt with load squared.";
@@ -170,7 +181,7 @@ mf_coefficients! {
     qhz2 = "QHZ2", Some(0.0), "Variation of the trail shift with load.";
     qhz3 = "QHZ3", Some(0.0), "Variation of the trail shift with camber.";
     qhz4 = "QHZ4", Some(0.0), "Variation of the trail shift with camber and load.";
-    rbx1 = "RBX1", Some(0.0), "Slope of Gxa (5–20); 0 with RBY1 = 0 selects the ellipse fallback.";
+    rbx1 = "RBX1", Some(0.0), "Slope of Gxa (5–20); absent = 0: Gxa = 1.";
     rbx2 = "RBX2", Some(0.0), "Variation of the Gxa slope with kappa.";
     rcx1 = "RCX1", Some(0.0), "Shape of Gxa (about 1).";
     rex1 = "REX1", Some(0.0), "Curvature of Gxa.";
@@ -270,8 +281,8 @@ struct Pure {
 }
 
 impl PacejkaTyre {
-    /// Build from validated coefficients. `combination` None picks the MF functions when RBX1 and
-    /// RBY1 are non-zero, else the ellipse.
+    /// Build from validated coefficients. `combination` None picks the MF functions (absent R
+    /// coefficients are 0, as PAC2002 implementations read them).
     pub fn new(
         coeffs: MfCoefficients,
         mu_reference: f64,
@@ -279,11 +290,7 @@ impl PacejkaTyre {
         combination: Option<Combination>,
         aligning_moment: bool,
     ) -> Self {
-        let combination = combination.unwrap_or(if coeffs.rbx1 != 0.0 && coeffs.rby1 != 0.0 {
-            Combination::MagicFormula
-        } else {
-            Combination::Ellipse
-        });
+        let combination = combination.unwrap_or(Combination::MagicFormula);
         let fz0p = coeffs.fnomin * coeffs.lfzo;
         let sign_iso = if coeffs.pky1 < 0.0 { -1.0 } else { 1.0 };
         let has_mz = aligning_moment && coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
@@ -372,7 +379,7 @@ impl PacejkaTyre {
         let want_mz = !want_bound;
         let c = &self.coeffs;
         let p = self.pure(fz, mu, g, m);
-        let (fx, fy, bound);
+        let (fx, fy, bound, fy_prime);
         match self.combination {
             Combination::MagicFormula => {
                 let kx = kappa + p.shx;
@@ -402,6 +409,7 @@ impl PacejkaTyre {
                 };
                 fx = gxa * fx0;
                 fy = gyk * fy0 + svyk;
+                fy_prime = fy - svyk;
                 bound = if want_bound {
                     let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
                     let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
@@ -421,6 +429,7 @@ impl PacejkaTyre {
                 let fye = Self::fy0_core(&p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
                 fx = fx00 + wx * (fxe - fx00);
                 fy = fy00 + wy * (fye - fy00);
+                fy_prime = fy;
                 bound = if want_bound {
                     p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
                 } else {
@@ -428,12 +437,17 @@ impl PacejkaTyre {
                 };
             }
         }
-        let mz = if want_mz && self.has_mz { self.mz(&p, fz, a, g, fy) } else { 0.0 };
+        let mz = if want_mz && self.has_mz { self.mz(&p, fz, kappa, a, g, (fy, fy_prime), fx) } else { 0.0 };
         (fx, fy, mz, bound)
     }
 
-    /// Simplified aligning moment in file axes: -t(alpha) Fy + Mzr(alpha).
-    fn mz(&self, p: &Pure, fz: f64, a: f64, g: f64, fy: f64) -> f64 {
+    /// Aligning moment in file axes (MF 5.2 / PAC2002 combined slip):
+    /// Mz = -t(alpha_t,eq) Fy' + Mzr(alpha_r,eq) + s Fx, with Fy' the combined Fy without the
+    /// kappa-induced SVyk, s = R0 (SSZ1 + SSZ2 Fy/Fz0' + (SSZ3 + SSZ4 dfz) camber) LS and the
+    /// equivalent slip angles of eq. 4.E77–4.E78. At kappa = 0 the
+    /// equivalent angles are the plain ones (taken as they are, so pure slip is bit-exact).
+    #[allow(clippy::too_many_arguments)]
+    fn mz(&self, p: &Pure, fz: f64, kappa: f64, a: f64, g: f64, (fy, fy_prime): (f64, f64), fx: f64) -> f64 {
         let c = &self.coeffs;
         let dfz = p.dfz;
         let gz = g * c.lgaz;
@@ -442,6 +456,18 @@ impl PacejkaTyre {
         let at = a + sht;
         let shf = p.shy + safe_div(p.svy, p.ky);
         let ar = a + shf;
+        // Equivalent slip angles: atan(sqrt(tan^2 a + (Kx/Ky)^2 kappa^2)) sgn(a).
+        let (at_eq, ar_eq) = if kappa == 0.0 {
+            (at, ar)
+        } else {
+            let r = safe_div(p.kx, p.ky) * kappa;
+            let r2 = r * r;
+            let eq = |x: f64| {
+                let t = x.tan();
+                (t * t + r2).sqrt().atan() * sgn(x)
+            };
+            (eq(at), eq(ar))
+        };
         let bt = (c.qbz1 + c.qbz2 * dfz + c.qbz3 * dfz * dfz) * (1.0 + c.qbz4 * gz + c.qbz5 * gz.abs()) * lky_lmuy;
         let ct = c.qcz1;
         let dt = fz
@@ -453,12 +479,13 @@ impl PacejkaTyre {
         let et_sign = if et_asym == 0.0 { 1.0 } else { 1.0 + et_asym * FRAC_2_PI * (bt * ct * at).atan() };
         let et = ((c.qez1 + c.qez2 * dfz + c.qez3 * dfz * dfz) * et_sign).min(1.0);
         let cos_a = a.cos();
-        let t = mf_cos(bt, ct, et, at) * dt * cos_a;
+        let t = mf_cos(bt, ct, et, at_eq) * dt * cos_a;
         let br = c.qbz9 * lky_lmuy + c.qbz10 * p.by * p.cy;
         let dr = fz * ((c.qdz6 + c.qdz7 * dfz) * c.lres + (c.qdz8 + c.qdz9 * dfz) * gz) * c.unloaded_radius * p.lmuy;
-        let x = br * ar;
+        let x = br * ar_eq;
         let mzr = dr / (1.0 + x * x).sqrt() * cos_a;
-        -t * fy + mzr
+        let s_arm = c.unloaded_radius * (c.ssz1 + c.ssz2 * (fy / self.fz0p) + (c.ssz3 + c.ssz4 * dfz) * g) * c.ls;
+        -t * fy_prime + mzr + s_arm * fx
     }
 
     fn file_angles(&self, i: &TyreInput) -> (f64, f64) {

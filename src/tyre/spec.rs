@@ -160,10 +160,11 @@ pub struct PacejkaSection {
     /// Exponent p of LKX' = LKX (mu_surface/mu_reference)^p (also LKY), in [0, 2]; default 0.
     #[serde(default)]
     pub stiffness_mu_exponent: f64,
-    /// `"auto"` (default: MF functions when RBX1 and RBY1 are given), `"magic_formula"` or `"ellipse"`.
+    /// `"auto"` (default) or `"magic_formula"`: the MF functions (absent R coefficients are 0, as in
+    /// PAC2002, with a warning); `"ellipse"`: the normalised-slip friction ellipse.
     #[serde(default = "auto")]
     pub combined: String,
-    /// Compute the aligning moment Mz (simplified, see [`PacejkaTyre`]); default false (cost).
+    /// Compute the aligning moment Mz (MF 5.2 combined slip, see [`PacejkaTyre`]); default false (cost).
     #[serde(default)]
     pub aligning_moment: bool,
 }
@@ -642,14 +643,18 @@ impl TyreFileSpec {
         let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
         if t.combination == Combination::MagicFormula {
             let c2 = &t.coeffs;
-            for (n, v) in [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)] {
-                cs.require(n, v, v != 0.0, "the Magic Formula combined-slip functions need RBX1, RCX1, RBY1, RCY1 (or set combined = \"ellipse\")")?;
+            let absent: Vec<&str> = [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)]
+                .iter()
+                .filter(|(_, v)| *v == 0.0)
+                .map(|(n, _)| *n)
+                .collect();
+            if !absent.is_empty() {
+                warnings.push(format!(
+                    "{}: combined-slip coefficient(s) {} absent or 0; as in PAC2002 implementations the weighting function is 1 there (no combined-slip interaction: each force keeps its pure-slip value, a friction square). Add the R coefficients or set combined = \"ellipse\" for a friction ellipse",
+                    source.display(),
+                    absent.join(", ")
+                ));
             }
-        } else if s.combined == "auto" {
-            warnings.push(format!(
-                "{}: no combined-slip coefficients (RBX1/RBY1); combined slip uses the normalised-slip friction ellipse",
-                source.display()
-            ));
         }
         Ok((t, warnings))
     }
