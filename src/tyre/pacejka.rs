@@ -39,6 +39,11 @@
 //! PKY1 > 0 is taken to use vehsim's signs already and is evaluated unchanged. Kappa is positive when
 //! driving in both systems.
 //!
+//! Tyre side. A `.tir` file describes a tyre measured for one side of the vehicle (`[MODEL]
+//! TYRESIDE = 'LEFT'` or `'RIGHT'`, LEFT when absent); the same tyre mounted on the other side is
+//! its mirror image (y -> -y): Fx(-alpha, -camber), -Fy(-alpha, -camber), -Mz(-alpha, -camber)
+//! ([`PacejkaTyre::mounted_on`]), so conicity and ply-steer do not act the same way on both sides.
+//!
 //! Combined slip without R-coefficients. PAC2002 implementations read an absent coefficient as 0,
 //! so a file without RBX1/RCX1 (RBY1/RCY1) has Gxa = cos(0) = 1 (Gyk = 1): no interaction, each
 //! force keeps its pure-slip value (a friction square). vehsim does the same (the `auto` and
@@ -232,6 +237,15 @@ impl Scale {
     pub const ONE: Scale = Scale { mu_x: 1.0, k_x: 1.0, mu_y: 1.0, k_y: 1.0 };
 }
 
+/// Side of the vehicle a tyre property file was measured for (`.tir` `[MODEL] TYRESIDE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TyreSide {
+    /// `TYRESIDE = 'LEFT'` (the PAC2002 default when the key is absent).
+    Left,
+    /// `TYRESIDE = 'RIGHT'`.
+    Right,
+}
+
 /// A built Magic Formula tyre with per-file constants precomputed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PacejkaTyre {
@@ -248,8 +262,12 @@ pub struct PacejkaTyre {
     /// aligning-moment coefficients (QCZ1, QDZ1 != 0); Mz = 0 otherwise. It costs about as much as
     /// Fx and Fy together (three more transcendental functions), so it is off by default.
     pub has_mz: bool,
+    /// The side the coefficients were measured for (TYRESIDE); see [`PacejkaTyre::mounted_on`].
+    pub measured_side: TyreSide,
     // Precomputed.
     fz0p: f64,
+    /// -1 when the tyre is mounted on the side opposite `measured_side` (mirrored), else 1.
+    mirror: f64,
     /// -1 for ISO files (PKY1 < 0): alpha_file = -alpha, camber_file = -camber.
     sign_iso: f64,
 }
@@ -294,7 +312,31 @@ impl PacejkaTyre {
         let fz0p = coeffs.fnomin * coeffs.lfzo;
         let sign_iso = if coeffs.pky1 < 0.0 { -1.0 } else { 1.0 };
         let has_mz = aligning_moment && coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
-        Self { coeffs, mu_reference, stiffness_mu_exponent, combination, has_mz, fz0p, sign_iso }
+        Self {
+            coeffs,
+            mu_reference,
+            stiffness_mu_exponent,
+            combination,
+            has_mz,
+            measured_side: TyreSide::Left,
+            fz0p,
+            mirror: 1.0,
+            sign_iso,
+        }
+    }
+
+    /// The same tyre mounted on `side`: as measured on its own side, mirrored (y -> -y) on the
+    /// other, i.e. F'(alpha, camber) = (Fx, -Fy, -Mz)(-alpha, -camber). Conicity and ply-steer
+    /// (PHY*, PVY*, the Mz shifts) then act mirror-symmetrically on the two sides of the car.
+    pub fn mounted_on(&self, side: TyreSide) -> Self {
+        let mut t = self.clone();
+        t.mirror = if side == self.measured_side { 1.0 } else { -1.0 };
+        t
+    }
+
+    /// Whether this instance evaluates the mirrored tyre.
+    pub fn is_mirrored(&self) -> bool {
+        self.mirror < 0.0
     }
 
     /// Scaled nominal load Fz0' = FNOMIN LFZO, N.
@@ -489,7 +531,8 @@ impl PacejkaTyre {
     }
 
     fn file_angles(&self, i: &TyreInput) -> (f64, f64) {
-        (self.sign_iso * i.alpha_rad, self.sign_iso * i.camber_rad)
+        let s = self.sign_iso * self.mirror;
+        (s * i.alpha_rad, s * i.camber_rad)
     }
 }
 
@@ -516,7 +559,7 @@ impl PacejkaTyre {
         }
         let (a, g) = self.file_angles(i);
         let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, false);
-        TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
+        TyreForces { fx_n: fx, fy_n: self.mirror * fy, mz_nm: self.mirror * mz }
     }
 
     /// [`TyreModel::peak_friction`] with the modifier `m` applied.

@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use super::atiim::{AtiimPacejkaTyre, AxisLaw, KShift, MeltLaw};
 use super::dugoff::{DugoffThermalTyre, DugoffTyre, ThermalFactor};
-use super::pacejka::{Combination, MfCoefficients, PacejkaTyre};
+use super::pacejka::{Combination, MfCoefficients, PacejkaTyre, TyreSide};
 use super::polynomial::{PolyShape, PolynomialTyre};
 use super::{LinearTyre, TyreModel};
 use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
@@ -583,11 +583,27 @@ impl TyreFileSpec {
             }
         }
         let mut warnings = Vec::new();
+        let mut side = TyreSide::Left;
         let (source, base): (std::path::PathBuf, BTreeMap<String, f64>) = match (&s.tir_file, &s.coefficients) {
             (Some(rel), None) => {
                 let tir_path = resolve(path, rel);
                 let f = super::tir::read_tir(&tir_path)?;
                 warnings.extend(f.warnings.iter().cloned());
+                side = match f.string("TYRESIDE").map(|v| v.trim().to_ascii_uppercase()) {
+                    None if f.num("TYRESIDE").is_some() => {
+                        return Err(Error::key(&tir_path, "TYRESIDE", "expected 'LEFT' or 'RIGHT' (a quoted string)"))
+                    }
+                    None => TyreSide::Left,
+                    Some(v) if v == "LEFT" => TyreSide::Left,
+                    Some(v) if v == "RIGHT" => TyreSide::Right,
+                    Some(v) => {
+                        return Err(Error::key(
+                            &tir_path,
+                            "TYRESIDE",
+                            format!("unknown tyre side '{v}'; allowed: 'LEFT', 'RIGHT'"),
+                        ))
+                    }
+                };
                 let map = MfCoefficients::NAMES.iter().filter_map(|n| f.num(n).map(|v| (n.to_string(), v))).collect();
                 (tir_path, map)
             }
@@ -640,7 +656,8 @@ impl TyreFileSpec {
         }
         cs.require("PKY1", coeffs.pky1, coeffs.pky1 != 0.0, "expected a non-zero cornering stiffness factor")?;
         cs.require("PKY2", coeffs.pky2, coeffs.pky2 > 0.0, "expected PKY2 > 0 (load at which Ky peaks, in Fz0')")?;
-        let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
+        let mut t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
+        t.measured_side = side;
         if t.combination == Combination::MagicFormula {
             let c2 = &t.coeffs;
             let absent: Vec<&str> = [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)]
