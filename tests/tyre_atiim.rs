@@ -133,7 +133,10 @@ fn colder_ice_is_never_more_slippery() {
                 let f = mag(&*m, &input(fz, kappa, alpha, 0.0, mu, ice, (ice + rise).min(0.0)));
                 if let Some(p) = prev {
                     // ices run from cold to warm: the force must not rise
-                    assert!(f <= p * (1.0 + 1e-12) + 1e-9, "fz {fz} kappa {kappa} alpha {alpha} rise {rise}: {f} at {ice} degC > {p} on colder ice");
+                    assert!(
+                        f <= p * (1.0 + 1e-12) + 1e-9,
+                        "fz {fz} kappa {kappa} alpha {alpha} rise {rise}: {f} at {ice} degC > {p} on colder ice"
+                    );
                 }
                 prev = Some(f);
                 warmer = warmer.min(f);
@@ -257,10 +260,7 @@ fn bad_atiim_sections_are_input_errors() {
     assert!(e.contains("atiim_pacejka.longitudinal.peak_factor_at_melt") && e.contains("<= 1"), "{e}");
     let e = build_error("pk0", &text.replace("peak_factor_at_melt = 0.9", "peak_factor_at_melt = 0.05"));
     assert!(e.contains("atiim_pacejka.lateral.peak_factor_at_melt") && e.contains("min_factor"), "{e}");
-    let e = build_error(
-        "st",
-        &text.replacen("stiffness_factor_at_melt = 1.0", "stiffness_factor_at_melt = 1.5", 1),
-    );
+    let e = build_error("st", &text.replacen("stiffness_factor_at_melt = 1.0", "stiffness_factor_at_melt = 1.5", 1));
     assert!(e.contains("atiim_pacejka.longitudinal.stiffness_factor_at_melt"), "{e}");
     for bad in ["0.0", "1.5", "-0.2"] {
         let e = build_error("fl", &text.replace("min_factor = 0.1", &format!("min_factor = {bad}")));

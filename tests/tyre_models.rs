@@ -345,7 +345,10 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
             assert!(notes.is_empty(), "dT = {dt}: {notes:?}");
         }
     }
-    assert_eq!(th.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)), plain.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)));
+    assert_eq!(
+        th.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)),
+        plain.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0))
+    );
 }
 
 // --------------------------------------------------------------------------------------- bad input

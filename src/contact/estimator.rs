@@ -452,7 +452,8 @@ impl AtiimEstimator {
         let e_t = self.bulk.e_tread;
         let t_ice = t.surface_temp_c;
         let t_start = ((e_t * t_bulk_c + e_i * t_ice) / (e_t + e_i)).min(MELT_C);
-        let flash = self.table.rise_k_for_force(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start, t.friction_force_n);
+        let flash =
+            self.table.rise_k_for_force(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start, t.friction_force_n);
         (t_start + flash).min(MELT_C)
     }
 }

@@ -257,7 +257,11 @@ impl ContactSpec {
         }
         if let Some(st) = &self.statistic {
             r.statistic = Statistic::parse(st).ok_or_else(|| {
-                Error::key(file, "contact.statistic", format!("unknown statistic '{st}'; allowed: {}", Statistic::ALLOWED))
+                Error::key(
+                    file,
+                    "contact.statistic",
+                    format!("unknown statistic '{st}'; allowed: {}", Statistic::ALLOWED),
+                )
             })?;
         }
         Ok(r)

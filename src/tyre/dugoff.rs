@@ -1,4 +1,4 @@
-//! Dugoff tyre (dissertation eq. 5.2–5.4, with erratum 3) and its thermal variant (eq. 5.5–5.6).
+//! Dugoff tyre (dissertation eq. 5.2–5.4, lateral term corrected) and its thermal variant (eq. 5.5–5.6).
 //!
 //! Slip mapping. The dissertation's slip ratio lambda (eq. 5.1) is 1 - R Omega / u, positive when
 //! braking; vehsim's kappa = (omega R_e - V_x)/|V_x| is positive when driving, so lambda = -kappa and
@@ -10,7 +10,7 @@
 //! f(z) = z (2 - z) for z < 1, 1 otherwise
 //! ```
 //!
-//! Eq. 5.3 as printed uses C_lambda in the lateral force; erratum 3: it is C_alpha tan(alpha).
+//! Eq. 5.3 as printed uses C_lambda in the lateral force, a misprint: the lateral term is C_alpha tan(alpha).
 //! For z < 1 the product f(z)/(1 + kappa) is evaluated as mu Fz (2 - z) / (2 q) with
 //! q = sqrt((C_k kappa)^2 + (C_a tan alpha)^2), which stays finite at a locked wheel (kappa = -1);
 //! |F| = mu Fz (1 - z/2) <= mu Fz there and |F| = mu Fz / (2 z) <= mu Fz / 2 for z >= 1: the combined

@@ -44,7 +44,7 @@ pub enum TyreModelKind {
     Polynomial,
     /// Magic Formula MF 5.2 / PAC2002 ([`PacejkaTyre`]).
     Pacejka,
-    /// Dugoff, eq. 5.2–5.4 with erratum 3 ([`DugoffTyre`]).
+    /// Dugoff, eq. 5.2–5.4 with the lateral term C_alpha tan(alpha) ([`DugoffTyre`]).
     Dugoff,
     /// Dugoff with the temperature factor H, eq. 5.5–5.6 ([`DugoffThermalTyre`]).
     DugoffThermal,
@@ -533,17 +533,16 @@ impl TyreFileSpec {
         let floor = s.min_factor;
         let axis = |name: &str, a: &AtiimAxisSection| -> Result<AxisLaw> {
             let allowed = format!("expected min_factor ({floor}) <= value <= 1");
-            for (key, v) in [("peak_factor_at_melt", a.peak_factor_at_melt), ("stiffness_factor_at_melt", a.stiffness_factor_at_melt)] {
+            for (key, v) in [
+                ("peak_factor_at_melt", a.peak_factor_at_melt),
+                ("stiffness_factor_at_melt", a.stiffness_factor_at_melt),
+            ] {
                 c.require(&format!("atiim_pacejka.{name}.{key}"), v, v >= floor && v <= 1.0, &allowed)?;
             }
             Ok(AxisLaw { peak_at_melt: a.peak_factor_at_melt, stiffness_at_melt: a.stiffness_factor_at_melt })
         };
-        let law = MeltLaw {
-            k_shift,
-            x: axis("longitudinal", &s.longitudinal)?,
-            y: axis("lateral", &s.lateral)?,
-            floor,
-        };
+        let law =
+            MeltLaw { k_shift, x: axis("longitudinal", &s.longitudinal)?, y: axis("lateral", &s.lateral)?, floor };
         if self.pacejka.is_none() {
             return Err(Error::key(
                 path,
