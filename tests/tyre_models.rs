@@ -241,7 +241,6 @@ fn own_tir_combined_mz_matches_independent_values() {
         (8000.0, -0.1, 0.05, -118.81250729983041),
         (8000.0, 0.02, -0.1, 158.75503187267748),
         (8000.0, 0.3, 0.02, 79.07277987316183),
-
     ];
     for (fz, kappa, alpha, mz) in rows {
         let got = m.forces(&TyreInput::new(fz, kappa, alpha, 1.0)).mz_nm;
@@ -316,10 +315,11 @@ fn k_shift_families_are_the_published_quadratics() {
 
 // -------------------------------------------------------------------------------- Dugoff thermal
 
-/// H as applied is clamp(H_published, 0, 1), H_published = (dT - 0.75 mu) S^2 - (dT - 0.75 mu) S
-/// + 1.27 (eq. 5.6): 1 at small slip whatever the rise (1.27 clamped); at S = 0.5 (kappa = 1)
-/// 1.27 - (dT - 0.75 mu)/4 when that lies in [0, 1] and 0 where it is negative (dT = 8 K: the
-/// published factor would reverse Fx); Fy untouched. A reversal is noted once, then forgotten.
+/// H as applied is clamp(H_published, 0, 1) with H_published = (dT - 0.75 mu) S^2 -
+/// (dT - 0.75 mu) S + 1.27 (eq. 5.6): 1 at small slip whatever the rise (1.27 clamped); at
+/// S = 0.5 (kappa = 1) the published 1.27 - (dT - 0.75 mu)/4 where that lies in [0, 1], and 0
+/// where it is negative (dT = 8 K: the published factor would reverse Fx); Fy untouched. A
+/// reversal is noted once, then forgotten.
 #[test]
 fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
     let plain = srtt(TyreModelKind::Dugoff);
