@@ -312,3 +312,55 @@ fn isothermal_atiim_run_equals_the_pacejka_run() {
     let b = simulate("maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim");
     assert!(a != b, "heating must change the ATIIM run");
 }
+
+fn peak_ay(spec: &str, tyre_model: &str, ice_c: f64) -> f64 {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(spec);
+    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    file.tyre_model = tyre_model.to_string();
+    file.surface.temperature_c = ice_c;
+    let mut cfg = file.build(&path).unwrap();
+    cfg.output.timeseries = false;
+    vehsim::run::execute(&cfg).summary.peak_ay_mps2
+}
+
+/// No collapse on cold ice (the issue's criterion): in the shipped ice-temperature lane change
+/// (60 km/h, mu 0.15, ATIIM contact) the ATIIM tyre's peak a_y stays within 10 % of its base
+/// tyre's at -10 and -20 degC, and the colder ice is not the more slippery one.
+#[test]
+fn lane_change_on_cold_ice_does_not_collapse() {
+    let spec = "maneuvers/dissertation/dlc_60kmh_ice_temperature.toml";
+    let base = peak_ay(spec, "pacejka", -10.0);
+    let at10 = peak_ay(spec, "atiim_pacejka", -10.0);
+    let at20 = peak_ay(spec, "atiim_pacejka", -20.0);
+    for (t, a) in [(-10, at10), (-20, at20)] {
+        assert!((a / base - 1.0).abs() < 0.10, "{t} degC: ATIIM peak a_y {a} vs Pacejka {base}");
+    }
+    assert!(at20 >= at10, "colder ice more slippery: {at20} at -20 degC < {at10} at -10 degC");
+}
+
+/// Through the command line: a temperature-law factor out of range is exit code 2 with a message
+/// naming the tyre file and the key.
+#[test]
+fn bad_atiim_factor_exits_2_naming_file_and_key() {
+    let dir = tmp("cli");
+    std::fs::copy(Path::new(SRTT).with_extension("tir"), dir.join("srtt_p225_60r16.tir")).unwrap();
+    let text = std::fs::read_to_string(SRTT).unwrap().replace("peak_factor_at_melt = 0.9", "peak_factor_at_melt = 1.4");
+    std::fs::write(dir.join("bad_tyre.toml"), text).unwrap();
+    let spec = dir.join("curves.toml");
+    std::fs::write(
+        &spec,
+        "name = \"c\"\ntyre_file = \"bad_tyre.toml\"\nproviders = [\"atiim_pacejka\"]\nloads_n = [4000.0]\n\
+         mu_surface = 0.15\nslip_ratio = { min = 0.0, max = 0.4, points = 11 }\n\
+         slip_angle_deg = { min = 0.0, max = 10.0, points = 11 }\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vehsim"))
+        .args(["tyre", spec.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("bad_tyre.toml") && err.contains("atiim_pacejka.lateral.peak_factor_at_melt"), "{err}");
+    assert!(err.contains("<= 1"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
