@@ -131,7 +131,12 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
             Ok(c) => (c, None),
             Err(e) => (Box::new(Isothermal), Some(e.to_string())),
         };
+    let tyre = &cfg.vehicle.tyre.model;
+    tyre.take_run_notes(); // forget anything from an earlier run of the same provider
     let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut recorder);
+    for (kind, detail) in tyre.take_run_notes() {
+        summary.events.push(Event { t_s: summary.end_time_s, kind: kind.into(), detail });
+    }
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }

@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use vehsim::contact::estimator::{roll_speed_for, FlashTable, TableRanges, TyreBuild, REFERENCE_GRID};
+use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID};
 use vehsim::contact::model::{solve_patch, Operating, PatchParams};
 use vehsim::contact::patch::{synthesize, SynthInputs, TreadPattern};
 use vehsim::contact::spec::ContactSpec;
@@ -20,7 +20,7 @@ fn tyre() -> TyreBuild {
     }
 }
 
-fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64) -> f64 {
+fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64, stat: Statistic) -> f64 {
     let g = synthesize(
         Path::new("t"),
         &SynthInputs {
@@ -35,15 +35,28 @@ fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64) -> f64 {
         },
     )
     .unwrap();
-    solve_patch(&g, &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t }, &tb.params)
-        .summary
-        .mean_rise_k
+    stat.of(&solve_patch(&g, &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t }, &tb.params).summary)
 }
 
+/// The default table (statistic `max`) against the full model's maximum pixel rise. The hottest
+/// pixel of the coarse table grid moves less smoothly with load and speed than the patch average,
+/// so between nodes the table is looser (measured worst 19.3 % over 1239 cell centres; 2.3 % at
+/// nodes).
 #[test]
 fn table_agrees_with_full_model_at_and_between_nodes() {
+    table_agrees(Statistic::Max, 0.05, 0.20);
+}
+
+/// The `mean` table against the full model's patch-average rise.
+#[test]
+fn mean_table_agrees_with_full_model_at_and_between_nodes() {
+    table_agrees(Statistic::Mean, 0.05, 0.10);
+}
+
+fn table_agrees(stat: Statistic, node_tol: f64, mid_tol: f64) {
     let tb = tyre();
-    let rg = TableRanges::default();
+    let rg = TableRanges { statistic: stat, ..TableRanges::default() };
+    let full = |tb: &TyreBuild, fz, vs, vr, t| full(tb, fz, vs, vr, t, stat);
     let t0 = Instant::now();
     let table = FlashTable::build(Path::new("t"), &tb, &rg).unwrap();
     eprintln!("table build {:?} ({} nodes)", t0.elapsed(), table.ln_g.len() + table.ln_r0.len());
@@ -78,7 +91,7 @@ fn table_agrees_with_full_model_at_and_between_nodes() {
         }
     }
     eprintln!("worst node error {worst_node:.4}");
-    assert!(worst_node < 0.05, "node error {worst_node}");
+    assert!(worst_node < node_tol, "node error {worst_node}");
     // between nodes: cell centres in every coordinate (the worst place for multilinear
     // interpolation), over the physical range of a vehicle run (roll speed <= 60 m/s); rises
     // below 0.05 K are checked in absolute terms (within 0.03 K) instead.
@@ -114,7 +127,36 @@ fn table_agrees_with_full_model_at_and_between_nodes() {
     }
     assert!(n > 50);
     eprintln!("worst between-node error {worst_mid:.4} over {n} points");
-    assert!(worst_mid < 0.10, "between-node error {worst_mid}");
+    assert!(worst_mid < mid_tol, "between-node error {worst_mid}");
+}
+
+/// Flash heat priced with the transmitted force: F = mu_dry Fz reproduces the table's own flux;
+/// with no melting (very cold ice) the rise is proportional to F; no force, no flash; the melting
+/// cap still holds; the `max` table gives a larger rise than the `mean` table.
+#[test]
+fn flash_is_priced_with_the_transmitted_force() {
+    let tb = tyre();
+    let small = TableRanges { grid: (8, 8), load_n: (2000.0, 12000.0, 3), ..TableRanges::default() };
+    let table = FlashTable::build(Path::new("t"), &tb, &small).unwrap();
+    let mean = FlashTable::build(Path::new("t"), &tb, &TableRanges { statistic: Statistic::Mean, ..small }).unwrap();
+    let mu = tb.params.mu_dry;
+    for (fz, vs, vr) in [(4000.0, 0.5, 15.0), (7000.0, 2.0, 5.0), (3000.0, 0.05, 25.0)] {
+        for t in [-1e6, -20.0, -3.0] {
+            let r = table.rise_k(fz, vs, vr, t);
+            assert_eq!(table.rise_k_for_force(fz, vs, vr, t, mu * fz), r);
+            assert_eq!(table.rise_k_for_force(fz, vs, vr, t, 0.0), 0.0);
+            assert!(mean.rise_k(fz, vs, vr, t) < r, "max table below mean table at {fz} {vs} {vr} {t}");
+            assert!(table.rise_k_for_force(fz, vs, vr, t, 20.0 * mu * fz) <= -t, "melting cap");
+        }
+        let r = table.rise_k(fz, vs, vr, -1e6);
+        for k in [0.1, 0.5, 2.0] {
+            let rk = table.rise_k_for_force(fz, vs, vr, -1e6, k * mu * fz);
+            assert!((rk / r - k).abs() < 1e-9 * k, "dry rise linear in the force: {rk} / {r} vs {k}");
+        }
+    }
+    let spec: ContactSpec = toml::from_str("model = \"atiim\"\nstatistic = \"median\"").unwrap();
+    let err = spec.build(Path::new("m.toml"), 2, -5.0).err().expect("must fail").to_string();
+    assert!(err.contains("contact.statistic") && err.contains("max, mean") && err.contains("m.toml"), "{err}");
 }
 
 fn contact(fz: f64, vr: f64, vs: f64, f: f64, t: f64) -> TyreContact {

@@ -18,8 +18,16 @@
 //!   one axis. Below the smallest sliding-speed node the rise is scaled linearly with v_slide (dry
 //!   regime); outside the other ranges the inputs are clamped.
 //!
-//! The flash table uses the spec's dry friction mu_dry for heat generation (as the patch model
-//! does); the actual friction force enters through the bulk state.
+//! Statistic. The patch model gives a rise per pixel; the table stores one statistic of it,
+//! [`Statistic::Max`] (the hottest pixel, the dissertation's choice for the modified tyre model,
+//! section 6.2: "the maximum predicted temperature rise"; the default) or [`Statistic::Mean`]
+//! (the patch average, about half the maximum).
+//!
+//! Flash heat. The table is built with the patch model's dry heat flux mu_dry p v_slide. At run
+//! time the heat is priced with the force the tyre model transmits at that step: the generated
+//! power is F v_slide instead of mu_dry Fz v_slide, so the dry rise R0 is scaled by
+//! F / (mu_dry Fz) (the conduction problem is linear in the flux; the melting cap is applied after
+//! the scaling through the table's w coordinate). A tyre transmitting no force heats nothing.
 
 use super::heat::effective_effusivity;
 use super::model::{solve_patch, Operating, PatchParams};
@@ -145,6 +153,40 @@ pub struct FlashTable {
     pub ln_g: Vec<f64>,
     /// Smallest tabulated sliding speed, m/s (cached).
     vs_min: f64,
+    /// Dry friction the table's heat flux assumed (patch model's mu_dry), for the force pricing.
+    mu_dry: f64,
+}
+
+/// Which statistic of the patch's rise field the table stores (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Statistic {
+    /// The largest pixel rise (default; the dissertation's choice).
+    #[default]
+    Max,
+    /// The patch-average rise.
+    Mean,
+}
+
+impl Statistic {
+    /// Names accepted in spec files.
+    pub const ALLOWED: &'static str = "max, mean";
+
+    /// Parse a spec name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "max" => Some(Statistic::Max),
+            "mean" => Some(Statistic::Mean),
+            _ => None,
+        }
+    }
+
+    /// This statistic of a patch solution, K.
+    pub fn of(self, s: &super::model::PatchSummary) -> f64 {
+        match self {
+            Statistic::Max => s.max_rise_k,
+            Statistic::Mean => s.mean_rise_k,
+        }
+    }
 }
 
 /// Ranges and resolution of the table.
@@ -163,6 +205,8 @@ pub struct TableRanges {
     pub w: (f64, f64, usize),
     /// Patch grid of the table (rows along travel, cols across).
     pub grid: (usize, usize),
+    /// Statistic of the rise field stored.
+    pub statistic: Statistic,
 }
 
 impl Default for TableRanges {
@@ -173,6 +217,7 @@ impl Default for TableRanges {
             sigma_min: (1e-4, 5),
             w: (-2.0, 2.0, 6),
             grid: (16, 12),
+            statistic: Statistic::Max,
         }
     }
 }
@@ -247,7 +292,7 @@ impl FlashTable {
                 let vr = roll_speed_for(vs, roll.node(ir).exp());
                 let solve = |t: f64| {
                     let op = Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t };
-                    solve_patch(&grids[il], &op, &params).summary.mean_rise_k
+                    rg.statistic.of(&solve_patch(&grids[il], &op, &params).summary)
                 };
                 let r0 = solve(DRY_ICE_C).max(RISE_FLOOR_K);
                 let g = (0..w.n())
@@ -269,9 +314,9 @@ impl FlashTable {
             .map(|il| {
                 let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
                 let fine = grid_at(il, REFERENCE_GRID);
-                let coarse = solve_patch(&grids[il], &op, &params).summary.mean_rise_k;
+                let coarse = rg.statistic.of(&solve_patch(&grids[il], &op, &params).summary);
                 match fine {
-                    Ok(g) if coarse > 0.0 => (solve_patch(&g, &op, &params).summary.mean_rise_k / coarse).ln(),
+                    Ok(g) if coarse > 0.0 => (rg.statistic.of(&solve_patch(&g, &op, &params).summary) / coarse).ln(),
                     _ => 0.0,
                 }
             })
@@ -283,7 +328,7 @@ impl FlashTable {
             ln_g.extend(g);
         }
         let vs_min = slide.node(0).exp();
-        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min })
+        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry })
     }
 
     /// Interpolated patch-average rise, K, at load `fz_n`, sliding speed `vs_mps`, rolling speed
@@ -291,7 +336,20 @@ impl FlashTable {
     /// speed or for t_c >= 0 degC.
     #[inline]
     pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
-        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C && vs_mps.is_finite()) {
+        self.rise_k_priced(fz_n, vs_mps, vr_mps, t_c, 1.0)
+    }
+
+    /// As [`Self::rise_k`] with the heat flux scaled by `heat_ratio` = F / (mu_dry Fz), the
+    /// transmitted friction force over the one the table assumed (clamped to [0, 100]).
+    #[inline]
+    pub fn rise_k_for_force(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64, force_n: f64) -> f64 {
+        let ratio = force_n.abs() / (self.mu_dry * fz_n);
+        self.rise_k_priced(fz_n, vs_mps, vr_mps, t_c, if ratio.is_finite() { ratio.min(100.0) } else { 0.0 })
+    }
+
+    #[inline]
+    fn rise_k_priced(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64, heat_ratio: f64) -> f64 {
+        if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C && vs_mps.is_finite() && heat_ratio > 0.0) {
             return 0.0;
         }
         let vs_min = self.vs_min;
@@ -320,6 +378,8 @@ impl FlashTable {
                 }
             }
         }
+        // the dry rise is linear in the heat flux
+        let lr0 = if heat_ratio == 1.0 { lr0 } else { lr0 + fast_ln(heat_ratio) };
         let wq = ln_dtm - lr0;
         let (k, f) = self.w.locate(wq);
         let nw = self.w.n();
@@ -392,7 +452,8 @@ impl AtiimEstimator {
         let e_t = self.bulk.e_tread;
         let t_ice = t.surface_temp_c;
         let t_start = ((e_t * t_bulk_c + e_i * t_ice) / (e_t + e_i)).min(MELT_C);
-        let flash = self.table.rise_k(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start);
+        let flash =
+            self.table.rise_k_for_force(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start, t.friction_force_n);
         (t_start + flash).min(MELT_C)
     }
 }

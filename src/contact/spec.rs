@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::estimator::{AtiimEstimator, BulkParams, FlashTable, TableRanges, TyreBuild};
+use super::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableRanges, TyreBuild};
 use super::film::FilmParams;
 use super::model::PatchParams;
 use super::patch::{parse_csv, read_png_map, synthesize, ImageLayout, PressureGrid, SynthInputs, TreadPattern};
@@ -212,6 +212,8 @@ pub struct ContactSpec {
     pub table_nodes: Option<[usize; 4]>,
     /// Patch grid of the table [rows, cols] (each 8–128).
     pub table_grid: Option<[usize; 2]>,
+    /// Statistic of the patch's rise fed to the tyre: "max" (default) or "mean".
+    pub statistic: Option<String>,
 }
 
 impl Default for ContactSpec {
@@ -252,6 +254,15 @@ impl ContactSpec {
             ck.range("contact.table_grid[0]", a as f64, 8.0, 128.0)?;
             ck.range("contact.table_grid[1]", b as f64, 8.0, 128.0)?;
             r.grid = (a, b);
+        }
+        if let Some(st) = &self.statistic {
+            r.statistic = Statistic::parse(st).ok_or_else(|| {
+                Error::key(
+                    file,
+                    "contact.statistic",
+                    format!("unknown statistic '{st}'; allowed: {}", Statistic::ALLOWED),
+                )
+            })?;
         }
         Ok(r)
     }

@@ -1,4 +1,4 @@
-//! Dugoff tyre (dissertation eq. 5.2–5.4, with erratum 3) and its thermal variant (eq. 5.5–5.6).
+//! Dugoff tyre (dissertation eq. 5.2–5.4, lateral term corrected) and its thermal variant (eq. 5.5–5.6).
 //!
 //! Slip mapping. The dissertation's slip ratio lambda (eq. 5.1) is 1 - R Omega / u, positive when
 //! braking; vehsim's kappa = (omega R_e - V_x)/|V_x| is positive when driving, so lambda = -kappa and
@@ -10,7 +10,7 @@
 //! f(z) = z (2 - z) for z < 1, 1 otherwise
 //! ```
 //!
-//! Eq. 5.3 as printed uses C_lambda in the lateral force; erratum 3: it is C_alpha tan(alpha).
+//! Eq. 5.3 as printed uses C_lambda in the lateral force, a misprint: the lateral term is C_alpha tan(alpha).
 //! For z < 1 the product f(z)/(1 + kappa) is evaluated as mu Fz (2 - z) / (2 q) with
 //! q = sqrt((C_k kappa)^2 + (C_a tan alpha)^2), which stays finite at a locked wheel (kappa = -1);
 //! |F| = mu Fz (1 - z/2) <= mu Fz there and |F| = mu Fz / (2 z) <= mu Fz / 2 for z >= 1: the combined
@@ -21,16 +21,22 @@
 //! in K, mu_max the tyre's peak friction coefficient and S the slip ratio as the dissertation's
 //! rig measured it: S = kappa / (1 + kappa) (eq. 3.2, driving slip over omega R, in [0, 1)) for
 //! kappa >= 0 and S = -kappa (eq. 2.11, braking slip over V, clamped to [0, 1]) for kappa < 0.
-//! Odd properties of H, kept as published:
-//! - H(S = 0) = H(S = 1) = 1.27 for every dT: the force is 27 % above the Dugoff force at small
-//!   slip, so the longitudinal stiffness is 1.27 C_k, not C_k.
+//! Properties of H as published, and what vehsim does with them:
+//! - H(S = 0) = H(S = 1) = 1.27 for every dT, and for dT < 0.75 mu H exceeds 1.27 at mid slip: a
+//!   "temperature factor" that amplifies the Dugoff force at no heating.
 //! - H is a parabola in S with its extremum 1.27 - (dT - 0.75 mu)/4 at S = 0.5. For dT > 0.75 mu
-//!   (any heating on ice) H dips towards S = 0.5; for dT > 5.08 + 0.75 mu it turns negative there
-//!   and the longitudinal force reverses.
-//! - For dT < 0.75 mu, H > 1.27 in mid-slip.
+//!   (any heating on ice) H dips towards S = 0.5; for dT > 5.08 + 0.75 mu it turns negative there:
+//!   the longitudinal force would reverse (a driven wheel would be pushed backwards and spin up).
 //!
-//! So |Fx| may exceed mu Fz: [`TyreModel::peak_friction`] returns mu max(1, |H|) for the input,
-//! an honest bound (|F|^2 = H^2 Fx^2 + Fy^2 <= max(1, H^2) mu^2 Fz^2).
+//! vehsim applies H_used = clamp(H, 0, 1). Reason: H stands for the loss of friction as the contact
+//! heats; a friction-reducing factor is at most 1 (heating never adds friction to the Dugoff curve
+//! fitted at no heating, and the plain Dugoff force is already bounded by mu Fz) and at least 0
+//! (friction opposes the slip; it cannot turn into a driving force in the slip direction). So the
+//! longitudinal stiffness is C_k min(1, 1.27) = C_k and |F| <= mu Fz. An input at which the
+//! published H is negative is remembered by the provider and reported once per run as the event
+//! `thermal_factor_clamped` (see [`TyreModel::take_run_notes`]).
+
+use std::sync::Mutex;
 
 use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
@@ -140,13 +146,41 @@ impl TyreModel for DugoffTyre {
     }
 }
 
-/// Dugoff with the dissertation's temperature factor H on Fx (eq. 5.5–5.6); see the module docs.
-#[derive(Debug, Clone, PartialEq)]
+/// Dugoff with the dissertation's temperature factor H on Fx (eq. 5.5–5.6), H clamped to [0, 1];
+/// see the module docs.
+#[derive(Debug)]
 pub struct DugoffThermalTyre {
     /// The underlying Dugoff tyre.
     pub base: DugoffTyre,
     /// The factor H.
     pub h: ThermalFactor,
+    /// The first input of the run at which the published H was negative: (dT in K, kappa, H).
+    reversal: Mutex<Option<(f64, f64, f64)>>,
+}
+
+impl DugoffThermalTyre {
+    /// A thermal Dugoff tyre with nothing to report yet.
+    pub fn new(base: DugoffTyre, h: ThermalFactor) -> Self {
+        Self { base, h, reversal: Mutex::new(None) }
+    }
+
+    /// H as applied, clamp(H, 0, 1) (a NaN H gives 0), with the published value.
+    fn h_used(&self, i: &TyreInput) -> (f64, f64) {
+        let h = self.h.h(i.kappa, i.delta_t_k(), self.base.mu(i));
+        (if h > 0.0 { h.min(1.0) } else { 0.0 }, h)
+    }
+}
+
+impl Clone for DugoffThermalTyre {
+    fn clone(&self) -> Self {
+        Self::new(self.base.clone(), self.h)
+    }
+}
+
+impl PartialEq for DugoffThermalTyre {
+    fn eq(&self, o: &Self) -> bool {
+        self.base == o.base && self.h == o.h
+    }
 }
 
 impl TyreModel for DugoffThermalTyre {
@@ -159,27 +193,39 @@ impl TyreModel for DugoffThermalTyre {
         if fx == 0.0 {
             return TyreForces { fx_n: 0.0, fy_n: fy, mz_nm: 0.0 };
         }
-        let h = self.h.h(i.kappa, i.delta_t_k(), self.base.mu(i));
+        let (h, published) = self.h_used(i);
+        if published < 0.0 {
+            if let Ok(mut r) = self.reversal.lock() {
+                r.get_or_insert((i.delta_t_k(), i.kappa, published));
+            }
+        }
         TyreForces { fx_n: fx * h, fy_n: fy, mz_nm: 0.0 }
     }
 
-    /// mu max(1, |H|): H may exceed 1 (it is 1.27 at zero slip), see the module docs.
+    /// mu: H_used <= 1 keeps |F| within the Dugoff friction circle.
     fn peak_friction(&self, i: &TyreInput) -> f64 {
-        let mu = self.base.mu(i).max(0.0);
-        let h = self.h.h(i.kappa, i.delta_t_k(), mu);
-        if h.is_finite() {
-            mu * h.abs().max(1.0)
-        } else {
-            f64::INFINITY
-        }
+        self.base.mu(i).max(0.0)
     }
 
-    /// H(S = 0) C_k = 1.27 C_k for the published H.
+    /// H_used(S = 0) C_k = min(1, offset) C_k.
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        self.base.longitudinal_stiffness(i) * self.h.offset
+        self.base.longitudinal_stiffness(i) * self.h.offset.clamp(0.0, 1.0)
     }
 
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
         self.base.cornering_stiffness(i)
+    }
+
+    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
+        let first = self.reversal.lock().ok().and_then(|mut r| r.take());
+        match first {
+            Some((dt, kappa, h)) => vec![(
+                "thermal_factor_clamped",
+                format!(
+                    "dugoff_thermal: the published H ({h:.3e}) would reverse Fx (first at Delta-T {dt:.2} K, kappa {kappa:.3}); H is clamped to [0, 1]"
+                ),
+            )],
+            None => Vec::new(),
+        }
     }
 }

@@ -1,6 +1,6 @@
 //! Tyre-force providers behind one trait.
 //!
-//! Conventions (ISO 8855, wheel axes; DESIGN.md §4):
+//! Conventions (ISO 8855, wheel axes):
 //! - x along the wheel heading, y to the left, z up. Forces act on the tyre from the road.
 //! - Slip ratio `kappa = (omega R_e - V_x) / |V_x|`: positive when driving, -1 at a locked wheel.
 //! - Slip angle `alpha = -atan(V_y / |V_x|)` with V_y the lateral velocity of the wheel centre in
@@ -12,7 +12,7 @@
 //!
 //! Providers (selected by [`TyreModelKind`]): [`linear`], [`polynomial`] (brush), [`pacejka`]
 //! (MF 5.2 / PAC2002, `.tir` files via [`tir`]), [`dugoff`] (plain and thermal), [`atiim`]
-//! (ATIIM-modified Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
+//! (the ATIIM modifier on top of the Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
 //! [`sweep`] is the `vehsim tyre` command. Equations and conventions: docs/tyres.md.
 //!
 //! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and
@@ -107,4 +107,12 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
 
     /// dFy/dalpha at zero slip for this input's load and conditions, N/rad.
     fn cornering_stiffness(&self, input: &TyreInput) -> f64;
+
+    /// What the provider noticed since the last call, as (event kind, detail) pairs, and forget it.
+    /// The run calls it once before and once after simulating, so each note is reported once per
+    /// run (thermal Dugoff: a force the published H would reverse). The notes do not change any
+    /// force. Default: nothing.
+    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
 }

@@ -1,4 +1,4 @@
-//! Magic Formula tyre (MF 5.2 / PAC2002 equations): pure and combined slip Fx, Fy and a simplified Mz.
+//! Magic Formula tyre (MF 5.2 / PAC2002 equations): pure and combined slip Fx, Fy and Mz.
 //!
 //! Equations: H. B. Pacejka, *Tyre and Vehicle Dynamics*, 2nd ed., section 4.3.2 (eq. 4.E1–4.E67),
 //! the PAC2002 set that `.tir` files with `PROPERTY_FILE_FORMAT = 'PAC2002'` or `'MF_05'` carry.
@@ -23,9 +23,7 @@
 //!           SVyk = mu_y Fz (RVY1 + RVY2 dfz + RVY3 gy) cos(atan(RVY4 alpha)) sin(RVY5 atan(RVY6 kappa)) LVYKA
 //! ```
 //!
-//! gx = camber LGAX, gy = camber LGAY. Mz is the pure-slip pneumatic trail and residual moment
-//! (eq. 4.E31–4.E49) applied to the combined Fy: Mz = -t(alpha) Fy + Mzr(alpha). The s Fx arm and
-//! the equivalent-slip arguments of the full combined Mz are left out (a documented simplification).
+//! gx = camber LGAX, gy = camber LGAY. Mz: see below.
 //!
 //! Surface friction: `LMUX' = LMUX mu_surface / mu_reference` (likewise LMUY'), so a coefficient set
 //! fitted on a road of friction `mu_reference` (1.0 for dry-road files) is scaled to the surface.
@@ -41,12 +39,25 @@
 //! PKY1 > 0 is taken to use vehsim's signs already and is evaluated unchanged. Kappa is positive when
 //! driving in both systems.
 //!
-//! Combined slip without R-coefficients. Files without RBX1/RBY1 (the public Sedan file has none)
-//! would give Gxa = Gyk = 1, a friction square. vehsim then combines with the normalised-slip
-//! friction ellipse of [`super::combine`] instead and says so in a warning: with reference slips
-//! kappa_r = Dx/Kx, alpha_r = Dy/|Ky|, weights w_x, w_y and equivalent slips kappa_eq, alpha_eq,
-//! Fx = Fx0(0) + w_x (Fx0(kappa_eq) - Fx0(0)) and likewise Fy, so pure slip is exact (including the
-//! shifts) and the zero-slip offsets Fx0(0), Fy0(0) keep the result continuous at the origin.
+//! Tyre side. A `.tir` file describes a tyre measured for one side of the vehicle (`[MODEL]
+//! TYRESIDE = 'LEFT'` or `'RIGHT'`, LEFT when absent); the same tyre mounted on the other side is
+//! its mirror image (y -> -y): Fx(-alpha, -camber), -Fy(-alpha, -camber), -Mz(-alpha, -camber)
+//! ([`PacejkaTyre::mounted_on`]), so conicity and ply-steer do not act the same way on both sides.
+//!
+//! Combined slip without R-coefficients. PAC2002 implementations read an absent coefficient as 0,
+//! so a file without RBX1/RCX1 (RBY1/RCY1) has Gxa = cos(0) = 1 (Gyk = 1): no interaction, each
+//! force keeps its pure-slip value (a friction square). vehsim does the same (the `auto` and
+//! `magic_formula` methods) and warns that the combined forces may exceed a friction ellipse. The
+//! normalised-slip friction ellipse of [`super::combine`] is only used when asked for
+//! (`combined = "ellipse"`): with reference slips kappa_r = Dx/Kx, alpha_r = Dy/|Ky|, weights w_x,
+//! w_y and equivalent slips kappa_eq, alpha_eq, Fx = Fx0(0) + w_x (Fx0(kappa_eq) - Fx0(0)) and
+//! likewise Fy, so pure slip is exact (including the shifts) and the zero-slip offsets Fx0(0),
+//! Fy0(0) keep the result continuous at the origin.
+//!
+//! Aligning moment (MF 5.2 / PAC2002 combined slip, eq. 4.E71–4.E78): Mz = -t Fy' + Mzr + s Fx with
+//! the trail and residual moment at the equivalent slip angles
+//! alpha_eq = atan(sqrt(tan^2 alpha + (Kx/Ky)^2 kappa^2)) sgn(alpha), Fy' = Fy - SVyk and
+//! s = R0 (SSZ1 + SSZ2 Fy/Fz0' + (SSZ3 + SSZ4 dfz) camber) LS.
 
 use std::f64::consts::FRAC_2_PI;
 
@@ -112,6 +123,7 @@ mf_coefficients! {
     lxal = "LXAL", Some(1.0), "Scale of the alpha influence on Fx.";
     lyka = "LYKA", Some(1.0), "Scale of the kappa influence on Fy.";
     lvyka = "LVYKA", Some(1.0), "Scale of the kappa-induced Fy.";
+    ls = "LS", Some(1.0), "Scale of the moment arm s of Fx in Mz.";
     pcx1 = "PCX1", None, "Shape factor Cx (1.4–1.8).";
     pdx1 = "PDX1", None, "Longitudinal friction at Fz0' (dry road 1.0–1.3).";
     pdx2 = "PDX2", Some(0.0), "Variation of mu_x with load (-0.2–0).";
@@ -145,6 +157,10 @@ mf_coefficients! {
     pvy2 = "PVY2", Some(0.0), "Variation of SVy/Fz with load.";
     pvy3 = "PVY3", Some(0.0), "Variation of SVy/Fz with camber.";
     pvy4 = "PVY4", Some(0.0), "Variation of SVy/Fz with camber and load.";
+    ssz1 = "SSZ1", Some(0.0), "Moment arm of Fx in Mz, s/R0, at Fz0'.";
+    ssz2 = "SSZ2", Some(0.0), "Variation of s/R0 with Fy/Fz0'.";
+    ssz3 = "SSZ3", Some(0.0), "Variation of s/R0 with camber.";
+    ssz4 = "SSZ4", Some(0.0), "Variation of s/R0 with camber and load.";
     qbz1 = "QBZ1", Some(0.0), "Trail slope Bt at Fz0'.";
     qbz2 = "QBZ2", Some(0.0), "Variation of Bt with load.";
     qbz3 = "QBZ3", Some(0.0), "Variation of Bt with load squared.";
@@ -170,7 +186,7 @@ mf_coefficients! {
     qhz2 = "QHZ2", Some(0.0), "Variation of the trail shift with load.";
     qhz3 = "QHZ3", Some(0.0), "Variation of the trail shift with camber.";
     qhz4 = "QHZ4", Some(0.0), "Variation of the trail shift with camber and load.";
-    rbx1 = "RBX1", Some(0.0), "Slope of Gxa (5–20); 0 with RBY1 = 0 selects the ellipse fallback.";
+    rbx1 = "RBX1", Some(0.0), "Slope of Gxa (5–20); absent = 0: Gxa = 1.";
     rbx2 = "RBX2", Some(0.0), "Variation of the Gxa slope with kappa.";
     rcx1 = "RCX1", Some(0.0), "Shape of Gxa (about 1).";
     rex1 = "REX1", Some(0.0), "Curvature of Gxa.";
@@ -201,6 +217,35 @@ pub enum Combination {
     Ellipse,
 }
 
+/// Multipliers a modifier applies on top of the coefficients (the ATIIM temperature law of
+/// [`super::atiim`]): peak friction (multiplies LMUX', LMUY') and slip stiffness (multiplies LKX',
+/// LKY'), dimensionless. [`Scale::ONE`] is the plain Magic Formula, bit for bit (x * 1.0 == x).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scale {
+    /// Factor on the longitudinal peak friction (LMUX').
+    pub mu_x: f64,
+    /// Factor on the longitudinal slip stiffness (LKX').
+    pub k_x: f64,
+    /// Factor on the lateral peak friction (LMUY').
+    pub mu_y: f64,
+    /// Factor on the cornering stiffness (LKY').
+    pub k_y: f64,
+}
+
+impl Scale {
+    /// No modification.
+    pub const ONE: Scale = Scale { mu_x: 1.0, k_x: 1.0, mu_y: 1.0, k_y: 1.0 };
+}
+
+/// Side of the vehicle a tyre property file was measured for (`.tir` `[MODEL] TYRESIDE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TyreSide {
+    /// `TYRESIDE = 'LEFT'` (the PAC2002 default when the key is absent).
+    Left,
+    /// `TYRESIDE = 'RIGHT'`.
+    Right,
+}
+
 /// A built Magic Formula tyre with per-file constants precomputed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PacejkaTyre {
@@ -217,8 +262,12 @@ pub struct PacejkaTyre {
     /// aligning-moment coefficients (QCZ1, QDZ1 != 0); Mz = 0 otherwise. It costs about as much as
     /// Fx and Fy together (three more transcendental functions), so it is off by default.
     pub has_mz: bool,
+    /// The side the coefficients were measured for (TYRESIDE); see [`PacejkaTyre::mounted_on`].
+    pub measured_side: TyreSide,
     // Precomputed.
     fz0p: f64,
+    /// -1 when the tyre is mounted on the side opposite `measured_side` (mirrored), else 1.
+    mirror: f64,
     /// -1 for ISO files (PKY1 < 0): alpha_file = -alpha, camber_file = -camber.
     sign_iso: f64,
 }
@@ -250,8 +299,8 @@ struct Pure {
 }
 
 impl PacejkaTyre {
-    /// Build from validated coefficients. `combination` None picks the MF functions when RBX1 and
-    /// RBY1 are non-zero, else the ellipse.
+    /// Build from validated coefficients. `combination` None picks the MF functions (absent R
+    /// coefficients are 0, as PAC2002 implementations read them).
     pub fn new(
         coeffs: MfCoefficients,
         mu_reference: f64,
@@ -259,15 +308,35 @@ impl PacejkaTyre {
         combination: Option<Combination>,
         aligning_moment: bool,
     ) -> Self {
-        let combination = combination.unwrap_or(if coeffs.rbx1 != 0.0 && coeffs.rby1 != 0.0 {
-            Combination::MagicFormula
-        } else {
-            Combination::Ellipse
-        });
+        let combination = combination.unwrap_or(Combination::MagicFormula);
         let fz0p = coeffs.fnomin * coeffs.lfzo;
         let sign_iso = if coeffs.pky1 < 0.0 { -1.0 } else { 1.0 };
         let has_mz = aligning_moment && coeffs.qcz1 != 0.0 && coeffs.qdz1 != 0.0;
-        Self { coeffs, mu_reference, stiffness_mu_exponent, combination, has_mz, fz0p, sign_iso }
+        Self {
+            coeffs,
+            mu_reference,
+            stiffness_mu_exponent,
+            combination,
+            has_mz,
+            measured_side: TyreSide::Left,
+            fz0p,
+            mirror: 1.0,
+            sign_iso,
+        }
+    }
+
+    /// The same tyre mounted on `side`: as measured on its own side, mirrored (y -> -y) on the
+    /// other, i.e. F'(alpha, camber) = (Fx, -Fy, -Mz)(-alpha, -camber). Conicity and ply-steer
+    /// (PHY*, PVY*, the Mz shifts) then act mirror-symmetrically on the two sides of the car.
+    pub fn mounted_on(&self, side: TyreSide) -> Self {
+        let mut t = self.clone();
+        t.mirror = if side == self.measured_side { 1.0 } else { -1.0 };
+        t
+    }
+
+    /// Whether this instance evaluates the mirrored tyre.
+    pub fn is_mirrored(&self) -> bool {
+        self.mirror < 0.0
     }
 
     /// Scaled nominal load Fz0' = FNOMIN LFZO, N.
@@ -275,12 +344,12 @@ impl PacejkaTyre {
         self.fz0p
     }
 
-    fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64) -> Pure {
+    fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64, m: &Scale) -> Pure {
         let c = &self.coeffs;
         let dfz = (fz - self.fz0p) / self.fz0p;
         let r = mu_surface / self.mu_reference;
-        let lmux = c.lmux * r;
-        let lmuy = c.lmuy * r;
+        let lmux = c.lmux * r * m.mu_x;
+        let lmuy = c.lmuy * r * m.mu_y;
         let rk = if self.stiffness_mu_exponent == 0.0 {
             1.0
         } else if self.stiffness_mu_exponent == 0.5 {
@@ -296,7 +365,7 @@ impl PacejkaTyre {
         let dx = (c.pdx1 + c.pdx2 * dfz) * (1.0 - c.pdx3 * gx * gx) * lmux * fz;
         let ex0 = (c.pex1 + c.pex2 * dfz + c.pex3 * dfz * dfz) * c.lex;
         let kexp = if c.pkx3 == 0.0 { 1.0 } else { (c.pkx3 * dfz).exp() };
-        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk;
+        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk * m.k_x;
         let bx = safe_div(kx, cx * dx);
         let svx = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx * lmux;
 
@@ -308,7 +377,7 @@ impl PacejkaTyre {
         let ey_asym = c.pey3 + c.pey4 * gy;
         // sin(2 atan(x)) = 2x / (1 + x^2).
         let xk = safe_div(fz, c.pky2 * self.fz0p);
-        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk;
+        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk * m.k_y;
         let by = safe_div(ky, cy * dy);
         let svy = fz * ((c.pvy1 + c.pvy2 * dfz) * c.lvy + (c.pvy3 + c.pvy4 * dfz) * gy) * lmuy;
         Pure { dfz, lmuy, gy, shx, cx, dx, ex0, bx, kx, svx, shy, cy, dy, ey0, ey_asym, by, ky, svy, muy }
@@ -347,11 +416,12 @@ impl PacejkaTyre {
 
     /// (Fx, Fy, bound on |F|) in file axes at file slip angle `a` and camber `g`.
     /// With `want_bound` false the returned bound is 0 (it is only needed by `peak_friction`).
-    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, want_bound: bool) -> (f64, f64, f64, f64) {
+    #[allow(clippy::too_many_arguments)]
+    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, m: &Scale, want_bound: bool) -> (f64, f64, f64, f64) {
         let want_mz = !want_bound;
         let c = &self.coeffs;
-        let p = self.pure(fz, mu, g);
-        let (fx, fy, bound);
+        let p = self.pure(fz, mu, g, m);
+        let (fx, fy, bound, fy_prime);
         match self.combination {
             Combination::MagicFormula => {
                 let kx = kappa + p.shx;
@@ -381,6 +451,7 @@ impl PacejkaTyre {
                 };
                 fx = gxa * fx0;
                 fy = gyk * fy0 + svyk;
+                fy_prime = fy - svyk;
                 bound = if want_bound {
                     let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
                     let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
@@ -400,6 +471,7 @@ impl PacejkaTyre {
                 let fye = Self::fy0_core(&p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
                 fx = fx00 + wx * (fxe - fx00);
                 fy = fy00 + wy * (fye - fy00);
+                fy_prime = fy;
                 bound = if want_bound {
                     p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
                 } else {
@@ -407,12 +479,17 @@ impl PacejkaTyre {
                 };
             }
         }
-        let mz = if want_mz && self.has_mz { self.mz(&p, fz, a, g, fy) } else { 0.0 };
+        let mz = if want_mz && self.has_mz { self.mz(&p, fz, kappa, a, g, (fy, fy_prime), fx) } else { 0.0 };
         (fx, fy, mz, bound)
     }
 
-    /// Simplified aligning moment in file axes: -t(alpha) Fy + Mzr(alpha).
-    fn mz(&self, p: &Pure, fz: f64, a: f64, g: f64, fy: f64) -> f64 {
+    /// Aligning moment in file axes (MF 5.2 / PAC2002 combined slip):
+    /// Mz = -t(alpha_t,eq) Fy' + Mzr(alpha_r,eq) + s Fx, with Fy' the combined Fy without the
+    /// kappa-induced SVyk, s = R0 (SSZ1 + SSZ2 Fy/Fz0' + (SSZ3 + SSZ4 dfz) camber) LS and the
+    /// equivalent slip angles of eq. 4.E77–4.E78. At kappa = 0 the
+    /// equivalent angles are the plain ones (taken as they are, so pure slip is bit-exact).
+    #[allow(clippy::too_many_arguments)]
+    fn mz(&self, p: &Pure, fz: f64, kappa: f64, a: f64, g: f64, (fy, fy_prime): (f64, f64), fx: f64) -> f64 {
         let c = &self.coeffs;
         let dfz = p.dfz;
         let gz = g * c.lgaz;
@@ -421,6 +498,18 @@ impl PacejkaTyre {
         let at = a + sht;
         let shf = p.shy + safe_div(p.svy, p.ky);
         let ar = a + shf;
+        // Equivalent slip angles: atan(sqrt(tan^2 a + (Kx/Ky)^2 kappa^2)) sgn(a).
+        let (at_eq, ar_eq) = if kappa == 0.0 {
+            (at, ar)
+        } else {
+            let r = safe_div(p.kx, p.ky) * kappa;
+            let r2 = r * r;
+            let eq = |x: f64| {
+                let t = x.tan();
+                (t * t + r2).sqrt().atan() * sgn(x)
+            };
+            (eq(at), eq(ar))
+        };
         let bt = (c.qbz1 + c.qbz2 * dfz + c.qbz3 * dfz * dfz) * (1.0 + c.qbz4 * gz + c.qbz5 * gz.abs()) * lky_lmuy;
         let ct = c.qcz1;
         let dt = fz
@@ -432,16 +521,18 @@ impl PacejkaTyre {
         let et_sign = if et_asym == 0.0 { 1.0 } else { 1.0 + et_asym * FRAC_2_PI * (bt * ct * at).atan() };
         let et = ((c.qez1 + c.qez2 * dfz + c.qez3 * dfz * dfz) * et_sign).min(1.0);
         let cos_a = a.cos();
-        let t = mf_cos(bt, ct, et, at) * dt * cos_a;
+        let t = mf_cos(bt, ct, et, at_eq) * dt * cos_a;
         let br = c.qbz9 * lky_lmuy + c.qbz10 * p.by * p.cy;
         let dr = fz * ((c.qdz6 + c.qdz7 * dfz) * c.lres + (c.qdz8 + c.qdz9 * dfz) * gz) * c.unloaded_radius * p.lmuy;
-        let x = br * ar;
+        let x = br * ar_eq;
         let mzr = dr / (1.0 + x * x).sqrt() * cos_a;
-        -t * fy + mzr
+        let s_arm = c.unloaded_radius * (c.ssz1 + c.ssz2 * (fy / self.fz0p) + (c.ssz3 + c.ssz4 * dfz) * g) * c.ls;
+        -t * fy_prime + mzr + s_arm * fx
     }
 
     fn file_angles(&self, i: &TyreInput) -> (f64, f64) {
-        (self.sign_iso * i.alpha_rad, self.sign_iso * i.camber_rad)
+        let s = self.sign_iso * self.mirror;
+        (s * i.alpha_rad, s * i.camber_rad)
     }
 }
 
@@ -460,18 +551,55 @@ fn inactive(i: &TyreInput) -> bool {
     !positive(i.fz_n) || !positive(i.mu_surface) || !i.fz_n.is_finite()
 }
 
+impl PacejkaTyre {
+    /// Forces with the modifier `m` applied (see [`Scale`]).
+    pub fn forces_scaled(&self, i: &TyreInput, m: &Scale) -> TyreForces {
+        if inactive(i) {
+            return TyreForces::default();
+        }
+        let (a, g) = self.file_angles(i);
+        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, false);
+        TyreForces { fx_n: fx, fy_n: self.mirror * fy, mz_nm: self.mirror * mz }
+    }
+
+    /// [`TyreModel::peak_friction`] with the modifier `m` applied.
+    pub fn peak_friction_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (a, g) = self.file_angles(i);
+        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, true);
+        bound / i.fz_n
+    }
+
+    /// [`TyreModel::longitudinal_stiffness`] with the modifier `m` applied.
+    pub fn longitudinal_stiffness_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g, m);
+        mf_sin_slope(p.bx, p.cx, p.dx, self.ex(&p, p.shx), p.shx)
+    }
+
+    /// [`TyreModel::cornering_stiffness`] with the modifier `m` applied.
+    pub fn cornering_stiffness_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
+        if inactive(i) {
+            return 0.0;
+        }
+        let (_, g) = self.file_angles(i);
+        let p = self.pure(i.fz_n, i.mu_surface, g, m);
+        self.sign_iso * mf_sin_slope(p.by, p.cy, p.dy, Self::ey(&p, p.shy), p.shy)
+    }
+}
+
 impl TyreModel for PacejkaTyre {
     fn name(&self) -> &'static str {
         "pacejka"
     }
 
     fn forces(&self, i: &TyreInput) -> TyreForces {
-        if inactive(i) {
-            return TyreForces::default();
-        }
-        let (a, g) = self.file_angles(i);
-        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, false);
-        TyreForces { fx_n: fx, fy_n: fy, mz_nm: mz }
+        self.forces_scaled(i, &Scale::ONE)
     }
 
     /// A guaranteed bound on |F|/Fz at this input. With the MF combined-slip functions it is
@@ -480,31 +608,16 @@ impl TyreModel for PacejkaTyre {
     /// combined force can exceed max(Dx, Dy) (by up to ~40 % in the worst direction). With the
     /// ellipse fallback the bound is max(|Dx|, |Dy|)/Fz plus the vertical shifts.
     fn peak_friction(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (a, g) = self.file_angles(i);
-        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, true);
-        bound / i.fz_n
+        self.peak_friction_scaled(i, &Scale::ONE)
     }
 
     /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (_, g) = self.file_angles(i);
-        let p = self.pure(i.fz_n, i.mu_surface, g);
-        mf_sin_slope(p.bx, p.cx, p.dx, self.ex(&p, p.shx), p.shx)
+        self.longitudinal_stiffness_scaled(i, &Scale::ONE)
     }
 
     /// dFy/dalpha (vehsim alpha) at kappa = 0, alpha = 0.
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
-        if inactive(i) {
-            return 0.0;
-        }
-        let (_, g) = self.file_angles(i);
-        let p = self.pure(i.fz_n, i.mu_surface, g);
-        self.sign_iso * mf_sin_slope(p.by, p.cy, p.dy, Self::ey(&p, p.shy), p.shy)
+        self.cornering_stiffness_scaled(i, &Scale::ONE)
     }
 }

@@ -26,9 +26,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::atiim::{AtiimAxis, AtiimPacejkaTyre, KShift};
+use super::atiim::{AtiimPacejkaTyre, AxisLaw, KShift, MeltLaw};
 use super::dugoff::{DugoffThermalTyre, DugoffTyre, ThermalFactor};
-use super::pacejka::{Combination, MfCoefficients, PacejkaTyre};
+use super::pacejka::{Combination, MfCoefficients, PacejkaTyre, TyreSide};
 use super::polynomial::{PolyShape, PolynomialTyre};
 use super::{LinearTyre, TyreModel};
 use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
@@ -44,7 +44,7 @@ pub enum TyreModelKind {
     Polynomial,
     /// Magic Formula MF 5.2 / PAC2002 ([`PacejkaTyre`]).
     Pacejka,
-    /// Dugoff, eq. 5.2–5.4 with erratum 3 ([`DugoffTyre`]).
+    /// Dugoff, eq. 5.2–5.4 with the lateral term C_alpha tan(alpha) ([`DugoffTyre`]).
     Dugoff,
     /// Dugoff with the temperature factor H, eq. 5.5–5.6 ([`DugoffThermalTyre`]).
     DugoffThermal,
@@ -160,10 +160,11 @@ pub struct PacejkaSection {
     /// Exponent p of LKX' = LKX (mu_surface/mu_reference)^p (also LKY), in [0, 2]; default 0.
     #[serde(default)]
     pub stiffness_mu_exponent: f64,
-    /// `"auto"` (default: MF functions when RBX1 and RBY1 are given), `"magic_formula"` or `"ellipse"`.
+    /// `"auto"` (default) or `"magic_formula"`: the MF functions (absent R coefficients are 0, as in
+    /// PAC2002, with a warning); `"ellipse"`: the normalised-slip friction ellipse.
     #[serde(default = "auto")]
     pub combined: String,
-    /// Compute the aligning moment Mz (simplified, see [`PacejkaTyre`]); default false (cost).
+    /// Compute the aligning moment Mz (MF 5.2 combined slip, see [`PacejkaTyre`]); default false (cost).
     #[serde(default)]
     pub aligning_moment: bool,
 }
@@ -218,44 +219,37 @@ fn h_mu() -> f64 {
     0.75
 }
 
-/// One axis of `[atiim_pacejka]`.
+/// One axis of `[atiim_pacejka]`: the temperature factors at melting.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AtiimAxisSection {
-    /// Shape factor C, in (1, 2).
-    pub c: f64,
-    /// Curvature factor E, <= 1.
-    pub e: f64,
-    /// Peak friction coefficient at mu_reference and Delta-T = 0.
-    pub mu: f64,
-    /// K0/Fz, per unit slip (longitudinal) or per rad (lateral).
-    pub k_per_fz: f64,
-    /// dmu/dT, 1/K.
-    pub dmu_dt_per_k: f64,
-    /// dC_p/dT, 1/K.
-    pub dc_dt_per_k: f64,
+    /// Peak friction with the contact at melting over that at the ice temperature, in
+    /// [min_factor, 1].
+    pub peak_factor_at_melt: f64,
+    /// Slip stiffness factor at melting, in [min_factor, 1]; default 1 (stiffness unchanged).
+    #[serde(default = "one")]
+    pub stiffness_factor_at_melt: f64,
 }
 
-/// Raw `[atiim_pacejka]` section (see [`AtiimPacejkaTyre`]).
+/// Raw `[atiim_pacejka]` section (see [`AtiimPacejkaTyre`]). The base curve is the file's
+/// `[pacejka]` section.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AtiimSection {
-    /// Friction of the surface the coefficients belong to.
-    pub mu_reference: f64,
     /// `"srtt"`, `"all_season"`, `"directional"`, `"average"`, `"none"` or `"quadratic"`.
     pub k_shift: String,
-    /// a of the user quadratic a dT^2 + b, 1/K^2 (only with `k_shift = "quadratic"`).
+    /// a of the user quadratic a dT^2 + b, 1/K^2, >= 0 (only with `k_shift = "quadratic"`).
     #[serde(default)]
     pub k_shift_a: Option<f64>,
-    /// b of the user quadratic (only with `k_shift = "quadratic"`).
+    /// b of the user quadratic, >= 0 (only with `k_shift = "quadratic"`).
     #[serde(default)]
     pub k_shift_b: Option<f64>,
     /// Floor of the temperature factors, in (0, 1]; default 0.1.
     #[serde(default = "min_factor")]
     pub min_factor: f64,
-    /// Longitudinal coefficients.
+    /// Longitudinal factors at melting.
     pub longitudinal: AtiimAxisSection,
-    /// Lateral coefficients.
+    /// Lateral factors at melting.
     pub lateral: AtiimAxisSection,
 }
 
@@ -374,7 +368,11 @@ impl TyreFileSpec {
             }
             TyreModelKind::Dugoff => Arc::new(self.build_dugoff(path)?),
             TyreModelKind::DugoffThermal => Arc::new(self.build_dugoff_thermal(path)?),
-            TyreModelKind::AtiimPacejka => Arc::new(self.build_atiim(path)?),
+            TyreModelKind::AtiimPacejka => {
+                let (t, w) = self.build_atiim(path)?;
+                warnings.extend(w);
+                Arc::new(t)
+            }
         };
         let tyre = Tyre {
             name: self.name.clone(),
@@ -478,13 +476,13 @@ impl TyreFileSpec {
         let c = Checker::new(path);
         c.positive("dugoff_thermal.h_offset", s.h_offset)?;
         c.finite("dugoff_thermal.h_mu_coefficient", s.h_mu_coefficient)?;
-        Ok(DugoffThermalTyre { base, h: ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient } })
+        Ok(DugoffThermalTyre::new(base, ThermalFactor { offset: s.h_offset, mu_coefficient: s.h_mu_coefficient }))
     }
 
-    fn build_atiim(&self, path: &Path) -> Result<AtiimPacejkaTyre> {
+    /// Build the ATIIM-modified Magic Formula: the `[pacejka]` base and the temperature law.
+    fn build_atiim(&self, path: &Path) -> Result<(AtiimPacejkaTyre, Vec<String>)> {
         let s = self.atiim_pacejka.as_ref().ok_or_else(|| missing(path, "atiim_pacejka"))?;
         let c = Checker::new(path);
-        c.positive("atiim_pacejka.mu_reference", s.mu_reference)?;
         c.require(
             "atiim_pacejka.min_factor",
             s.min_factor,
@@ -505,8 +503,14 @@ impl TyreFileSpec {
                         "k_shift = \"quadratic\" needs k_shift_a and k_shift_b",
                     ));
                 };
-                c.finite("atiim_pacejka.k_shift_a", a)?;
-                c.finite("atiim_pacejka.k_shift_b", b)?;
+                c.range("atiim_pacejka.k_shift_a", a, 0.0, 1e3)?;
+                c.range("atiim_pacejka.k_shift_b", b, 0.0, 1e3)?;
+                c.require(
+                    "atiim_pacejka.k_shift_b",
+                    b,
+                    a + b > 0.0,
+                    "expected k_shift_a + k_shift_b > 0 (the shift must grow with the rise)",
+                )?;
                 KShift::Quadratic { a, b }
             }
             other => {
@@ -526,30 +530,28 @@ impl TyreFileSpec {
                 "k_shift_a/k_shift_b are only used with k_shift = \"quadratic\"",
             ));
         }
-        let axis = |name: &str, a: &AtiimAxisSection| -> Result<AtiimAxis> {
-            let k = |f: &str| format!("atiim_pacejka.{name}.{f}");
-            c.require(&k("c"), a.c, a.c > 1.0 && a.c < 2.0, "expected 1 < c < 2 (a curve with a peak)")?;
-            c.require(&k("e"), a.e, a.e <= 1.0, "expected e <= 1")?;
-            c.range(&k("mu"), a.mu, 1e-3, 5.0)?;
-            c.positive(&k("k_per_fz"), a.k_per_fz)?;
-            c.range(&k("dmu_dt_per_k"), a.dmu_dt_per_k, -1.0, 1.0)?;
-            c.range(&k("dc_dt_per_k"), a.dc_dt_per_k, -1.0, 1.0)?;
-            Ok(AtiimAxis {
-                c: a.c,
-                e: a.e,
-                mu: a.mu,
-                k_per_fz: a.k_per_fz,
-                dmu_dt_per_k: a.dmu_dt_per_k,
-                dc_dt_per_k: a.dc_dt_per_k,
-            })
+        let floor = s.min_factor;
+        let axis = |name: &str, a: &AtiimAxisSection| -> Result<AxisLaw> {
+            let allowed = format!("expected min_factor ({floor}) <= value <= 1");
+            for (key, v) in [
+                ("peak_factor_at_melt", a.peak_factor_at_melt),
+                ("stiffness_factor_at_melt", a.stiffness_factor_at_melt),
+            ] {
+                c.require(&format!("atiim_pacejka.{name}.{key}"), v, v >= floor && v <= 1.0, &allowed)?;
+            }
+            Ok(AxisLaw { peak_at_melt: a.peak_factor_at_melt, stiffness_at_melt: a.stiffness_factor_at_melt })
         };
-        Ok(AtiimPacejkaTyre {
-            x: axis("longitudinal", &s.longitudinal)?,
-            y: axis("lateral", &s.lateral)?,
-            mu_reference: s.mu_reference,
-            k_shift,
-            min_factor: s.min_factor,
-        })
+        let law =
+            MeltLaw { k_shift, x: axis("longitudinal", &s.longitudinal)?, y: axis("lateral", &s.lateral)?, floor };
+        if self.pacejka.is_none() {
+            return Err(Error::key(
+                path,
+                "atiim_pacejka",
+                "the ATIIM-modified Magic Formula needs a base curve: add a [pacejka] section (tir_file or coefficients)",
+            ));
+        }
+        let (base, warnings) = self.build_pacejka(path)?;
+        Ok((AtiimPacejkaTyre { base, law }, warnings))
     }
 
     /// Build the Magic Formula provider of the `[pacejka]` section, with reader warnings.
@@ -580,11 +582,27 @@ impl TyreFileSpec {
             }
         }
         let mut warnings = Vec::new();
+        let mut side = TyreSide::Left;
         let (source, base): (std::path::PathBuf, BTreeMap<String, f64>) = match (&s.tir_file, &s.coefficients) {
             (Some(rel), None) => {
                 let tir_path = resolve(path, rel);
                 let f = super::tir::read_tir(&tir_path)?;
                 warnings.extend(f.warnings.iter().cloned());
+                side = match f.string("TYRESIDE").map(|v| v.trim().to_ascii_uppercase()) {
+                    None if f.num("TYRESIDE").is_some() => {
+                        return Err(Error::key(&tir_path, "TYRESIDE", "expected 'LEFT' or 'RIGHT' (a quoted string)"))
+                    }
+                    None => TyreSide::Left,
+                    Some(v) if v == "LEFT" => TyreSide::Left,
+                    Some(v) if v == "RIGHT" => TyreSide::Right,
+                    Some(v) => {
+                        return Err(Error::key(
+                            &tir_path,
+                            "TYRESIDE",
+                            format!("unknown tyre side '{v}'; allowed: 'LEFT', 'RIGHT'"),
+                        ))
+                    }
+                };
                 let map = MfCoefficients::NAMES.iter().filter_map(|n| f.num(n).map(|v| (n.to_string(), v))).collect();
                 (tir_path, map)
             }
@@ -637,17 +655,22 @@ impl TyreFileSpec {
         }
         cs.require("PKY1", coeffs.pky1, coeffs.pky1 != 0.0, "expected a non-zero cornering stiffness factor")?;
         cs.require("PKY2", coeffs.pky2, coeffs.pky2 > 0.0, "expected PKY2 > 0 (load at which Ky peaks, in Fz0')")?;
-        let t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
+        let mut t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
+        t.measured_side = side;
         if t.combination == Combination::MagicFormula {
             let c2 = &t.coeffs;
-            for (n, v) in [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)] {
-                cs.require(n, v, v != 0.0, "the Magic Formula combined-slip functions need RBX1, RCX1, RBY1, RCY1 (or set combined = \"ellipse\")")?;
+            let absent: Vec<&str> = [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)]
+                .iter()
+                .filter(|(_, v)| *v == 0.0)
+                .map(|(n, _)| *n)
+                .collect();
+            if !absent.is_empty() {
+                warnings.push(format!(
+                    "{}: combined-slip coefficient(s) {} absent or 0; as in PAC2002 implementations the weighting function is 1 there (no combined-slip interaction: each force keeps its pure-slip value, a friction square). Add the R coefficients or set combined = \"ellipse\" for a friction ellipse",
+                    source.display(),
+                    absent.join(", ")
+                ));
             }
-        } else if s.combined == "auto" {
-            warnings.push(format!(
-                "{}: no combined-slip coefficients (RBX1/RBY1); combined slip uses the normalised-slip friction ellipse",
-                source.display()
-            ));
         }
         Ok((t, warnings))
     }

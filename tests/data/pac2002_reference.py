@@ -29,6 +29,46 @@ def own():
                 RBX1=12, RBX2=10, RCX1=1.0, RBY1=9, RBY2=8, RCY1=1.0)
 
 
+def own_mz():
+    # own() plus the .tir's aligning coefficients, and three overrides the test sets so that every
+    # term of the combined Mz is exercised (the file has no residual torque and no s arm):
+    # QDZ6 = 0.003, SSZ1 = 0.02, SSZ2 = 0.03.
+    c = own()
+    c.update(UNLOADED_RADIUS=0.338, QBZ1=10, QBZ2=-1.5, QBZ9=8, QCZ1=1.2, QDZ1=0.09, QDZ2=-0.008,
+             QEZ1=-1.5, QEZ2=0.3, QDZ6=0.003, SSZ1=0.02, SSZ2=0.03)
+    return c
+
+
+def mz_combined(c, fz, kappa, alpha_file):
+    """PAC2002 aligning moment with combined slip (4.E71-4.E78): Mz = -t Fy' + Mzr + s Fx.
+
+    No shifts (SHy = SVy = SHt = 0), camber 0, all scales 1, mu_surface = mu_reference."""
+    fz0 = c['FNOMIN'] * g(c, 'LFZO', 1.0)
+    dfz = (fz - fz0) / fz0
+    r0 = c['UNLOADED_RADIUS']
+    kx = fz * (c['PKX1'] + g(c, 'PKX2') * dfz) * math.exp(g(c, 'PKX3') * dfz)
+    ky = c['PKY1'] * fz0 * math.sin(2 * math.atan(fz / (c['PKY2'] * fz0)))
+    ratio = kx / ky
+
+    def equiv(a):
+        sgn = 1.0 if a >= 0 else -1.0
+        return math.atan(math.sqrt(math.tan(a) ** 2 + (ratio * kappa) ** 2)) * sgn
+
+    at_eq = equiv(alpha_file)
+    ar_eq = equiv(alpha_file)
+    bt = g(c, 'QBZ1') + g(c, 'QBZ2') * dfz + g(c, 'QBZ3') * dfz ** 2
+    ct = c['QCZ1']
+    dt = fz * (c['QDZ1'] + g(c, 'QDZ2') * dfz) * (r0 / fz0)
+    et = min(g(c, 'QEZ1') + g(c, 'QEZ2') * dfz + g(c, 'QEZ3') * dfz ** 2, 1.0)
+    t = dt * math.cos(ct * math.atan(bt * at_eq - et * (bt * at_eq - math.atan(bt * at_eq)))) * math.cos(alpha_file)
+    br = g(c, 'QBZ9')  # QBZ10 = 0
+    dr = fz * (g(c, 'QDZ6') + g(c, 'QDZ7') * dfz) * r0
+    mzr = dr * math.cos(math.atan(br * ar_eq)) * math.cos(alpha_file)
+    fx, fy = combined_own(c, fz, kappa, alpha_file)  # no RVY: Fy' = Fy
+    s = r0 * (g(c, 'SSZ1') + g(c, 'SSZ2') * fy / fz0)
+    return -t * fy + mzr + s * fx
+
+
 def g(c, k, d=0.0):
     return c.get(k, d)
 
@@ -89,6 +129,11 @@ if __name__ == '__main__':
         print(f'fy fz={fz} alpha=0.05: {fy0(o, fz, -0.05)!r}')
         fx, fy = combined_own(o, fz, 0.05, -0.05)
         print(f'combined fz={fz} kappa=0.05 alpha=0.05: fx={fx!r} fy={fy!r}')
+    m = own_mz()
+    print('# Mz, combined slip, srtt .tir + QDZ6 0.003, SSZ1 0.02, SSZ2 0.03, mu 1')
+    for fz in (2000.0, 4000.0, 8000.0):
+        for kappa, alpha in ((0.0, 0.05), (0.05, 0.05), (0.1, 0.0873), (-0.1, 0.05), (0.02, -0.1), (0.3, 0.02)):
+            print(f'mz fz={fz} kappa={kappa} alpha={alpha}: {mz_combined(m, fz, kappa, -alpha)!r}')
     # Ice: mu_surface 0.15 on mu_reference 1.0 with stiffness exponent 0.5 -> LMU 0.15, LK sqrt(0.15)
     r = 0.15
     print(f'ice fx fz=4000 kappa=0.07: {fx0(o, 4000.0, 0.07, lmux=r, lkx=math.sqrt(r))!r}')
