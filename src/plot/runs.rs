@@ -554,7 +554,7 @@ fn row_at(t: &Table, time: f64) -> Option<usize> {
 /// The trajectory chart (equal scale): every run's path; with a course, the cones, the reference
 /// path, outlines of the first run every second and every run's cone strikes. Titles name only
 /// what is drawn.
-fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
+fn trajectory_xy(runs: &[RunData], factors: &[Factor]) -> Option<XyChart> {
     let mut note = String::new();
     let overlay = plan(runs.len(), factors) == Plan::Overlay;
     let g = &groups(runs, factors, &Plan::Overlay, &mut note)[0].1;
@@ -572,7 +572,7 @@ fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<
         }
     }
     if chart.series.is_empty() {
-        return Ok(false);
+        return None;
     }
     if !overlay {
         note = format!(
@@ -651,6 +651,11 @@ fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<
         note = format!("{}. {note}", capitalise(&parts.join("; ")));
     }
     chart.note = note.trim().to_string();
+    Some(chart)
+}
+
+fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
+    let Some(chart) = trajectory_xy(runs, factors) else { return Ok(false) };
     xy_chart(&dir.join("trajectory"), &chart)?;
     Ok(true)
 }
@@ -658,13 +663,13 @@ fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<
 /// Steer angle against lateral acceleration over the steady states of constant-radius runs, with
 /// the fitted understeer gradient K (solid) and lines at the ends of its 95 % interval (dashed,
 /// through the mean point, which the fit passes through).
-fn steer_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
+fn steer_xy(runs: &[RunData], factors: &[Factor]) -> Option<XyChart> {
     let mut note = String::new();
     let g = &groups(runs, factors, &Plan::Overlay, &mut note)[0].1;
     let fitted: Vec<usize> =
         (0..g.runs.len()).filter(|&i| g.runs[i].gradient.is_some() && g.runs[i].steady.len() >= 3).collect();
     if fitted.is_empty() {
-        return Ok(false);
+        return None;
     }
     let shown = &fitted[..fitted.len().min(MAX_LINES)];
     let deg_per_g = |k: f64| k.to_degrees() * G;
@@ -718,6 +723,11 @@ fn steer_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool>
         );
     }
     chart.note = note.trim().to_string();
+    Some(chart)
+}
+
+fn steer_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
+    let Some(chart) = steer_xy(runs, factors) else { return Ok(false) };
     xy_chart(&dir.join("steer_vs_ay"), &chart)?;
     Ok(true)
 }
@@ -893,18 +903,72 @@ mod tests {
         assert!(quantile(&[], 0.5).is_nan());
     }
 
-    #[test]
-    fn mu_g_lines_come_in_pairs_at_plus_minus_mu_g() {
-        let run = |mu: f64| RunData {
+    fn run(mu: f64) -> RunData {
+        RunData {
             params: Vec::new(),
-            name: String::new(),
-            table: Table::parse(Path::new("x.csv"), "t_s\n0\n").unwrap(),
+            name: "circle".into(),
+            table: Table::parse(Path::new("x.csv"), "t_s,x_m,y_m\n0,0,0\n1,40,40\n2,0,80\n").unwrap(),
             layout: None,
             strikes: Vec::new(),
             mu: Some(mu),
             steady: Vec::new(),
             gradient: None,
-        };
+        }
+    }
+
+    #[test]
+    fn trajectories_are_equal_aspect_and_titles_name_only_what_is_drawn() {
+        let c = trajectory_xy(&[run(0.15)], &[]).unwrap();
+        assert!(c.equal_aspect);
+        assert_eq!(c.title, "Trajectory");
+        // No course: no cones, outlines or strikes, and no text about them.
+        assert!(c.markers.is_empty() && c.outlines.is_empty() && c.highlights.is_empty());
+        assert!(!c.note.contains("cone") && !c.note.contains("outline"), "{}", c.note);
+    }
+
+    #[test]
+    fn steer_chart_draws_the_fit_through_the_mean_point_and_its_interval() {
+        let mut r = run(0.15);
+        // delta = 0.07 + 0.004 a_y exactly (rad), K interval [0.003, 0.005] rad per m/s^2.
+        r.steady = [0.5, 1.0, 1.5, 2.0].iter().map(|&ay| (ay, 0.07 + 0.004 * ay)).collect();
+        r.gradient = Some(Gradient { rad_per_mps2: 0.004, ci95: [0.003, 0.005], intercept_rad: 0.07 });
+        let c = steer_xy(&[r], &[]).unwrap();
+        // Points, fit, two interval lines.
+        assert_eq!(c.series.len(), 4);
+        assert!(c.styles[0].points_only && !c.styles[1].points_only && c.styles[2].stroke != 0);
+        let deg = 180.0 / std::f64::consts::PI;
+        let fit = &c.series[1].points;
+        assert!(
+            (fit[0].1 - (0.07 + 0.004 * 0.5) * deg).abs() < 1e-12
+                && (fit[1].1 - (0.07 + 0.004 * 2.0) * deg).abs() < 1e-12
+        );
+        // K in deg/g: 0.004 rad/(m/s^2) x 57.2958 x 9.80665 = 2.2475 deg/g.
+        assert!(
+            c.series[1].label.contains("K = 2.25 deg/g") && c.series[1].label.contains("1.69 to 2.81"),
+            "{}",
+            c.series[1].label
+        );
+        // The interval lines cross the fit at the mean a_y (1.25 m/s^2).
+        for ci in &c.series[2..] {
+            let at =
+                |pts: &[(f64, f64)], x: f64| pts[0].1 + (pts[1].1 - pts[0].1) * (x - pts[0].0) / (pts[1].0 - pts[0].0);
+            assert!((at(&ci.points, 1.25) - at(fit, 1.25)).abs() < 1e-12);
+        }
+        assert!(steer_xy(&[run(0.15)], &[]).is_none(), "no steady states, no chart");
+    }
+
+    #[test]
+    fn a_batch_above_the_limit_gets_a_note_instead_of_charts() {
+        let dir = std::env::temp_dir().join(format!("vehsim-plot-note-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(plot_batch(&dir, MAX_OVERLAID_RUNS + 1, "big").unwrap().is_empty());
+        let note = std::fs::read_to_string(dir.join("plots/NOTE.txt")).unwrap();
+        assert!(note.contains(&format!("{} runs", MAX_OVERLAID_RUNS + 1)) && note.contains("vehsim plot"), "{note}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn mu_g_lines_come_in_pairs_at_plus_minus_mu_g() {
         let runs = [run(0.15), run(0.15), run(0.3)];
         let refs: Vec<&RunData> = runs.iter().collect();
         let l = mu_g_lines(&refs);
