@@ -748,9 +748,13 @@ where
         .caption(&h.value_label, ("sans-serif", 14))
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(|e| e.to_string())?;
+    let bar_span = hi - lo;
+    let bf = move |v: &f64| tick_label(*v, bar_span, 10);
     cb.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
+        .y_labels(10)
+        .y_label_formatter(&bf)
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(|e| e.to_string())?;
