@@ -654,12 +654,6 @@ fn trajectory_xy(runs: &[RunData], factors: &[Factor]) -> Option<XyChart> {
     Some(chart)
 }
 
-fn trajectory_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
-    let Some(chart) = trajectory_xy(runs, factors) else { return Ok(false) };
-    xy_chart(&dir.join("trajectory"), &chart)?;
-    Ok(true)
-}
-
 /// Steer angle against lateral acceleration over the steady states of constant-radius runs, with
 /// the fitted understeer gradient K (solid) and lines at the ends of its 95 % interval (dashed,
 /// through the mean point, which the fit passes through).
@@ -726,12 +720,6 @@ fn steer_xy(runs: &[RunData], factors: &[Factor]) -> Option<XyChart> {
     Some(chart)
 }
 
-fn steer_chart(dir: &Path, runs: &[RunData], factors: &[Factor]) -> Result<bool> {
-    let Some(chart) = steer_xy(runs, factors) else { return Ok(false) };
-    xy_chart(&dir.join("steer_vs_ay"), &chart)?;
-    Ok(true)
-}
-
 /// Draw every standard chart of the results folder `results` into `out/plots/`; returns the
 /// charts written (stems). A folder with no time series is an error.
 pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
@@ -778,11 +766,11 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
             written.push(dir.join(stem));
         }
     }
-    if trajectory_chart(&dir, &runs, &factors)? {
-        written.push(dir.join("trajectory"));
-    }
-    if steer_chart(&dir, &runs, &factors)? {
-        written.push(dir.join("steer_vs_ay"));
+    for (stem, chart) in [("trajectory", trajectory_xy(&runs, &factors)), ("steer_vs_ay", steer_xy(&runs, &factors))] {
+        if let Some(chart) = chart {
+            xy_chart(&dir.join(stem), &chart)?;
+            written.push(dir.join(stem));
+        }
     }
     Ok(written)
 }
