@@ -7,7 +7,6 @@
 //! Outputs are byte-identical whatever the thread count: every run is deterministic and the
 //! summary is written in run order.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -124,6 +123,7 @@ pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
 
 /// As [`load`], for a spec already parsed into a TOML table.
 pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
+    crate::spec::kind::expect(path, &table, crate::spec::kind::SpecKind::Run)?;
     let sweep = match table.remove("sweep") {
         None => None,
         Some(toml::Value::Table(t)) => Some(t),
@@ -161,6 +161,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
         _ => return Err(Error::key(path, "name", "expected a string")),
     };
     let mut runs = Vec::with_capacity(total);
+    let checked = crate::progress::Progress::new(total, "combinations checked");
     for index in 0..total {
         // Mixed-radix digits of the index, the last key varying fastest.
         let mut rem = index;
@@ -183,7 +184,9 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
             None => ManeuverFile::from_table(path, t).and_then(|f| f.build(path)).map_err(|e| e.to_string()),
         };
         runs.push(BatchRun { index, params, config });
+        checked.inc();
     }
+    drop(checked);
     if let Some(first_err) = runs.iter().find_map(|r| r.config.as_ref().err()) {
         if runs.iter().all(|r| r.config.is_err()) {
             // The stored message starts with the file name already.
@@ -316,16 +319,9 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         .num_threads(opts.jobs.unwrap_or(0))
         .build()
         .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
-    let bar = if opts.progress && std::io::stderr().is_terminal() {
-        let b = indicatif::ProgressBar::new(selected.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {per_sec}, ETA {eta}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    // Shown after a few seconds: a long single run or a sweep.
+    let bar =
+        crate::progress::Progress::with_display(selected.len(), "runs", opts.progress && crate::progress::enabled());
     let mut records = Vec::new();
     if !batch.is_sweep() {
         // A single run keeps the flat layout results/<name>/timeseries.csv.
@@ -340,7 +336,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
             }
             Ok(())
         })?;
-        bar.inc(1);
+        bar.inc();
         let status = if out.summary.failed() { "failed" } else { "ok" };
         records.push(RunRecord {
             index: 0,
@@ -358,7 +354,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
                     .map(|r| {
                         check_interrupted(&dir)?;
                         let rec = execute_one(r, Some(tmp));
-                        bar.inc(1);
+                        bar.inc();
                         rec
                     })
                     .collect()
@@ -377,13 +373,13 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
             if let Some(s) = opts.shard {
                 let meta = serde_json::json!({"name": batch.name, "k": s.k, "n": s.n, "runs": batch.runs.len()});
                 write_atomic(&tmp.join("shard.json"), format!("{meta}\n").as_bytes())?;
-            } else if plots && records.len() <= crate::plot::runs::MAX_OVERLAID_RUNS {
-                crate::plot::runs::plot_results(tmp, tmp)?;
+            } else if plots {
+                crate::plot::runs::plot_batch(tmp, records.len(), &batch.name)?;
             }
             Ok(())
         })?;
     }
-    bar.finish_and_clear();
+    drop(bar);
     Ok(BatchResult { dir, records })
 }
 

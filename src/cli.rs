@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use crate::error::Error;
+use crate::output::num::{sig, Sig};
 use crate::output::table::Table;
 use crate::{batch, compare};
 
@@ -65,26 +66,35 @@ pub enum Command {
     /// Check manoeuvre specs, every sweep combination, and the vehicle and tyre files they name;
     /// run nothing.
     Validate {
+        /// Manoeuvre spec files (TOML) to check.
         #[arg(required = true)]
         files: Vec<PathBuf>,
+        /// No progress counter (it appears only on a terminal, for sweeps that take seconds).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Sweep tyre forces over slip for the providers, loads and temperature rises of a tyre-curve
     /// spec; write CSV and PNG/SVG plots into <out>/<name>/.
     Tyre {
+        /// Tyre-curve spec file (TOML), e.g. scenarios/tyre/tyre_curves.toml.
         file: PathBuf,
+        /// Folder under which <name>/ is written.
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
     /// Evaluate the ATIIM contact-patch model for a scenario spec; write grids, heat maps, the
     /// drawbar-pull curve and summary.json into <out>/<name>/.
     Atiim {
+        /// ATIIM scenario spec file (TOML).
         file: PathBuf,
+        /// Folder under which <name>/ is written.
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
     /// Time repeated runs of one spec (simulation only, no output files); prints median and min
     /// wall time, real-time factor, steps and peak memory (format: src/bench.rs).
     Bench {
+        /// Manoeuvre spec file (TOML) of the run to time.
         file: PathBuf,
         /// Number of timed runs.
         #[arg(long, default_value_t = 200)]
@@ -191,7 +201,8 @@ pub fn main() -> ExitCode {
         }
     });
     match cli.command {
-        Command::Validate { files } => {
+        Command::Validate { files, quiet } => {
+            crate::progress::set_quiet(quiet);
             let mut code = ExitCode::SUCCESS;
             for f in &files {
                 let b = match batch::load(f) {
@@ -225,7 +236,7 @@ pub fn main() -> ExitCode {
                         if b.runs.len() == 1 { "" } else { "s" },
                         cfg.kind,
                         cfg.vehicle.name,
-                        cfg.env.mu,
+                        Sig(cfg.env.mu),
                         cfg.tyre_model.as_str(),
                         cfg.vehicle_model.as_str()
                     );
@@ -234,6 +245,7 @@ pub fn main() -> ExitCode {
             code
         }
         Command::Run { files, out, jobs, shard, quiet } => {
+            crate::progress::set_quiet(quiet);
             let mut batches = Vec::new();
             for f in &files {
                 match batch::load(f) {
@@ -298,14 +310,14 @@ pub fn main() -> ExitCode {
                     };
                     let verdict = if s.plausible { verdict } else { format!("{verdict}, IMPLAUSIBLE") };
                     println!(
-                        "{}: {} at t = {:.2} s, {}; peak yaw rate {:.3} rad/s, peak sideslip {:.2} deg, peak ay {:.2} m/s^2 -> {}",
+                        "{}: {} at t = {} s, {}; peak yaw rate {} rad/s, peak sideslip {} deg, peak ay {} m/s^2 -> {}",
                         b.name,
                         s.end_reason,
-                        s.end_time_s,
+                        Sig(s.end_time_s),
                         verdict,
-                        s.peak_yaw_rate_radps,
-                        s.peak_sideslip_rad.to_degrees(),
-                        s.peak_ay_mps2,
+                        Sig(s.peak_yaw_rate_radps),
+                        Sig(s.peak_sideslip_rad.to_degrees()),
+                        Sig(s.peak_ay_mps2),
                         result.dir.display()
                     );
                     for r in &s.implausible {
@@ -369,8 +381,11 @@ pub fn main() -> ExitCode {
             }
             if let Some(w) = r.worst() {
                 println!(
-                    "worst channel: {} = {:.3e} at t = {} s (tolerance {:.3e})",
-                    w.channel, w.max_abs_error, w.at_t_s, w.tolerance
+                    "worst channel: {} = {} at t = {} s (tolerance {})",
+                    w.channel,
+                    Sig(w.max_abs_error),
+                    sig(w.at_t_s, 4),
+                    Sig(w.tolerance)
                 );
             }
             let outside: Vec<_> = r.channels.iter().filter(|c| c.ratio() > 1.0).collect();
@@ -380,8 +395,11 @@ pub fn main() -> ExitCode {
             } else {
                 for c in &outside {
                     println!(
-                        "  outside: {} max error {:.3e} at t = {} s (tolerance {:.3e})",
-                        c.channel, c.max_abs_error, c.at_t_s, c.tolerance
+                        "  outside: {} max error {} at t = {} s (tolerance {})",
+                        c.channel,
+                        Sig(c.max_abs_error),
+                        sig(c.at_t_s, 4),
+                        Sig(c.tolerance)
                     );
                 }
                 ExitCode::from(1)

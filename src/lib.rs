@@ -11,7 +11,8 @@
 //! - [`sim`]: integrators and the engine that owns time.
 //! - [`run`]: one run from a spec to result files; [`cli`]: the command line; [`bench`]: timing runs.
 //! - [`discover`]: the discrepancy workflow (measured runs vs. model, effect discovery, synthetic data).
-//! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts.
+//! - [`error`]: the error type and spec-value checks; [`output`]: atomic files; [`plot`]: charts;
+//!   [`progress`]: progress counters on the terminal.
 //! - [`fuzz_entry`]: one bytes-in entry point per kind of input, for fuzzing and its corpus test.
 
 pub mod batch;
@@ -27,6 +28,7 @@ pub mod fuzz_entry;
 pub mod maneuver;
 pub mod output;
 pub mod plot;
+pub mod progress;
 pub mod run;
 pub mod sim;
 pub mod spec;

@@ -14,9 +14,9 @@ fn tyre_case(tag: &str, providers: &str, tir: &str) -> std::path::PathBuf {
     let tyre = std::fs::read_to_string(root.join("vehicles/tyres/srtt_p225_60r16.toml")).unwrap();
     std::fs::write(dir.join("tyre.toml"), tyre).unwrap();
     std::fs::write(dir.join("srtt_p225_60r16.tir"), tir).unwrap();
-    let spec = std::fs::read_to_string(root.join("maneuvers/tyre_curves.toml"))
+    let spec = std::fs::read_to_string(root.join("scenarios/tyre/tyre_curves.toml"))
         .unwrap()
-        .replace("../vehicles/tyres/srtt_p225_60r16.toml", "tyre.toml")
+        .replace("../../vehicles/tyres/srtt_p225_60r16.toml", "tyre.toml")
         .replace(
             "providers = [\"polynomial\", \"pacejka\", \"dugoff\", \"dugoff_thermal\", \"atiim_pacejka\"]",
             &format!("providers = [{providers}]"),

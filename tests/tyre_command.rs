@@ -6,7 +6,7 @@ use vehsim::tyre::run_tyre_command;
 
 #[test]
 fn tyre_curves_spec_writes_pngs_svgs_and_csvs() {
-    let spec = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/maneuvers/tyre_curves.toml"));
+    let spec = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/tyre/tyre_curves.toml"));
     let root = std::env::temp_dir().join(format!("vehsim-tyre-cmd-{}", std::process::id()));
     let out = run_tyre_command(spec, &root).expect("tyre command runs");
     assert_eq!(out, root.join("tyre_curves"));

@@ -74,6 +74,7 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
                 label: "ATIIM (sum of tau dA / Fz)".into(),
                 points: curve.iter().map(|(k, s)| (k * 100.0, s.drawbar_coeff)).collect(),
             }],
+            note: String::new(),
         },
     )?;
     let summary = serde_json::json!({
@@ -133,6 +134,7 @@ fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
                 x_range: xr,
                 y_range: yr,
                 values: nested(shown, cols),
+                classes: if stem == "wet" { vec![(0.0, "dry".into()), (1.0, "wet".into())] } else { Vec::new() },
             },
         )?;
     }

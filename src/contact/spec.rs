@@ -383,7 +383,7 @@ pub struct OperatingSpec {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DrawbarSpec {
-    /// Slip ratios, 0–1 (default 0, 0.05, ..., 0.4).
+    /// Slip ratios, 0–1 (default 0 to 0.02 in steps of 0.0005, then to 0.4 in steps of 0.005).
     pub slips: Option<Vec<f64>>,
     /// Travel speed of the sweep, m/s (default: the operating speed).
     pub speed_mps: Option<f64>,
@@ -430,6 +430,7 @@ impl ScenarioSpec {
     /// Read and validate a scenario file.
     pub fn load(file: &Path) -> Result<Scenario> {
         let text = read_input(file)?;
+        crate::spec::kind::expect_text(file, &text, crate::spec::kind::SpecKind::AtiimScenario)?;
         let spec: ScenarioSpec = crate::error::parse_toml(file, &text)?;
         spec.validate(file)
     }
@@ -546,6 +547,8 @@ impl ScenarioSpec {
     }
 }
 
+/// 0 to 0.02 in steps of 0.0005 (the steep rise), then to 0.40 in steps of 0.005: fine enough
+/// that the drawn curve is the curve, not a polygon through a few points.
 fn default_slips() -> Vec<f64> {
-    vec![0.0, 0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.40]
+    (0..40).map(|i| f64::from(i) * 0.0005).chain((4..=80).map(|i| f64::from(i) * 0.005)).collect()
 }

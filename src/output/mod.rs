@@ -1,7 +1,8 @@
 //! Writing result files safely: everything goes to a temporary name in the destination folder and
 //! is renamed into place, so a reader never sees a half-written file. [`table`] reads numeric
-//! CSV tables back.
+//! CSV tables back; [`num`] prints numbers with a fixed number of significant digits.
 
+pub mod num;
 pub mod table;
 
 use std::path::{Path, PathBuf};

@@ -439,7 +439,9 @@ fn valid_name(name: &str) -> bool {
 
 impl ManeuverFile {
     pub fn load(path: &Path) -> Result<Self> {
-        parse_toml(path, &read_input(path)?)
+        let text = read_input(path)?;
+        super::kind::expect_text(path, &text, super::kind::SpecKind::Run)?;
+        parse_toml(path, &text)
     }
 
     /// Parse an already-read TOML table (used for sweep combinations), naming keys by their path.

@@ -1,7 +1,9 @@
 //! Spec files: serde types for `vehicles/*.toml` and `maneuvers/*.toml`, each turned into a
 //! validated model (every number checked, every path resolved) before anything runs.
-//! Unknown keys are rejected; paths inside a spec are relative to the spec file.
+//! Unknown keys are rejected; paths inside a spec are relative to the spec file. [`kind`] tells a
+//! spec of another command (tyre curves, ATIIM scenario) apart and names that command.
 
+pub mod kind;
 pub mod maneuver;
 pub mod vehicle;
 

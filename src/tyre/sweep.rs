@@ -116,7 +116,9 @@ fn check_sweep(c: &Checker, key: &str, s: &Sweep, lo: f64, hi: f64) -> Result<()
 
 /// Run the tyre command on spec `spec`, writing into `out_root/<name>/`; returns that folder.
 pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
-    let s: TyreSweepSpec = parse_toml(spec, &read_input(spec)?)?;
+    let text = read_input(spec)?;
+    crate::spec::kind::expect_text(spec, &text, crate::spec::kind::SpecKind::TyreCurves)?;
+    let s: TyreSweepSpec = parse_toml(spec, &text)?;
     let c = Checker::new(spec);
     if s.name.is_empty() || !s.name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_') {
         return Err(Error::key(spec, "name", format!("'{}' must be non-empty letters, digits, '-' or '_'", s.name)));
@@ -304,13 +306,13 @@ fn chart(
     label: impl Fn(&Curve) -> String,
     map: impl Fn(&(f64, f64, f64, f64)) -> (f64, f64),
 ) -> LineChart {
+    let series: Vec<Series> =
+        curves.iter().map(|c| Series { label: label(c), points: c.points.iter().map(&map).collect() }).collect();
     LineChart {
         title,
         x_label: x.into(),
         y_label: y.into(),
-        series: curves
-            .iter()
-            .map(|c| Series { label: label(c), points: c.points.iter().map(&map).collect() })
-            .collect(),
+        note: crate::plot::coincidence_note(&series, y.split(' ').next().unwrap_or(y)),
+        series,
     }
 }
