@@ -5,7 +5,9 @@ points (default 1e5), for every provider of the SRTT tyre file, median of R repe
 
 Inputs: fz uniform in [2, 6] kN, kappa in [-0.3, 0.3], alpha in [-0.2, 0.2] rad (seeded), camber 0,
 mu 0.15, ice at -3 degC with a 2 K contact-temperature rise. --threads sets RAYON_NUM_THREADS
-(the call splits arrays above 8192 points into parallel chunks). Prints one line per provider.
+(the call splits arrays above 8192 points into parallel chunks). Prints one line per provider:
+wall time per point (median and min) and process CPU time per point summed over threads (a
+fairer figure on a shared machine), and the load average before and after.
 """
 
 import argparse
@@ -35,18 +37,24 @@ def main() -> int:
     fz = rng.uniform(2000.0, 6000.0, n)
     kappa = rng.uniform(-0.3, 0.3, n)
     alpha = rng.uniform(-0.2, 0.2, n)
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
     threads = os.environ.get("RAYON_NUM_THREADS", f"all {os.cpu_count()} cores")
     print(f"Tyre.forces, {n} points, median of {args.repeats}, threads: {threads}")
     for provider in vehsim.TYRE_MODELS:
         t = vehsim.Tyre.from_file(ROOT / "vehicles" / "tyres" / "srtt_p225_60r16.toml", provider)
         t.forces(fz, kappa, alpha, mu=0.15, contact_temp=-1.0)  # warm-up
-        times = []
+        wall, cpu = [], []
         for _ in range(args.repeats):
-            t0 = time.perf_counter()
+            c0, t0 = time.process_time(), time.perf_counter()
             t.forces(fz, kappa, alpha, mu=0.15, contact_temp=-1.0)
-            times.append(time.perf_counter() - t0)
-        med = statistics.median(times)
-        print(f"{provider:16s} {med * 1e9 / n:8.1f} ns/point  (median {med * 1e3:.2f} ms, min {min(times) * 1e9 / n:.1f} ns/point)")
+            wall.append(time.perf_counter() - t0)
+            cpu.append(time.process_time() - c0)
+        per = lambda v: v * 1e9 / n  # noqa: E731
+        print(
+            f"{provider:16s} wall {per(statistics.median(wall)):7.1f} ns/point (min {per(min(wall)):.1f}), "
+            f"CPU {per(statistics.median(cpu)):7.1f} ns/point (min {per(min(cpu)):.1f}, all threads)"
+        )
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
     return 0
 
 

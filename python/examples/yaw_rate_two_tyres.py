@@ -29,20 +29,19 @@ def main() -> int:
         print("this example needs matplotlib: pip install matplotlib", file=sys.stderr)
         return 2
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    for model in args.models:
-        r = vehsim.run(ROOT / "maneuvers" / "sine_steer.toml", tyre_model=model)
+    runs = [vehsim.run(ROOT / "maneuvers" / "sine_steer.toml", tyre_model=m) for m in args.models]
+    for model, r in zip(args.models, runs):
         s = r.summary
-        label = f"{model} (peak {s['peak_yaw_rate_radps']:.3f} rad/s, {s['end_reason']})"
+        label = f"{model} tyre (peak {s['peak_yaw_rate_radps']:.3f} rad/s)"
         ax.plot(r["t_s"], r["yaw_rate_radps"], label=label)
-    r0 = vehsim.run(ROOT / "maneuvers" / "sine_steer.toml", tyre_model=args.models[0])
     ax2 = ax.twinx()
-    ax2.plot(r0["t_s"], r0["steer_rad"], color="0.6", linestyle=":", label="road-wheel angle")
-    ax2.set_ylabel("road-wheel angle (rad)")
+    ax2.plot(runs[0]["t_s"], runs[0]["steer_rad"], color="0.6", linestyle=":")
+    ax2.set_ylabel("road-wheel angle, dotted (rad)")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("yaw rate (rad/s)")
     ax.set_title("Sine steer on ice: 10 m/s, mu 0.15, 10 deg amplitude")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper right")
+    ax.legend(loc="lower left")
     fig.tight_layout()
     fig.savefig(args.out, dpi=120)
     print(f"wrote {args.out}")

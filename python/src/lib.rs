@@ -329,19 +329,28 @@ struct Inputs<'a> {
 
 impl Inputs<'_> {
     /// The first value outside the providers' domain, as a bad-input error naming the argument
-    /// and its (flat) index.
+    /// and its (flat) index. The bounds are checked inline; the message is built only on failure.
     fn check(&self) -> Result<(), Error> {
+        use std::f64::consts::FRAC_PI_2;
         let c = Checker::new(Path::new("Tyre.forces"));
-        let at = |name: &str, i: usize| format!("{name}[{i}]");
-        for i in 0..self.fz.len() {
-            c.non_negative(&at("fz", i), self.fz[i])?;
-            c.range(&at("kappa", i), self.kappa[i], -1.0, 10.0)?;
-            c.range(&at("alpha", i), self.alpha[i], -std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2)?;
-            c.range(&at("camber", i), self.camber[i], -0.5, 0.5)?;
-            c.non_negative(&at("vx", i), self.vx[i])?;
-            c.range(&at("mu", i), self.mu[i], 0.0, 3.0)?;
-            c.range(&at("surface_temp", i), self.surface_temp[i], -80.0, 80.0)?;
-            c.range(&at("contact_temp", i), self.contact_temp[i], -80.0, 120.0)?;
+        let args: [(&str, &[f64], f64, f64); 8] = [
+            ("fz", self.fz, 0.0, f64::INFINITY),
+            ("kappa", self.kappa, -1.0, 10.0),
+            ("alpha", self.alpha, -FRAC_PI_2, FRAC_PI_2),
+            ("camber", self.camber, -0.5, 0.5),
+            ("vx", self.vx, 0.0, f64::INFINITY),
+            ("mu", self.mu, 0.0, 3.0),
+            ("surface_temp", self.surface_temp, -80.0, 80.0),
+            ("contact_temp", self.contact_temp, -80.0, 120.0),
+        ];
+        for (name, v, lo, hi) in args {
+            // NaN fails the comparison too
+            if let Some(i) = v.iter().position(|x| !(x.is_finite() && *x >= lo && *x <= hi)) {
+                let key = format!("{name}[{i}]");
+                return Err(if hi.is_infinite() { c.non_negative(&key, v[i]) } else { c.range(&key, v[i], lo, hi) }
+                    .err()
+                    .unwrap_or_else(|| Error::key(Path::new("Tyre.forces"), &key, "out of range")));
+            }
         }
         Ok(())
     }

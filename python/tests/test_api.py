@@ -63,6 +63,16 @@ def test_run_mirrored_steering_mirrors_the_response():
     assert right.summary["peak_yaw_rate_radps"] == pytest.approx(left.summary["peak_yaw_rate_radps"], abs=1e-12)
 
 
+def test_run_lateral_acceleration_stays_within_the_friction_limit():
+    # the SRTT Magic Formula peaks at 1.2 x the surface mu (the tyre file's LMUY scaling), so on
+    # mu 0.15 the car cannot corner harder than 0.18 g; the unsaturated linear tyre can
+    r = vehsim.run(SINE, tyre_model="pacejka")
+    limit = 1.2 * 0.15 * 9.81
+    assert 0.8 * limit < r.summary["peak_ay_mps2"] <= 1.02 * limit
+    assert np.nanmax(np.abs(r["ay_mps2"])) == pytest.approx(r.summary["peak_ay_mps2"], rel=0.02)
+    assert vehsim.run(SINE).summary["peak_ay_mps2"] > 2 * limit
+
+
 def test_run_overrides_and_dict_spec_agree_with_the_file(root):
     a = vehsim.run(SINE, surface__mu=0.3, **{"maneuver.period_s": 5.0})
     spec = {
@@ -313,3 +323,20 @@ def test_bad_discover_input(tmp_path):
         vehsim.discover("vehicles/sedan.toml", [bad], tyre_model="magic")
     with pytest.raises(FileNotFoundError):
         vehsim.discover("vehicles/sedan.toml", [tmp_path / "none.csv"])
+
+
+# ---------------------------------------------------------------------------------------------
+# the example script
+
+
+def test_example_plots_yaw_rate(root, tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib", reason="matplotlib is not installed; the example needs it")
+    import runpy
+    import sys
+
+    out = tmp_path / "yaw.png"
+    monkeypatch.setattr(sys, "argv", ["yaw_rate_two_tyres.py", "--out", str(out)])
+    with pytest.raises(SystemExit) as e:
+        runpy.run_path(str(root / "python" / "examples" / "yaw_rate_two_tyres.py"), run_name="__main__")
+    assert e.value.code == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
