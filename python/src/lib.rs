@@ -465,13 +465,17 @@ fn atiim_scenario(
     table: Option<&Bound<'_, PyDict>>,
     overrides: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyObject> {
+    // A file as it stands is read as `vehsim atiim` reads it (the same messages, line numbers
+    // included); a dict or overrides go through TOML text, so messages still name the keys.
+    let as_is = path.clone().filter(|_| table.is_none() && overrides.is_none_or(|o| o.is_empty()));
     let (file, t) = spec_table(path, table, overrides).map_err(py_err)?;
-    // Through TOML text, so the messages are the command line's (key paths included).
     let text = toml::to_string(&t).map_err(|e| py_err(Error::input(&file, format!("cannot write as TOML: {e}"))))?;
     let (sc, res, curve) = py
         .allow_threads(|| -> Result<_, Error> {
-            let spec: ScenarioSpec = parse_toml(&file, &text)?;
-            let sc = spec.validate(&file)?;
+            let sc = match as_is {
+                Some(p) => ScenarioSpec::load(&p)?,
+                None => parse_toml::<ScenarioSpec>(&file, &text)?.validate(&file)?,
+            };
             let res = solve_patch(&sc.grid, &operating(&sc), &sc.params);
             let curve =
                 drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);

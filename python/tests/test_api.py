@@ -314,6 +314,13 @@ def test_bad_tyre_input():
         t.forces(np.ones(3), np.ones(4), 0.0)
 
 
+def test_bad_atiim_input():
+    with pytest.raises(ValueError, match=r"srtt_4kN_free_rolling\.toml: key 'operating\.slip_ratio'.*\[-1, 2\]"):
+        vehsim.atiim(SCENARIO, operating__slip_ratio=5.0)
+    with pytest.raises(ValueError, match=r"(?s)<spec dict>.*missing field `pressure`"):
+        vehsim.atiim({"name": "x", "operating": {"speed_mps": 1.0, "slip_ratio": 0.0, "ice_temp_c": -5.0}})
+
+
 def test_bad_discover_input(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("t,steer,vx,yaw_rate\n0,0,10,0\n1,0,10,0\n")
