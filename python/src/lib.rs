@@ -138,11 +138,15 @@ fn spec_table(
     Ok((file, t))
 }
 
-/// A run's summary as JSON text: the spec's identity (as in summary.json) plus the engine's figures.
-fn summary_json(cfg: &RunConfig, out: &RunOutput) -> Result<String, Error> {
+/// A run's summary as JSON text, the keys and values of the summary.json `vehsim run` writes
+/// (`params`: the swept values; the tests compare the two in full).
+fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -> Result<String, Error> {
+    let params: serde_json::Map<String, serde_json::Value> =
+        params.iter().map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone()))).collect();
     let mut v = serde_json::json!({
         "name": cfg.name,
         "spec": cfg.spec_file.display().to_string(),
+        "params": params,
         "vehicle": cfg.vehicle.name,
         "tyre": cfg.vehicle.tyre.name,
         "tyre_model": cfg.tyre_model.as_str(),
@@ -200,7 +204,7 @@ fn execute(run: &BatchRun, keep_timeseries: bool) -> Result<RunRecord, Error> {
             let out = run::execute(cfg);
             let status = if out.summary.failed() { "failed" } else { "ok" };
             let ts = keep_timeseries.then(|| timeseries(&out));
-            Ok((status, Some(summary_json(cfg, &out)?), String::new(), ts))
+            Ok((status, Some(summary_json(cfg, &out, &run.params)?), String::new(), ts))
         }
     }
 }
