@@ -73,15 +73,15 @@ fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>) -> Result<toml::Value, 
         }
         return Ok(toml::Value::Array(out));
     }
-    // os.PathLike, then NumPy scalars (integers before floats).
+    // os.PathLike, then NumPy arrays and scalars through their plain-Python `tolist()`.
     if let Ok(p) = v.extract::<PathBuf>() {
         return Ok(toml::Value::String(p.to_string_lossy().into_owned()));
     }
-    if let Ok(i) = v.call_method0("__index__").and_then(|i| i.extract::<i64>()) {
-        return Ok(toml::Value::Integer(i));
-    }
-    if let Ok(f) = v.call_method0("__float__").and_then(|f| f.extract::<f64>()) {
-        return Ok(toml::Value::Float(f));
+    if let Ok(plain) = v.call_method0("tolist") {
+        let is_plain = [plain.is_instance_of::<PyList>(), plain.is_instance_of::<PyInt>(), plain.is_instance_of::<PyFloat>()];
+        if is_plain.iter().any(|&b| b) {
+            return to_toml(file, key, &plain);
+        }
     }
     Err(bad())
 }

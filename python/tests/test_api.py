@@ -72,7 +72,7 @@ def test_run_lateral_acceleration_stays_within_the_friction_limit():
 
 
 def test_run_overrides_and_dict_spec_agree_with_the_file(root):
-    a = vehsim.run(SINE, surface__mu=0.3, **{"maneuver.period_s": 5.0})
+    a = vehsim.run(SINE, surface__mu=np.float64(0.3), **{"maneuver.period_s": 5.0})
     spec = {
         "name": "sine_steer_ice",
         "vehicle": str(root / "vehicles" / "sedan.toml"),
@@ -132,6 +132,10 @@ def test_sweep_keeps_invalid_combinations_and_refuses_all_invalid():
     res = vehsim.sweep(SINE, {"surface.mu": [0.15, -1.0]})
     assert [r["status"] for r in res] == ["ok", "invalid"]
     assert "surface.mu" in res[1]["message"] and res[1]["summary"] is None
+    with pytest.raises(ValueError, match="jobs"):
+        vehsim.sweep(SINE, {"surface.mu": [0.15]}, jobs=0)
+    np_grid = vehsim.sweep(SINE, {"surface.mu": np.array([0.15, 0.3])})
+    assert [r["params"]["surface.mu"] for r in np_grid] == ["0.15", "0.3"]
     with pytest.raises(ValueError, match="every sweep combination is invalid"):
         vehsim.sweep(SINE, {"surface.mu": [-1.0, 5.0]})
     pd = pytest.importorskip("pandas", reason="pandas is not installed; SweepResult.to_pandas is optional")

@@ -150,6 +150,8 @@ def sweep(
     results are identical whatever the thread count. An invalid combination is kept with status
     ``invalid`` and its message; a spec whose every combination is invalid raises ValueError.
     """
+    if jobs is not None and (not isinstance(jobs, int) or jobs < 1):
+        raise ValueError(f"jobs: {jobs!r} is not allowed; expected a whole number >= 1 (None: all cores)")
     args = _spec_args(spec, overrides)
     if grid is not None:
         args["overrides"]["sweep"] = {k.replace("__", "."): list(v) for k, v in grid.items()}
