@@ -16,4 +16,4 @@ cargo build --release --locked --bin vehsim
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
 # From the project root, where no folder shadows the installed wheel.
 VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_REQUIRE_CLI=1 \
-    "$VENV/bin/python" -m pytest -p no:cacheprovider python/tests
+    "$VENV/bin/python" -m pytest -p no:cacheprovider -rs python/tests
