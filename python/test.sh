@@ -10,8 +10,10 @@ rm -rf "$VENV" python/target/wheels
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
 # The CLI binary the tests compare against (already built by `cargo test --release`).
-cargo build --release --locked --bin vehsim
-"$VENV/bin/maturin" build --release --locked --manifest-path python/Cargo.toml \
+cargo build --release --bin vehsim
+# python/Cargo.lock pins the extension's crates; not --locked, so that a crate the library gains
+# later is resolved instead of failing the build (refresh the lock file then).
+"$VENV/bin/maturin" build --release --manifest-path python/Cargo.toml \
     --interpreter "$VENV/bin/python" --out python/target/wheels
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
 # From the project root, where no folder shadows the installed wheel.
