@@ -78,7 +78,8 @@ fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>) -> Result<toml::Value, 
         return Ok(toml::Value::String(p.to_string_lossy().into_owned()));
     }
     if let Ok(plain) = v.call_method0("tolist") {
-        let is_plain = [plain.is_instance_of::<PyList>(), plain.is_instance_of::<PyInt>(), plain.is_instance_of::<PyFloat>()];
+        let is_plain =
+            [plain.is_instance_of::<PyList>(), plain.is_instance_of::<PyInt>(), plain.is_instance_of::<PyFloat>()];
         if is_plain.iter().any(|&b| b) {
             return to_toml(file, key, &plain);
         }
@@ -284,14 +285,15 @@ fn sweep_spec(
         return Err(py_err(Error::input(Path::new("jobs"), "expected at least 1 thread")));
     }
     let b = load_batch(path, table, overrides).map_err(py_err)?;
-    let records: Vec<Result<RunRecord, Error>> = py.allow_threads(|| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(jobs.unwrap_or(0))
-            .build()
-            .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
-        Ok::<_, Error>(pool.install(|| b.runs.par_iter().map(|r| execute(r, keep_timeseries)).collect()))
-    })
-    .map_err(py_err)?;
+    let records: Vec<Result<RunRecord, Error>> = py
+        .allow_threads(|| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(jobs.unwrap_or(0))
+                .build()
+                .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
+            Ok::<_, Error>(pool.install(|| b.runs.par_iter().map(|r| execute(r, keep_timeseries)).collect()))
+        })
+        .map_err(py_err)?;
     let mut out = Vec::with_capacity(records.len());
     for (run, rec) in b.runs.iter().zip(records) {
         out.push(record_to_py(py, &run.params, run.index, rec.map_err(py_err)?)?);
@@ -386,7 +388,8 @@ impl NativeTyre {
     /// Read a tyre file and build provider `provider` (the names of the spec files' `tyre_model`).
     #[staticmethod]
     fn load(path: PathBuf, provider: &str) -> PyResult<Self> {
-        let kind: TyreModelKind = provider.parse().map_err(|m: String| py_err(Error::input(Path::new("provider"), m)))?;
+        let kind: TyreModelKind =
+            provider.parse().map_err(|m: String| py_err(Error::input(Path::new("provider"), m)))?;
         let spec = TyreFileSpec::load(&path).map_err(py_err)?;
         let (t, warnings) = spec.build_with_warnings(&path, kind).map_err(py_err)?;
         Ok(Self {
@@ -432,29 +435,30 @@ impl NativeTyre {
             return Err(PyValueError::new_err("Tyre.forces: every argument must have the same length"));
         }
         let model = &*self.model;
-        let (fx, fy, mz) = py.allow_threads(|| -> Result<_, Error> {
-            inp.check()?;
-            let (mut fx, mut fy, mut mz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            let eval = |start: usize, fx: &mut [f64], fy: &mut [f64], mz: &mut [f64]| {
-                for k in 0..fx.len() {
-                    let f = model.forces(&inp.input(start + k));
-                    fx[k] = f.fx_n;
-                    fy[k] = f.fy_n;
-                    mz[k] = f.mz_nm;
+        let (fx, fy, mz) = py
+            .allow_threads(|| -> Result<_, Error> {
+                inp.check()?;
+                let (mut fx, mut fy, mut mz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                let eval = |start: usize, fx: &mut [f64], fy: &mut [f64], mz: &mut [f64]| {
+                    for k in 0..fx.len() {
+                        let f = model.forces(&inp.input(start + k));
+                        fx[k] = f.fx_n;
+                        fy[k] = f.fy_n;
+                        mz[k] = f.mz_nm;
+                    }
+                };
+                if n <= CHUNK {
+                    eval(0, &mut fx, &mut fy, &mut mz);
+                } else {
+                    fx.par_chunks_mut(CHUNK)
+                        .zip(fy.par_chunks_mut(CHUNK))
+                        .zip(mz.par_chunks_mut(CHUNK))
+                        .enumerate()
+                        .for_each(|(c, ((x, y), z))| eval(c * CHUNK, x, y, z));
                 }
-            };
-            if n <= CHUNK {
-                eval(0, &mut fx, &mut fy, &mut mz);
-            } else {
-                fx.par_chunks_mut(CHUNK)
-                    .zip(fy.par_chunks_mut(CHUNK))
-                    .zip(mz.par_chunks_mut(CHUNK))
-                    .enumerate()
-                    .for_each(|(c, ((x, y), z))| eval(c * CHUNK, x, y, z));
-            }
-            Ok((fx, fy, mz))
-        })
-        .map_err(py_err)?;
+                Ok((fx, fy, mz))
+            })
+            .map_err(py_err)?;
         Ok((fx.into_pyarray(py), fy.into_pyarray(py), mz.into_pyarray(py)))
     }
 }
@@ -481,8 +485,7 @@ fn atiim_scenario(
                 None => parse_toml::<ScenarioSpec>(&file, &text)?.validate(&file)?,
             };
             let res = solve_patch(&sc.grid, &operating(&sc), &sc.params);
-            let curve =
-                drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);
+            let curve = drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);
             Ok((sc, res, curve))
         })
         .map_err(py_err)?;
@@ -549,7 +552,8 @@ fn discover_runs(
     model: &str,
 ) -> PyResult<Vec<String>> {
     let kind = vehsim::discover::tyre_kind(tyre_model).map_err(py_err)?;
-    let opts = vehsim::discover::DiscoverOptions { vehicle, tyre, tyre_model: kind, model: model.to_string(), out, runs };
+    let opts =
+        vehsim::discover::DiscoverOptions { vehicle, tyre, tyre_model: kind, model: model.to_string(), out, runs };
     py.allow_threads(|| vehsim::discover::run_discover(&opts)).map(|(_, notices)| notices).map_err(py_err)
 }
 
