@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Build the vehsim wheel and run the Python package's tests in a fresh virtual environment.
+# Needs python3 (>= 3.9, with venv and pip) and the Rust toolchain; installs the pinned tools of
+# python/requirements-test.txt from PyPI. Run from anywhere; called by .ci/run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY="${PYTHON:-python3}"
+VENV=python/target/venv
+rm -rf "$VENV" python/target/wheels
+"$PY" -m venv "$VENV"
+"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+# The CLI binary the tests compare against (already built by `cargo test --release`).
+cargo build --release --bin vehsim
+# python/Cargo.lock pins the extension's crates; not --locked, so that a crate the library gains
+# later is resolved instead of failing the build (refresh the lock file then).
+"$VENV/bin/maturin" build --release --manifest-path python/Cargo.toml \
+    --interpreter "$VENV/bin/python" --out python/target/wheels
+"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
+# From the project root, where no folder shadows the installed wheel.
+VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_REQUIRE_CLI=1 \
+    "$VENV/bin/python" -m pytest -p no:cacheprovider -rs python/tests

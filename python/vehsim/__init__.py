@@ -1,0 +1,282 @@
+"""vehsim from Python: vehicle-dynamics runs, sweeps, tyre forces, ATIIM patches and discovery.
+
+The native module ``vehsim._vehsim`` wraps the same library the ``vehsim`` command line uses, so
+validation, messages and numbers are the command line's. Units are SI throughout; angles are in
+radians (ISO 8855 axes: x forward, y left, z up; positive slip angle gives positive lateral force).
+
+Errors: bad input raises ``ValueError`` (a top-level file that does not exist raises
+``FileNotFoundError``, an ``OSError``), other I/O failures ``OSError``; the messages name the file,
+the key and what is allowed, as the command line prints them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Union
+
+import numpy as np
+
+from . import _vehsim
+
+__all__ = [
+    "run",
+    "sweep",
+    "Tyre",
+    "TyreForces",
+    "atiim",
+    "discover",
+    "RunResult",
+    "SweepResult",
+    "TYRE_MODELS",
+    "TIMESERIES_COLUMNS",
+]
+
+#: Tyre providers accepted by ``Tyre.from_file`` and a spec's ``tyre_model``.
+TYRE_MODELS: List[str] = list(_vehsim.TYRE_MODELS)
+#: Time-series channels of a run (the columns of the command line's timeseries.csv).
+TIMESERIES_COLUMNS: List[str] = list(_vehsim.TIMESERIES_COLUMNS)
+
+Spec = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+
+
+def _existing(path: Any) -> str:
+    """``path`` as a string; a missing file raises FileNotFoundError with the CLI's wording."""
+    p = os.fspath(path)
+    if not os.path.exists(p):
+        raise FileNotFoundError(f"{p}: file not found")
+    return p
+
+
+def _spec_args(spec: Spec, overrides: Mapping[str, Any]) -> Dict[str, Any]:
+    """Native arguments for a spec path or dict plus overrides (``a__b=v`` stands for ``a.b = v``)."""
+    ov = {k.replace("__", "."): v for k, v in overrides.items()}
+    if isinstance(spec, Mapping):
+        return {"table": dict(spec), "overrides": ov}
+    if isinstance(spec, (str, os.PathLike)):
+        return {"path": _existing(spec), "overrides": ov}
+    raise TypeError(f"spec must be a path or a dict, not {type(spec).__name__}")
+
+
+class RunResult:
+    """One simulated run.
+
+    Attributes:
+        summary: dict with the run's identity and figures, the keys of the command line's
+            summary.json (``end_reason``, ``passed``, ``peak_yaw_rate_radps``, ``events``, ...).
+        timeseries: dict channel -> 1-D float64 array, units in the names (``t_s``,
+            ``yaw_rate_radps``, ...); NaN where the run does not define a value.
+        params: the swept values of this run within a sweep (empty for a single run).
+        status: ``ok`` or ``failed`` (diverged or spun out; the result is still complete).
+    """
+
+    def __init__(self, raw: Mapping[str, Any]):
+        self.summary: Dict[str, Any] = json.loads(raw["summary_json"])
+        self.timeseries: Dict[str, np.ndarray] = dict(raw["timeseries"] or {})
+        self.params: Dict[str, str] = dict(raw["params"])
+        self.status: str = raw["status"]
+        self.index: int = raw["index"]
+
+    @property
+    def failed(self) -> bool:
+        return self.status == "failed"
+
+    def __getitem__(self, channel: str) -> np.ndarray:
+        return self.timeseries[channel]
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return (
+            f"RunResult({s['name']!r}, {s['end_reason']} at t = {s['end_time_s']:.2f} s, "
+            f"{len(self.timeseries.get('t_s', ()))} rows)"
+        )
+
+    def to_pandas(self):
+        """The time series as a pandas DataFrame indexed by ``t_s`` (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("RunResult.to_pandas needs pandas: pip install pandas") from e
+        df = pd.DataFrame(self.timeseries)
+        return df.set_index("t_s") if "t_s" in df else df
+
+
+def run(spec: Spec, **overrides: Any) -> RunResult:
+    """Simulate one manoeuvre spec (a TOML path, or a dict of the same keys) and return its result.
+
+    Keyword arguments override spec keys; a double underscore stands for the dot of a nested key
+    (``surface__mu=0.1`` sets ``[surface] mu``), and ``**{"surface.mu": 0.1}`` works too. Paths
+    inside a dict spec resolve against the current directory. Nothing is written to disk. A spec
+    with a ``[sweep]`` table is refused: use :func:`sweep`.
+    """
+    return RunResult(_vehsim.run_spec(**_spec_args(spec, overrides)))
+
+
+class SweepResult(list):
+    """The runs of a sweep in run order: dicts with ``index``, ``params`` (key -> value text),
+    ``status`` (``ok``, ``failed`` or ``invalid``), ``message`` (why a run is invalid),
+    ``summary`` (dict, None when invalid) and ``result`` (a RunResult with the time series when
+    ``timeseries=True``, else None)."""
+
+    def to_pandas(self):
+        """One row per run: index, status, swept values, the scalar summary figures (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("SweepResult.to_pandas needs pandas: pip install pandas") from e
+        rows = []
+        for r in self:
+            row = {"index": r["index"], "status": r["status"], **r["params"], "message": r["message"]}
+            for k, v in (r["summary"] or {}).items():
+                if v is None or isinstance(v, (bool, int, float, str)):
+                    row[k] = v
+            rows.append(row)
+        return pd.DataFrame(rows).set_index("index")
+
+
+def sweep(
+    spec: Spec,
+    grid: Optional[Mapping[str, Iterable[Any]]] = None,
+    *,
+    jobs: Optional[int] = None,
+    timeseries: bool = False,
+    **overrides: Any,
+) -> SweepResult:
+    """Run every combination of a sweep in parallel (GIL released) and return them in run order.
+
+    The sweep is the spec's ``[sweep]`` table (dotted key -> list of values, the last key varying
+    fastest), replaced by ``grid`` when given. ``jobs``: worker threads (default all cores);
+    results are identical whatever the thread count. An invalid combination is kept with status
+    ``invalid`` and its message; a spec whose every combination is invalid raises ValueError.
+    """
+    if jobs is not None and (not isinstance(jobs, int) or jobs < 1):
+        raise ValueError(f"jobs: {jobs!r} is not allowed; expected a whole number >= 1 (None: all cores)")
+    args = _spec_args(spec, overrides)
+    if grid is not None:
+        args["overrides"]["sweep"] = {k.replace("__", "."): list(v) for k, v in grid.items()}
+    out = SweepResult()
+    for raw in _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries):
+        summary = json.loads(raw["summary_json"]) if raw["summary_json"] else None
+        out.append(
+            {
+                "index": raw["index"],
+                "params": dict(raw["params"]),
+                "status": raw["status"],
+                "message": raw["message"],
+                "summary": summary,
+                "result": RunResult(raw) if raw["timeseries"] is not None else None,
+            }
+        )
+    return out
+
+
+class TyreForces(NamedTuple):
+    """Forces on the tyre from the road, wheel axes: fx (N, forward), fy (N, left), mz (N m,
+    counter-clockwise seen from above; 0 where the provider has no aligning moment)."""
+
+    fx: np.ndarray
+    fy: np.ndarray
+    mz: np.ndarray
+
+
+class Tyre:
+    """One provider of a tyre file, evaluated over NumPy arrays (MFeval-style)."""
+
+    def __init__(self, native: Any):
+        self._native = native
+
+    @classmethod
+    def from_file(cls, path: Union[str, "os.PathLike[str]"], provider: str) -> "Tyre":
+        """Read a tyre file (TOML, e.g. vehicles/tyres/srtt_p225_60r16.toml) and build its
+        ``provider`` section: one of :data:`TYRE_MODELS`."""
+        return cls(_vehsim.NativeTyre.load(_existing(path), provider))
+
+    name = property(lambda self: self._native.name, doc="tyre name from the file")
+    provider = property(lambda self: self._native.provider, doc="provider name")
+    rolling_radius_m = property(lambda self: self._native.rolling_radius_m)
+    unloaded_radius_m = property(lambda self: self._native.unloaded_radius_m)
+    nominal_load_n = property(lambda self: self._native.nominal_load_n)
+    warnings = property(lambda self: list(self._native.warnings), doc="notes from building it")
+
+    def __repr__(self) -> str:
+        return f"Tyre({self._native.path!r}, {self.provider!r})"
+
+    def forces(
+        self,
+        fz: Any,
+        kappa: Any,
+        alpha: Any,
+        camber: Any = 0.0,
+        mu: Any = 1.0,
+        contact_temp: Any = None,
+        surface_temp: Any = -3.0,
+        vx: Any = 10.0,
+    ) -> TyreForces:
+        """Forces for every element of the broadcast inputs; the outputs have the broadcast shape.
+
+        fz: normal load, N (>= 0). kappa: slip ratio (omega R_e - V_x)/|V_x|, in [-1, 10].
+        alpha: slip angle, rad, in [-pi/2, pi/2]. camber: inclination, rad. mu: peak friction of
+        the surface (ice 0.05-0.2, dry asphalt about 1). surface_temp: bulk ice temperature, degC.
+        contact_temp: contact-patch temperature, degC (default: surface_temp, no rise; the
+        ATIIM-modified providers use the rise contact_temp - surface_temp). vx: forward speed of
+        the wheel centre, m/s. Values outside these ranges, NaN or infinity raise ValueError
+        naming the argument and its flat index.
+        """
+        if contact_temp is None:
+            contact_temp = surface_temp
+        arrays = np.broadcast_arrays(
+            *(np.asarray(a, dtype=np.float64) for a in (fz, kappa, alpha, camber, vx, mu, surface_temp, contact_temp))
+        )
+        shape = arrays[0].shape
+        flat = [np.ascontiguousarray(a).reshape(-1) for a in arrays]
+        fx, fy, mz = self._native.forces(*flat)
+        return TyreForces(fx.reshape(shape), fy.reshape(shape), mz.reshape(shape))
+
+
+def atiim(scenario: Spec, **overrides: Any) -> Dict[str, Any]:
+    """Evaluate an ATIIM contact-patch scenario (a TOML path such as maneuvers/atiim/*.toml, or a
+    dict) as ``vehsim atiim`` does, writing nothing.
+
+    Overrides as in :func:`run` (``operating__slip_ratio=0.1``). Returns a dict: ``summary``
+    (the patch figures: load_n, max_rise_k, wet_fraction, drawbar_coeff, ...), ``operating``,
+    ``maps`` (2-D arrays, rows along travel from the leading edge, columns across: pressure_pa,
+    rise_k, wet, sliding, film_m, mu_visc, mu, q_*_w_m2), ``drawbar`` (arrays over slip ratio),
+    ``pixel_length_m`` and ``pixel_width_m``.
+    """
+    d = _vehsim.atiim_scenario(**_spec_args(scenario, overrides))
+    d["summary"] = json.loads(d.pop("summary_json"))
+    return d
+
+
+def discover(
+    vehicle: Union[str, "os.PathLike[str]"],
+    runs: Iterable[Union[str, "os.PathLike[str]"]],
+    *,
+    tyre: Optional[Union[str, "os.PathLike[str]"]] = None,
+    tyre_model: str = "pacejka",
+    model: str = "bicycle",
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+) -> Dict[str, Any]:
+    """Discover effects missing from the baseline model in measured runs (``RUN.csv`` files with
+    optional ``RUN.toml`` sidecars) as ``vehsim discover`` does, and return its report.json as a
+    dict plus ``notices`` (remarks about the input). The report's folder is written to ``out``
+    when given, else to a temporary folder that is removed.
+    """
+    runs = [_existing(r) for r in runs]
+    args = dict(tyre=_existing(tyre) if tyre is not None else None, tyre_model=tyre_model, model=model)
+    vehicle = _existing(vehicle)
+    if out is not None:
+        notices = _vehsim.discover_runs(vehicle, runs, os.fspath(out), **args)
+        return _report(os.fspath(out), notices)
+    with tempfile.TemporaryDirectory(prefix="vehsim-discover-") as tmp:
+        folder = os.path.join(tmp, "out")
+        notices = _vehsim.discover_runs(vehicle, runs, folder, **args)
+        return _report(folder, notices)
+
+
+def _report(folder: str, notices: List[str]) -> Dict[str, Any]:
+    with open(os.path.join(folder, "report.json"), encoding="utf-8") as f:
+        report = json.load(f)
+    report["notices"] = list(notices)
+    return report
