@@ -40,24 +40,28 @@ fn every_shipped_vehicle_builds() {
 
 #[test]
 fn every_shipped_maneuver_spec_validates() {
+    use vehsim::spec::kind::{detect, SpecKind};
     let mut n = 0;
     for f in toml_files(&common::root().join("maneuvers")) {
         let text = std::fs::read_to_string(&f).unwrap();
         let table: toml::Table = toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        if !table.contains_key("maneuver") {
-            continue; // a spec of another command (tyre curves, ATIIM scenarios)
-        }
-        if table.contains_key("envelope") {
-            // A `vehsim envelope` spec: its loader checks every combination and reference.
-            let e = vehsim::envelope::load(&f);
-            assert!(e.is_ok(), "{}: {}", f.display(), e.unwrap_err());
-            n += 1;
-            continue;
-        }
+        // maneuvers/ holds run specs only, so that `vehsim run maneuvers/*.toml` runs them all.
+        assert_eq!(detect(&table), Some(SpecKind::Run), "{}: not a run spec", f.display());
         let b = vehsim::batch::load(&f);
         assert!(b.is_ok(), "{}: {}", f.display(), b.unwrap_err());
         assert!(b.unwrap().runs.iter().all(|r| r.config.is_ok()), "{}: an invalid sweep combination", f.display());
         n += 1;
     }
     assert!(n >= 4, "only {n} manoeuvre specs found");
+}
+
+#[test]
+fn every_shipped_envelope_spec_validates() {
+    let files = toml_files(&common::root().join("scenarios/envelope"));
+    assert!(files.len() >= 2, "expected the ice-temperature and constant-radius envelopes, found {files:?}");
+    for f in files {
+        // The envelope loader checks every combination and reference.
+        let e = vehsim::envelope::load(&f);
+        assert!(e.is_ok(), "{}: {}", f.display(), e.unwrap_err());
+    }
 }

@@ -3,7 +3,8 @@
 //!
 //! - run spec (`vehsim run`, `validate`, `bench`): a `[maneuver]` table;
 //! - tyre-curve spec (`vehsim tyre`): top-level `providers` with `slip_ratio` or `slip_angle_deg`;
-//! - ATIIM scenario (`vehsim atiim`): `[pressure]` and `[operating]` tables.
+//! - ATIIM scenario (`vehsim atiim`): `[pressure]` and `[operating]` tables;
+//! - envelope spec (`vehsim envelope`): a run spec with an `[envelope]` table (the search settings).
 //!
 //! Anything else (or text that is not TOML) is left to the command's own parser and its messages.
 
@@ -20,6 +21,8 @@ pub enum SpecKind {
     TyreCurves,
     /// An ATIIM contact-patch scenario.
     AtiimScenario,
+    /// A run spec with `[envelope]` search settings.
+    Envelope,
 }
 
 impl SpecKind {
@@ -29,6 +32,7 @@ impl SpecKind {
             SpecKind::Run => ("a run (manoeuvre) spec", "vehsim run"),
             SpecKind::TyreCurves => ("a tyre-curve spec", "vehsim tyre"),
             SpecKind::AtiimScenario => ("an ATIIM scenario spec", "vehsim atiim"),
+            SpecKind::Envelope => ("an envelope spec", "vehsim envelope"),
         }
     }
 }
@@ -36,7 +40,9 @@ impl SpecKind {
 /// The kind of a parsed spec, or `None` when its keys fit no kind.
 pub fn detect(table: &toml::Table) -> Option<SpecKind> {
     let is_table = |k: &str| table.get(k).is_some_and(|v| v.is_table());
-    if is_table("maneuver") {
+    if is_table("maneuver") && is_table("envelope") {
+        Some(SpecKind::Envelope)
+    } else if is_table("maneuver") {
         Some(SpecKind::Run)
     } else if table.contains_key("providers")
         && (table.contains_key("slip_ratio") || table.contains_key("slip_angle_deg"))
@@ -90,6 +96,10 @@ mod tests {
         assert_eq!(
             detect(&table("[pressure]\nsource = 'synth'\n[operating]\nspeed_mps = 1.0")),
             Some(SpecKind::AtiimScenario)
+        );
+        assert_eq!(
+            detect(&table("name = 'a'\n[maneuver]\nkind = 'iso3888_2'\n[envelope]\ntolerance_mps = 0.1")),
+            Some(SpecKind::Envelope)
         );
         // `maneuver` as a plain value, or `pressure` alone, is no known kind.
         assert_eq!(detect(&table("maneuver = 1\n[pressure]\nx = 1")), None);
