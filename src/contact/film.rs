@@ -131,6 +131,103 @@ pub fn advance(h0_m: f64, dt_s: f64, substeps: usize, k: &FilmCoeffs) -> FilmSte
     FilmStep { h_end_m: s, inv_h_integral: inv, squeezed_m: sq }
 }
 
+/// Result of advancing a wet pixel's film under the friction law [`WetFilm`] (energies per unit
+/// area over the interval, J/m^2).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WetStep {
+    /// Film height at the end, m (>= 0).
+    pub h_end_m: f64,
+    /// Frictional heat generated, integral of q(h) dt.
+    pub friction_j_m2: f64,
+    /// Heat conducted away from the 0 degC interface (<= q_c dt: less when the film refreezes
+    /// completely within a sub-step).
+    pub conducted_j_m2: f64,
+    /// Water height removed by squeeze-out, m.
+    pub squeezed_m: f64,
+    /// Integral of 1/h over the interval, s/m (trapezoid per sub-step; for eq. 4.13 diagnostics).
+    pub inv_h_integral: f64,
+    /// Integral of the law's viscous part ([`super::friction::WetFilm::viscous_part`]) over the
+    /// interval, s (backward-Euler consistent, like the heat).
+    pub viscous_mu_integral: f64,
+}
+
+/// Advance a wet pixel's film from `h0_m` over `dt_s` in `substeps` backward-Euler steps of
+///
+///   rho_ice L dh/dt = q(h) + q_extra - q_c - rho_ice L (C/2) h^3,
+///
+/// where q(h) is the frictional heat of `law` (bounded and decreasing in h), `q_extra_w_m2` other
+/// heat released at the interface (rolling hysteresis), `q_c_w_m2` the conducted flux and
+/// `c` = 16 p / (3 eta D^2) the squeeze-out coefficient of [`FilmCoeffs`]. Because q is bounded,
+/// the film grows linearly from h = 0 (no 1/h singularity) and each implicit step has exactly one
+/// root h >= 0 (the residual is strictly increasing in h), found by a bracketed Newton iteration.
+/// The energy balance friction + extra = conducted + rho L (h_end - h0 + squeezed) holds to the
+/// solver tolerance by construction.
+pub fn advance_wet(
+    h0_m: f64,
+    dt_s: f64,
+    substeps: usize,
+    law: &super::friction::WetFilm,
+    q_extra_w_m2: f64,
+    q_c_w_m2: f64,
+    c: f64,
+) -> WetStep {
+    let rl = ICE.density_kg_m3 * LATENT_HEAT_J_KG;
+    let n = substeps.max(1);
+    let dt = if dt_s.is_finite() { dt_s.max(0.0) / n as f64 } else { 0.0 };
+    let qx = if q_extra_w_m2.is_finite() { q_extra_w_m2.max(0.0) } else { 0.0 };
+    let qc = if q_c_w_m2.is_finite() { q_c_w_m2.max(0.0) } else { 0.0 };
+    let c2 = if c.is_finite() { 0.5 * c.max(0.0) } else { 0.0 };
+    let mut h = if h0_m.is_finite() { h0_m.max(0.0) } else { 0.0 };
+    let mut out = WetStep::default();
+    let (q0, _) = law.heat(0.0);
+    for _ in 0..n {
+        // residual F(x) = x - h - dt ((q(x) + qx - qc) / rl - c2 x^3), increasing in x
+        let f = |x: f64| {
+            let (q, dq) = law.heat(x);
+            (x - h - dt * ((q + qx - qc) / rl - c2 * x * x * x), 1.0 - dt * (dq / rl - 3.0 * c2 * x * x))
+        };
+        let (f0, _) = f(0.0);
+        let h1;
+        if !(f0 < 0.0) {
+            // the film refreezes (or never forms) within this sub-step
+            h1 = 0.0;
+            out.conducted_j_m2 += dt * (q0 + qx) + rl * h;
+            out.friction_j_m2 += dt * q0;
+        } else {
+            let (mut lo, mut hi) = (0.0, h + dt * (q0 + qx) / rl);
+            let mut x = h.clamp(lo, hi);
+            for _ in 0..80 {
+                let (fx, dfx) = f(x);
+                if fx > 0.0 {
+                    hi = x;
+                } else {
+                    lo = x;
+                }
+                let mut next = x - fx / dfx;
+                if !(next > lo && next < hi) {
+                    next = 0.5 * (lo + hi);
+                }
+                if (next - x).abs() <= 1e-12 * x.max(1e-15) || hi - lo <= 1e-13 * hi {
+                    x = next;
+                    break;
+                }
+                x = next;
+            }
+            h1 = x;
+            out.friction_j_m2 += dt * law.heat(h1).0;
+            out.conducted_j_m2 += dt * qc;
+            out.squeezed_m += dt * c2 * h1 * h1 * h1;
+        }
+        if h + h1 > 0.0 {
+            out.inv_h_integral += 2.0 * dt / (h + h1);
+        }
+        out.viscous_mu_integral += dt * law.viscous_part(h1);
+        h = h1;
+    }
+    out.h_end_m = h;
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
