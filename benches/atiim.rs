@@ -33,7 +33,8 @@ fn bench(c: &mut Criterion) {
     let pp = PatchParams::srtt(-3.0);
     // wet case (Fig. 4.9 inputs: 25 m/s, 10 % driving slip, -3 degC), dry case (20 m/s, 1 % slip,
     // -10 degC) and the rig (7 cm/s, 10 % slip, -10 degC)
-    let k = |v: f64, s: f64, t: f64| Kinematics { travel_speed_mps: v, slip_ratio: s, slip_angle_rad: 0.0, ice_temp_c: t };
+    let k =
+        |v: f64, s: f64, t: f64| Kinematics { travel_speed_mps: v, slip_ratio: s, slip_angle_rad: 0.0, ice_temp_c: t };
     let (wet, dry, rig) = (k(25.0, 0.10, -3.0), k(20.0, 0.01, -10.0), k(0.07, 0.10, -10.0));
     let mut pp_rig = PatchParams::srtt(-10.0);
     pp_rig.lock_time_s = 10.0;

@@ -180,8 +180,12 @@ fn film_growth_from_zero_matches_sqrt_law_and_never_nans() {
     assert!(st.h_end_m.is_finite());
 }
 
+/// The film and rise trends of the film and heat models, under a constant friction of 0.15 with
+/// the whole patch sliding (the friction law's and the brush's own trends are tested in
+/// `atiim_rig.rs`; with the carcass in series, 1 % slip leaves most of the patch adhering).
 fn run(load: f64, vs: f64, ice: f64) -> vehsim::contact::model::PatchSummary {
-    let pp = PatchParams::srtt(ice);
+    let mut pp = PatchParams::srtt(ice).with_constant_friction(0.15);
+    pp.brush = false;
     let g = srtt_grid(load, 48, 32, 0.3, 5, 0.03);
     solve_patch(&g, &Operating { roll_speed_mps: 25.0 + vs, slide_speed_mps: vs, ice_temp_c: ice }, &pp).summary
 }

@@ -46,17 +46,10 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     let op = operating(&sc);
     let res = solve_patch_at(&sc.grid, &op, &sc.params);
     write_maps(&dir, &sc, &res)?;
-    let curve = drawbar_curve(
-        &sc.grid,
-        &sc.params,
-        sc.drawbar_speed_mps,
-        sc.slip_angle_rad,
-        sc.ice_temp_c,
-        &sc.drawbar_slips,
-    );
-    let mut csv = String::from(
-        "slip_ratio,drawbar_coeff,friction_coeff,wet_fraction,sliding_fraction,max_film_nm,mean_rise_k\n",
-    );
+    let curve =
+        drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.slip_angle_rad, sc.ice_temp_c, &sc.drawbar_slips);
+    let mut csv =
+        String::from("slip_ratio,drawbar_coeff,friction_coeff,wet_fraction,sliding_fraction,max_film_nm,mean_rise_k\n");
     for (k, s) in &curve {
         let _ = writeln!(
             csv,

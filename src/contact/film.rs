@@ -1,5 +1,11 @@
 //! Water-film height under a sliding tread element (dissertation eq. 4.5–4.7, 4.10).
 //!
+//! The patch model uses [`advance_wet`]: the film grows from the heat of the pixel's own friction
+//! law (`friction::WetFilm`, bounded as h -> 0) plus rolling heat, minus conduction, and thins by
+//! squeeze-out; it is integrated in h directly. [`advance`] below integrates eq. 4.10 as printed
+//! (viscous heat kappa eta v^2 / h, singular at h = 0) and is kept as the reference form with its
+//! closed-form checks:
+//!
 //! Balance per unit nominal area while the ice surface is at the melting point (erratum 4: the
 //! melting indicator of eq. 4.10 is "surface at T_m", as eq. 4.8 says):
 //!
@@ -29,7 +35,8 @@
 //! non-finite result (only from non-finite input) falls back to 0. The film is solved only by the
 //! patch model (`vehsim atiim` and the flash table that `[contact] model = "atiim"` builds once per
 //! run); the engine's per-step estimator reads that table and computes no film of its own. The
-//! guards are tested below with hostile coefficients.
+//! guards are tested below with hostile coefficients; [`advance_wet`] keeps h >= 0 the same way
+//! (a bracketed root on [0, h0 + dt q(0) / (rho L)]).
 
 use super::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
 
@@ -269,6 +276,39 @@ mod tests {
             let st = advance(h0, 1e-3, 8, &k);
             assert!(st.h_end_m.is_finite() && st.h_end_m >= 0.0, "{h0} {k:?}: {st:?}");
         }
+    }
+
+    /// advance_wet: friction + extra heat = conducted + latent heat of (film growth + squeezed
+    /// water) to solver precision, h >= 0, for growing, steady, refreezing and squeezed films.
+    #[test]
+    fn wet_step_conserves_energy_and_keeps_film_non_negative() {
+        use crate::contact::friction::{beta_from_critical_height, WetFilm};
+        let rl = ICE.density_kg_m3 * LATENT_HEAT_J_KG;
+        let mut n = 0;
+        for &(v, p) in &[(0.5, 1e5), (2.5, 2.5e5), (5.0, 4e5)] {
+            let law = WetFilm {
+                pv: p * v,
+                mu_d: 0.1,
+                beta: beta_from_critical_height(50e-9),
+                visc_m: WATER_VISCOSITY_PA_S * v / p,
+            };
+            for &h0 in &[0.0, 1e-8, 3e-7, 2e-6] {
+                for &qc in &[0.0, 2e4, 1e5, 1e7] {
+                    for &d in &[1e-5, 2e-4, 1.0] {
+                        let c = FilmCoeffs::new(&FilmParams { kappa: 1.0, asperity_d_m: d, substeps: 8 }, v, qc, p).c;
+                        let dt = 1e-4;
+                        let st = advance_wet(h0, dt, 8, &law, 500.0, qc, c);
+                        assert!(st.h_end_m.is_finite() && st.h_end_m >= 0.0);
+                        let gen = st.friction_j_m2 + 500.0 * dt;
+                        let out = st.conducted_j_m2 + rl * (st.h_end_m - h0 + st.squeezed_m);
+                        assert!((gen - out).abs() <= 1e-6 * gen, "v {v} h0 {h0} qc {qc} D {d}: {gen} vs {out}");
+                        assert!(st.conducted_j_m2 <= qc * dt * (1.0 + 1e-12));
+                        n += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 144);
     }
 
     #[test]
