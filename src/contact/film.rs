@@ -153,7 +153,7 @@ pub struct WetStep {
     pub squeezed_m: f64,
     /// Integral of 1/h over the interval, s/m (trapezoid per sub-step; for eq. 4.13 diagnostics).
     pub inv_h_integral: f64,
-    /// Integral of the law's viscous part ([`super::friction::WetFilm::viscous_part`]) over the
+    /// Integral of the law's viscous floor ([`super::friction::WetFilm::viscous_part`]) over the
     /// interval, s (backward-Euler consistent, like the heat).
     pub viscous_mu_integral: f64,
 }

@@ -113,13 +113,13 @@ impl DryIceFriction {
 /// The friction law of a wet pixel (water film of height h between tread and ice, interface at
 /// 0 degC): eq. 2.1 with the viscous friction of eq. 4.13 as its floor,
 ///
-///   mu(h) = mu_d e^(-beta h) + mu_v(h) (1 - e^(-beta h)),   mu_v(h) = kappa eta v / (p h),
+///   mu(h) = mu_F + (mu_d - mu_F) e^(-beta h),   mu_F = min(mu_v(h), mu_d),   mu_v = kappa eta v / (p h),
 ///
 /// and the frictional heat per unit area q(h) = mu(h) p v (the work of the shear stress). mu_d is
-/// the dry friction at 0 degC; beta = ln 4 / h_c. At h = 0 the law gives mu_d; for thick films it
-/// tends to the viscous friction. The viscous term stays finite as h -> 0 (it tends to
-/// kappa eta v beta / p), so the heat is bounded and strictly decreasing in h: the film ODE has a
-/// unique implicit step (see `film::advance_wet`).
+/// the dry friction at 0 degC; beta = ln 4 / h_c. While the film is so thin that mu_v >= mu_d
+/// (h <= h* = kappa eta v / (p mu_d)) the law gives mu_d; beyond, it falls continuously toward
+/// the viscous friction. q is therefore bounded (<= mu_d p v) and non-increasing in h, so the
+/// film ODE has a unique implicit step (see `film::advance_wet`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WetFilm {
     /// p v, W/m^2 per unit friction.
@@ -133,31 +133,26 @@ pub struct WetFilm {
 }
 
 impl WetFilm {
-    /// The viscous part of the law, mu_v(h) (1 - e^(-beta h)) (bounded by kappa eta v beta / p;
-    /// equal to eq. 4.13 for films much thicker than h_c).
+    /// The floor mu_F = min(mu_v(h), mu_d) (the viscous friction of eq. 4.13, capped at mu_d).
     #[inline]
     pub fn viscous_part(&self, h_m: f64) -> f64 {
-        let x = self.beta * h_m.max(0.0);
-        let g = if x < 1e-4 { 1.0 - 0.5 * x + x * x / 6.0 } else { -(-x).exp_m1() / x };
-        self.visc_m * self.beta * g
+        if h_m > 0.0 && self.visc_m < self.mu_d * h_m {
+            self.visc_m / h_m
+        } else {
+            self.mu_d
+        }
     }
 
-    /// Heat q(h), W/m^2, and its derivative dq/dh, W/m^3.
+    /// Heat q(h), W/m^2, and its derivative dq/dh, W/m^3 (0 on the flat part h <= h*).
     #[inline]
     pub fn heat(&self, h_m: f64) -> (f64, f64) {
-        let h = h_m.max(0.0);
-        let x = self.beta * h;
-        let e = (-x).exp();
-        // g(x) = (1 - e^-x) / x and g'(x), series near 0
-        let (g, dg) = if x < 1e-4 {
-            (1.0 - 0.5 * x + x * x / 6.0, -0.5 + x / 3.0)
-        } else {
-            let one_m = -(-x).exp_m1();
-            (one_m / x, (x * e - one_m) / (x * x))
-        };
-        let kb = self.visc_m * self.beta;
-        let mu = self.mu_d * e + kb * g;
-        let dmu = self.beta * (kb * dg - self.mu_d * e);
+        if !(h_m > 0.0 && self.visc_m < self.mu_d * h_m) {
+            return (self.pv * self.mu_d, 0.0);
+        }
+        let mv = self.visc_m / h_m;
+        let e = (-self.beta * h_m).exp();
+        let mu = mv + (self.mu_d - mv) * e;
+        let dmu = -mv / h_m * (1.0 - e) - self.beta * (self.mu_d - mv) * e;
         (self.pv * mu, self.pv * dmu)
     }
 }
@@ -254,24 +249,31 @@ mod tests {
     fn wet_law_limits_and_derivative() {
         let (kappa, eta, v, p, hc) = (1.0, 0.00182, 2.0, 250e3, 50e-9);
         let w = WetFilm { pv: p * v, mu_d: 0.12, beta: beta_from_critical_height(hc), visc_m: kappa * eta * v / p };
-        // h = 0: dry friction
-        assert!((w.heat(0.0).0 - 0.12 * p * v).abs() < 1e-9 * p * v);
+        // h = 0 and thin films (mu_v >= mu_d): dry friction
+        let h_star = kappa * eta * v / (p * 0.12);
+        for h in [0.0, 1e-9, 0.99 * h_star] {
+            assert!((w.heat(h).0 - 0.12 * p * v).abs() < 1e-9 * p * v, "{h}");
+        }
         // thick film: the viscous friction of eq. 4.13
         let h = 5e-6;
         let mu = w.heat(h).0 / (p * v);
         assert!((mu - viscous_mu(kappa, eta, v, p, 1.0 / h)).abs() < 1e-6, "{mu}");
-        // equals eq. 2.1 with mu_F = mu_v at any h
-        for h in [1e-9, 3e-8, 1e-7, 4e-7] {
-            let mv = viscous_mu(kappa, eta, v, p, 1.0 / h);
-            let e = (-w.beta * h).exp();
-            let want = film_mu(0.12, mv, w.beta, h);
+        // equals eq. 2.1 with mu_F = min(mu_v, mu_d) at any h; continuous at h*; non-increasing
+        let mut last = f64::INFINITY;
+        for k in 0..400 {
+            let h = 1e-9 * 1.03f64.powi(k);
+            let mf = viscous_mu(kappa, eta, v, p, 1.0 / h).min(0.12);
+            let want = film_mu(0.12, mf, w.beta, h);
             let got = w.heat(h).0 / (p * v);
-            assert!((got - want).abs() < 1e-9 * want, "{h}: {got} vs {want} ({e})");
-            // derivative by central differences
-            let d = 1e-4 * h;
+            assert!((got - want).abs() < 1e-9 * want, "{h}: {got} vs {want}");
+            assert!(got <= last + 1e-12);
+            last = got;
+        }
+        for h in [1.5 * h_star, 3e-7, 1e-6] {
+            let d = 1e-5 * h;
             let fd = (w.heat(h + d).0 - w.heat(h - d).0) / (2.0 * d);
             let an = w.heat(h).1;
-            assert!((fd - an).abs() < 1e-5 * an.abs(), "{h}: {fd} vs {an}");
+            assert!((fd - an).abs() < 1e-4 * an.abs(), "{h}: {fd} vs {an}");
             assert!(an < 0.0);
         }
     }

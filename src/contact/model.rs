@@ -205,9 +205,9 @@ pub struct PatchResult {
     pub sliding: Vec<bool>,
     /// Film height at pixel ends, m.
     pub film_m: Vec<f64>,
-    /// Viscous friction in wet pixels, else 0: the pixel mean of the wet law's viscous part
-    /// mu_v (1 - e^(-beta h)), mu_v = kappa eta v / (p h) of eq. 4.13 (the two agree for films much
-    /// thicker than the critical height; unlike eq. 4.13 alone it stays finite at melting onset).
+    /// Viscous friction in wet pixels, else 0: the pixel mean of the wet law's floor
+    /// min(mu_v, mu_d), mu_v = kappa eta v / (p h) of eq. 4.13 (eq. 4.13 itself diverges at melting
+    /// onset, h -> 0; the floor is capped at the dry friction there).
     pub mu_visc: Vec<f64>,
     /// Friction coefficient carried by each loaded pixel (|tau| / p), else 0.
     pub mu: Vec<f64>,
