@@ -68,7 +68,11 @@ fn check_energy(what: &str, g: &PressureGrid, r: &PatchResult, k: &Kinematics, p
         let tt = if vr > 1e-12 { (x / vr).min(pp.lock_time_s) } else { pp.lock_time_s };
         roll += pp.rolling_resistance * p * k.travel_speed_mps * ((a * tt).sqrt() / pp.tread_depth_m).min(1.0) * da;
     }
-    assert!((roll - r.summary.power_rolling_w).abs() <= 1e-9 * roll.max(1e-9), "{what}: rolling {roll} vs {}", r.summary.power_rolling_w);
+    assert!(
+        (roll - r.summary.power_rolling_w).abs() <= 1e-9 * roll.max(1e-9),
+        "{what}: rolling {roll} vs {}",
+        r.summary.power_rolling_w
+    );
     let heat = s.power_generated_w - roll;
     let work = friction_work(g, r, vs);
     let scale = s.power_generated_w.abs().max(1e-9);
