@@ -41,7 +41,7 @@ fn check_dir(dir: &Path, rows: usize, cols: usize) {
 fn shipped_scenario_writes_maps_curve_and_summary() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = std::env::temp_dir().join(format!("vehsim-atiim-cmd-{}", std::process::id()));
-    let dir = run_atiim_command(&root.join("maneuvers/atiim/srtt_7kN_torque.toml"), &out).unwrap();
+    let dir = run_atiim_command(&root.join("scenarios/atiim/srtt_7kN_torque.toml"), &out).unwrap();
     assert_eq!(dir, out.join("srtt_7kN_torque"));
     check_dir(&dir, 64, 48);
     let js: serde_json::Value =
@@ -55,7 +55,7 @@ fn shipped_scenario_writes_maps_curve_and_summary() {
 
 #[test]
 fn every_shipped_scenario_loads() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/atiim");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/atiim");
     let mut n = 0;
     for e in std::fs::read_dir(&root).unwrap() {
         let p = e.unwrap().path();

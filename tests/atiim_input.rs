@@ -124,6 +124,14 @@ fn scenario_errors_name_the_key() {
         ("name = \"x\"\n[pressure]\nsource = \"jpeg\"\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n", "pressure.source"),
         ("name = \"x/../y\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n", "name"),
         ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nshore_a = 120.0\n", "tyre.shore_a"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nadhesion_peak = 3.0\n", "tyre.adhesion_peak"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\npeak_speed_mps = 0.0\n", "tyre.peak_speed_mps"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\npeak_width = 9.0\n", "tyre.peak_width"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\npressure_exponent = -0.1\n", "tyre.pressure_exponent"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\ntemp_coeff_per_k = 0.5\n", "tyre.temp_coeff_per_k"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\ncarcass_stiffness_kn_per_m = 10.0\n", "tyre.carcass_stiffness_kn_per_m"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nrolling_resistance = 0.2\n", "tyre.rolling_resistance"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[drawbar]\nslips = [0.1, -1.5]\n", "drawbar.slips[1]"),
         ("name = \"x\"\n[pressure]\nsource = \"csv\"\nfile = \"missing.csv\"\npixel_length_m = 0.01\npixel_width_m = 0.01\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n", "missing.csv"),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {

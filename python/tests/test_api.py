@@ -19,7 +19,7 @@ import vehsim
 
 SINE = "maneuvers/sine_steer.toml"
 TYRE_FILE = "vehicles/tyres/srtt_p225_60r16.toml"
-SCENARIO = "maneuvers/atiim/srtt_4kN_free_rolling.toml"
+SCENARIO = "scenarios/atiim/srtt_4kN_free_rolling.toml"
 
 
 @pytest.fixture(autouse=True)

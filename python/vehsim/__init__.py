@@ -235,7 +235,7 @@ class Tyre:
 
 
 def atiim(scenario: Spec, **overrides: Any) -> Dict[str, Any]:
-    """Evaluate an ATIIM contact-patch scenario (a TOML path such as maneuvers/atiim/*.toml, or a
+    """Evaluate an ATIIM contact-patch scenario (a TOML path such as scenarios/atiim/*.toml, or a
     dict) as ``vehsim atiim`` does, writing nothing.
 
     Overrides as in :func:`run` (``operating__slip_ratio=0.1``). Returns a dict: ``summary``

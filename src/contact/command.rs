@@ -9,19 +9,18 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::friction::severe_slip_factor;
-use super::model::{drawbar_curve, solve_patch, Operating, PatchResult};
+use super::model::{drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchResult};
 use super::spec::{Scenario, ScenarioSpec};
 use crate::error::{Error, Result};
 use crate::output::{create_dir, write_atomic};
 use crate::plot::{heat_map, line_chart, HeatMap, LineChart, Series};
 
-/// Operating point of a scenario: roll speed V (1 + kappa) (>= 0), slide speed
-/// V (sin^2 alpha + kappa^2)^0.5 (eq. 2.12).
-pub fn operating(sc: &Scenario) -> Operating {
-    Operating {
-        roll_speed_mps: (sc.speed_mps * (1.0 + sc.slip_ratio)).max(0.0),
-        slide_speed_mps: sc.speed_mps * severe_slip_factor(sc.slip_angle_rad, sc.slip_ratio),
+/// Kinematics of a scenario: travel speed, slip ratio, slip angle, ice temperature.
+pub fn operating(sc: &Scenario) -> Kinematics {
+    Kinematics {
+        travel_speed_mps: sc.speed_mps,
+        slip_ratio: sc.slip_ratio,
+        slip_angle_rad: sc.slip_angle_rad,
         ice_temp_c: sc.ice_temp_c,
     }
 }
@@ -45,15 +44,18 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     let dir = out_root.join(&sc.name);
     create_dir(&dir)?;
     let op = operating(&sc);
-    let res = solve_patch(&sc.grid, &op, &sc.params);
+    let res = solve_patch_at(&sc.grid, &op, &sc.params);
     write_maps(&dir, &sc, &res)?;
-    let curve = drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);
-    let mut csv = String::from("slip_ratio,drawbar_coeff,wet_fraction,sliding_fraction,max_film_nm,mean_rise_k\n");
+    let curve =
+        drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.slip_angle_rad, sc.ice_temp_c, &sc.drawbar_slips);
+    let mut csv =
+        String::from("slip_ratio,drawbar_coeff,friction_coeff,wet_fraction,sliding_fraction,max_film_nm,mean_rise_k\n");
     for (k, s) in &curve {
         let _ = writeln!(
             csv,
-            "{k:.4},{:.5},{:.4},{:.4},{:.2},{:.4}",
+            "{k:.4},{:.5},{:.5},{:.4},{:.4},{:.2},{:.4}",
             s.drawbar_coeff,
+            s.friction_coeff,
             s.wet_fraction,
             s.sliding_fraction,
             s.max_film_m * 1e9,
@@ -84,16 +86,20 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         "grid": { "rows": sc.grid.rows, "cols": sc.grid.cols, "pixel_length_m": sc.grid.dx_m, "pixel_width_m": sc.grid.dy_m },
         "operating": {
             "speed_mps": sc.speed_mps, "slip_ratio": sc.slip_ratio, "slip_angle_deg": sc.slip_angle_rad.to_degrees(),
-            "ice_temp_c": sc.ice_temp_c, "roll_speed_mps": op.roll_speed_mps, "slide_speed_mps": op.slide_speed_mps,
+            "ice_temp_c": sc.ice_temp_c, "roll_speed_mps": op.speeds().0, "slide_speed_mps": op.slide_speed_mps(),
         },
         "params": {
             "shore_a": sc.params.compound.shore_a, "youngs_modulus_mpa": sc.params.compound.youngs_modulus_pa() * 1e-6,
             "mu_dry": sc.params.mu_dry, "kappa": sc.params.film.kappa, "asperity_d_m": sc.params.film.asperity_d_m,
             "critical_film_m": sc.params.critical_film_m, "brush": sc.params.brush, "lock_time_s": sc.params.lock_time_s,
+            "adhesion_peak": sc.params.dry.peak_gain, "peak_speed_mps": sc.params.dry.peak_speed_mps,
+            "pressure_exponent": sc.params.dry.pressure_exponent, "temp_coeff_per_k": sc.params.dry.temp_coeff_per_k,
+            "carcass_stiffness_n_per_m": sc.params.carcass_n_per_m, "rolling_resistance": sc.params.rolling_resistance,
+            "slip_stiffness_per_fz": slip_stiffness_per_fz(&sc.grid, &sc.params, sc.speed_mps, sc.ice_temp_c),
         },
         "summary": res.summary,
         "max_film_nm": res.summary.max_film_m * 1e9,
-        "drawbar": curve.iter().map(|(k, s)| serde_json::json!({"slip_ratio": k, "coeff": s.drawbar_coeff, "wet_fraction": s.wet_fraction})).collect::<Vec<_>>(),
+        "drawbar": curve.iter().map(|(k, s)| serde_json::json!({"slip_ratio": k, "coeff": s.drawbar_coeff, "friction_coeff": s.friction_coeff, "wet_fraction": s.wet_fraction})).collect::<Vec<_>>(),
     });
     let text = serde_json::to_string_pretty(&summary).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;

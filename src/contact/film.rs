@@ -1,5 +1,11 @@
 //! Water-film height under a sliding tread element (dissertation eq. 4.5–4.7, 4.10).
 //!
+//! The patch model uses [`advance_wet`]: the film grows from the heat of the pixel's own friction
+//! law (`friction::WetFilm`, bounded as h -> 0) plus rolling heat, minus conduction, and thins by
+//! squeeze-out; it is integrated in h directly. [`advance`] below integrates eq. 4.10 as printed
+//! (viscous heat kappa eta v^2 / h, singular at h = 0) and is kept as the reference form with its
+//! closed-form checks:
+//!
 //! Balance per unit nominal area while the ice surface is at the melting point (erratum 4: the
 //! melting indicator of eq. 4.10 is "surface at T_m", as eq. 4.8 says):
 //!
@@ -29,7 +35,8 @@
 //! non-finite result (only from non-finite input) falls back to 0. The film is solved only by the
 //! patch model (`vehsim atiim` and the flash table that `[contact] model = "atiim"` builds once per
 //! run); the engine's per-step estimator reads that table and computes no film of its own. The
-//! guards are tested below with hostile coefficients.
+//! guards are tested below with hostile coefficients; [`advance_wet`] keeps h >= 0 the same way
+//! (a bracketed root on [0, h0 + dt q(0) / (rho L)]).
 
 use super::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
 
@@ -131,6 +138,103 @@ pub fn advance(h0_m: f64, dt_s: f64, substeps: usize, k: &FilmCoeffs) -> FilmSte
     FilmStep { h_end_m: s, inv_h_integral: inv, squeezed_m: sq }
 }
 
+/// Result of advancing a wet pixel's film under the friction law [`WetFilm`] (energies per unit
+/// area over the interval, J/m^2).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WetStep {
+    /// Film height at the end, m (>= 0).
+    pub h_end_m: f64,
+    /// Frictional heat generated, integral of q(h) dt.
+    pub friction_j_m2: f64,
+    /// Heat conducted away from the 0 degC interface (<= q_c dt: less when the film refreezes
+    /// completely within a sub-step).
+    pub conducted_j_m2: f64,
+    /// Water height removed by squeeze-out, m.
+    pub squeezed_m: f64,
+    /// Integral of 1/h over the interval, s/m (trapezoid per sub-step; for eq. 4.13 diagnostics).
+    pub inv_h_integral: f64,
+    /// Integral of the law's viscous floor ([`super::friction::WetFilm::viscous_part`]) over the
+    /// interval, s (backward-Euler consistent, like the heat).
+    pub viscous_mu_integral: f64,
+}
+
+/// Advance a wet pixel's film from `h0_m` over `dt_s` in `substeps` backward-Euler steps of
+///
+///   rho_ice L dh/dt = q(h) + q_extra - q_c - rho_ice L (C/2) h^3,
+///
+/// where q(h) is the frictional heat of `law` (bounded and decreasing in h), `q_extra_w_m2` other
+/// heat released at the interface (rolling hysteresis), `q_c_w_m2` the conducted flux and
+/// `c` = 16 p / (3 eta D^2) the squeeze-out coefficient of [`FilmCoeffs`]. Because q is bounded,
+/// the film grows linearly from h = 0 (no 1/h singularity) and each implicit step has exactly one
+/// root h >= 0 (the residual is strictly increasing in h), found by a bracketed Newton iteration.
+/// The energy balance friction + extra = conducted + rho L (h_end - h0 + squeezed) holds to the
+/// solver tolerance by construction.
+pub fn advance_wet(
+    h0_m: f64,
+    dt_s: f64,
+    substeps: usize,
+    law: &super::friction::WetFilm,
+    q_extra_w_m2: f64,
+    q_c_w_m2: f64,
+    c: f64,
+) -> WetStep {
+    let rl = ICE.density_kg_m3 * LATENT_HEAT_J_KG;
+    let n = substeps.max(1);
+    let dt = if dt_s.is_finite() { dt_s.max(0.0) / n as f64 } else { 0.0 };
+    let qx = if q_extra_w_m2.is_finite() { q_extra_w_m2.max(0.0) } else { 0.0 };
+    let qc = if q_c_w_m2.is_finite() { q_c_w_m2.max(0.0) } else { 0.0 };
+    let c2 = if c.is_finite() { 0.5 * c.max(0.0) } else { 0.0 };
+    let mut h = if h0_m.is_finite() { h0_m.max(0.0) } else { 0.0 };
+    let mut out = WetStep::default();
+    let (q0, _) = law.heat(0.0);
+    for _ in 0..n {
+        // residual F(x) = x - h - dt ((q(x) + qx - qc) / rl - c2 x^3), increasing in x
+        let f = |x: f64| {
+            let (q, dq) = law.heat(x);
+            (x - h - dt * ((q + qx - qc) / rl - c2 * x * x * x), 1.0 - dt * (dq / rl - 3.0 * c2 * x * x))
+        };
+        let (f0, _) = f(0.0);
+        let h1;
+        if !(f0 < 0.0) {
+            // the film refreezes (or never forms) within this sub-step
+            h1 = 0.0;
+            out.conducted_j_m2 += dt * (q0 + qx) + rl * h;
+            out.friction_j_m2 += dt * q0;
+        } else {
+            let (mut lo, mut hi) = (0.0, h + dt * (q0 + qx) / rl);
+            let mut x = h.clamp(lo, hi);
+            for _ in 0..80 {
+                let (fx, dfx) = f(x);
+                if fx > 0.0 {
+                    hi = x;
+                } else {
+                    lo = x;
+                }
+                let mut next = x - fx / dfx;
+                if !(next > lo && next < hi) {
+                    next = 0.5 * (lo + hi);
+                }
+                if (next - x).abs() <= 1e-12 * x.max(1e-15) || hi - lo <= 1e-13 * hi {
+                    x = next;
+                    break;
+                }
+                x = next;
+            }
+            h1 = x;
+            out.friction_j_m2 += dt * law.heat(h1).0;
+            out.conducted_j_m2 += dt * qc;
+            out.squeezed_m += dt * c2 * h1 * h1 * h1;
+        }
+        if h + h1 > 0.0 {
+            out.inv_h_integral += 2.0 * dt / (h + h1);
+        }
+        out.viscous_mu_integral += dt * law.viscous_part(h1);
+        h = h1;
+    }
+    out.h_end_m = h;
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -172,6 +276,39 @@ mod tests {
             let st = advance(h0, 1e-3, 8, &k);
             assert!(st.h_end_m.is_finite() && st.h_end_m >= 0.0, "{h0} {k:?}: {st:?}");
         }
+    }
+
+    /// advance_wet: friction + extra heat = conducted + latent heat of (film growth + squeezed
+    /// water) to solver precision, h >= 0, for growing, steady, refreezing and squeezed films.
+    #[test]
+    fn wet_step_conserves_energy_and_keeps_film_non_negative() {
+        use crate::contact::friction::{beta_from_critical_height, WetFilm};
+        let rl = ICE.density_kg_m3 * LATENT_HEAT_J_KG;
+        let mut n = 0;
+        for &(v, p) in &[(0.5, 1e5), (2.5, 2.5e5), (5.0, 4e5)] {
+            let law = WetFilm {
+                pv: p * v,
+                mu_d: 0.1,
+                beta: beta_from_critical_height(50e-9),
+                visc_m: WATER_VISCOSITY_PA_S * v / p,
+            };
+            for &h0 in &[0.0, 1e-8, 3e-7, 2e-6] {
+                for &qc in &[0.0, 2e4, 1e5, 1e7] {
+                    for &d in &[1e-5, 2e-4, 1.0] {
+                        let c = FilmCoeffs::new(&FilmParams { kappa: 1.0, asperity_d_m: d, substeps: 8 }, v, qc, p).c;
+                        let dt = 1e-4;
+                        let st = advance_wet(h0, dt, 8, &law, 500.0, qc, c);
+                        assert!(st.h_end_m.is_finite() && st.h_end_m >= 0.0);
+                        let gen = st.friction_j_m2 + 500.0 * dt;
+                        let out = st.conducted_j_m2 + rl * (st.h_end_m - h0 + st.squeezed_m);
+                        assert!((gen - out).abs() <= 1e-6 * gen, "v {v} h0 {h0} qc {qc} D {d}: {gen} vs {out}");
+                        assert!(st.conducted_j_m2 <= qc * dt * (1.0 + 1e-12));
+                        n += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 144);
     }
 
     #[test]

@@ -1,12 +1,161 @@
-//! Friction laws of the patch model: viscous film friction (eq. 4.11–4.13), friction versus film
-//! height (eq. 2.1), the tread-brush adhesion stress, and sliding power under severe slip
-//! (eq. 2.12 = 4.15). Pure functions, SI units.
+//! Friction laws of the patch model, pure functions in SI units:
+//! - [`DryIceFriction`]: dry rubber-ice friction mu(T, v_slide, p) with an adhesion peak;
+//! - [`WetFilm`]: one friction law for a pixel carrying a water film of height h, from which both the
+//!   shear stress tau = mu p and the frictional heat q = tau v_slide follow (eq. 2.1 with the viscous
+//!   friction of eq. 4.13 as its floor);
+//! - viscous film friction (eq. 4.11–4.13), friction versus film height (eq. 2.1), the brush stress
+//!   and sliding power under severe slip (eq. 2.12 = 4.15).
 //!
 //! Eq. 4.14, 4.16 and 4.17 (heat generated inside the tread, decaying exponentially with depth,
 //! with an in-tread share eps) are not used as such: the patch model puts all frictional heat at
 //! the interface (assumptions 2, 3, 9) and splits it between tread and ice by effusivity, which
-//! gives eps directly (`heat::tread_fraction`). Eq. 4.16 also reuses S for both slip and area
-//! (erratum 4).
+//! gives eps directly (`heat::tread_fraction`). Eq. 4.16 also reuses S for both slip and area.
+
+/// Dry rubber-ice friction coefficient mu(T, v_slide, p) (no water film).
+///
+/// mu = mu_ref * S(v) / S(v_ref) * (max(p, p_min) / p_ref)^(-n_p) * exp(-c_T (T - T_ref)),
+/// S(v) = 1 + g exp(-ln^2(v / v_pk) / (2 w^2)),
+///
+/// with T clamped to [-40, 0] degC and v to >= 1e-6 m/s. The trends are those of the
+/// dissertation's Fig. 2.14 (rubber on ice): friction falls with sliding speed (above the adhesion
+/// peak), with contact pressure and with temperature. The bell S is the adhesion peak of rubber
+/// friction versus log sliding speed (a Grosch-type master curve: adhesion adds to a hysteresis
+/// base at speeds near the compound's peak speed). A tread element sticks until its stress reaches
+/// the peak value ([`DryIceFriction::static_mu`]).
+///
+/// Parameters (defaults in [`DryIceFriction::srtt`]; each a source or a stated assumption):
+/// - `mu_ref` = the scenario's `mu_dry`, the value at the reference conditions below;
+/// - reference conditions: v_ref 0.028 m/s (the rig's 40 % slip at 7 cm/s, where it reports the
+///   saturated level), p_ref 250 kPa (about the SRTT's 35 psi inflation), T_ref -10 degC (the
+///   rig's dry-ice temperature);
+/// - adhesion peak: gain g 0.35 at v_pk 5 mm/s, width w 1.0 (in ln v). Assumption, set from the
+///   rig's ratio of peak to saturated drawbar pull (about 1.2) and its peak at 5–10 % slip at
+///   7 cm/s travel (3.5–7 mm/s sliding); Fig. 2.14 gives no numbers;
+/// - pressure exponent n_p 0.25 (assumption: real contact area growing less than in proportion
+///   to load, between 0 for Amontons and 1/3 for Hertzian asperities), p_min 10 kPa;
+/// - temperature coefficient c_T 0.03 /K (assumption: friction about 20 % lower at -3 than at
+///   -10 degC, the direction of Fig. 2.14 and of the rig's -3 degC runs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DryIceFriction {
+    /// Friction at the reference conditions, 0.02–0.6.
+    pub mu_ref: f64,
+    /// Reference sliding speed, m/s.
+    pub v_ref_mps: f64,
+    /// Reference contact pressure, Pa.
+    pub p_ref_pa: f64,
+    /// Reference temperature, degC.
+    pub t_ref_c: f64,
+    /// Adhesion-peak gain g over the base, 0–2 (0 = no peak).
+    pub peak_gain: f64,
+    /// Sliding speed of the adhesion peak, m/s (1e-4 – 1).
+    pub peak_speed_mps: f64,
+    /// Width of the peak in ln(v), 0.2–5.
+    pub peak_width: f64,
+    /// Pressure exponent n_p, 0–1.
+    pub pressure_exponent: f64,
+    /// Temperature coefficient c_T, 1/K, 0–0.2.
+    pub temp_coeff_per_k: f64,
+}
+
+/// Smallest pressure used in the pressure factor, Pa (edge pixels carry almost none).
+const P_MIN_PA: f64 = 10e3;
+
+impl DryIceFriction {
+    /// The SRTT defaults documented on the type, with reference friction `mu_ref`.
+    pub fn srtt(mu_ref: f64) -> Self {
+        DryIceFriction {
+            mu_ref,
+            v_ref_mps: 0.028,
+            p_ref_pa: 250e3,
+            t_ref_c: -10.0,
+            peak_gain: 0.35,
+            peak_speed_mps: 0.005,
+            peak_width: 1.0,
+            pressure_exponent: 0.25,
+            temp_coeff_per_k: 0.03,
+        }
+    }
+
+    /// A constant friction `mu` (no peak, no pressure or temperature dependence).
+    pub fn constant(mu: f64) -> Self {
+        DryIceFriction { peak_gain: 0.0, pressure_exponent: 0.0, temp_coeff_per_k: 0.0, ..Self::srtt(mu) }
+    }
+
+    fn bell(&self, v_mps: f64) -> f64 {
+        let l = (v_mps.max(1e-6) / self.peak_speed_mps).ln() / self.peak_width;
+        1.0 + self.peak_gain * (-0.5 * l * l).exp()
+    }
+
+    /// Pressure and temperature factor times mu_ref / S(v_ref).
+    fn scale(&self, t_c: f64, p_pa: f64) -> f64 {
+        let t = if t_c.is_finite() { t_c.clamp(-40.0, 0.0) } else { self.t_ref_c };
+        let pf = if self.pressure_exponent > 0.0 {
+            (p_pa.max(P_MIN_PA) / self.p_ref_pa).powf(-self.pressure_exponent)
+        } else {
+            1.0
+        };
+        self.mu_ref / self.bell(self.v_ref_mps) * pf * (-self.temp_coeff_per_k * (t - self.t_ref_c)).exp()
+    }
+
+    /// Sliding friction at interface temperature `t_c` (degC), sliding speed `v_mps` and contact
+    /// pressure `p_pa`.
+    pub fn mu(&self, t_c: f64, v_mps: f64, p_pa: f64) -> f64 {
+        self.scale(t_c, p_pa) * self.bell(v_mps)
+    }
+
+    /// Static (sticking) limit: the friction at the adhesion peak, >= every sliding value at the
+    /// same temperature and pressure.
+    pub fn static_mu(&self, t_c: f64, p_pa: f64) -> f64 {
+        self.scale(t_c, p_pa) * (1.0 + self.peak_gain)
+    }
+}
+
+/// The friction law of a wet pixel (water film of height h between tread and ice, interface at
+/// 0 degC): eq. 2.1 with the viscous friction of eq. 4.13 as its floor,
+///
+///   mu(h) = mu_F + (mu_d - mu_F) e^(-beta h),   mu_F = min(mu_v(h), mu_d),   mu_v = kappa eta v / (p h),
+///
+/// and the frictional heat per unit area q(h) = mu(h) p v (the work of the shear stress). mu_d is
+/// the dry friction at 0 degC; beta = ln 4 / h_c. While the film is so thin that mu_v >= mu_d
+/// (h <= h* = kappa eta v / (p mu_d)) the law gives mu_d; beyond, it falls continuously toward
+/// the viscous friction. q is therefore bounded (<= mu_d p v) and non-increasing in h, so the
+/// film ODE has a unique implicit step (see `film::advance_wet`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WetFilm {
+    /// p v, W/m^2 per unit friction.
+    pub pv: f64,
+    /// Dry friction at 0 degC.
+    pub mu_d: f64,
+    /// beta, 1/m.
+    pub beta: f64,
+    /// kappa eta v / p, m (mu_v = this / h).
+    pub visc_m: f64,
+}
+
+impl WetFilm {
+    /// The floor mu_F = min(mu_v(h), mu_d) (the viscous friction of eq. 4.13, capped at mu_d).
+    #[inline]
+    pub fn viscous_part(&self, h_m: f64) -> f64 {
+        if h_m > 0.0 && self.visc_m < self.mu_d * h_m {
+            self.visc_m / h_m
+        } else {
+            self.mu_d
+        }
+    }
+
+    /// Heat q(h), W/m^2, and its derivative dq/dh, W/m^3 (0 on the flat part h <= h*).
+    #[inline]
+    pub fn heat(&self, h_m: f64) -> (f64, f64) {
+        if !(h_m > 0.0 && self.visc_m < self.mu_d * h_m) {
+            return (self.pv * self.mu_d, 0.0);
+        }
+        let mv = self.visc_m / h_m;
+        let e = (-self.beta * h_m).exp();
+        let mu = mv + (self.mu_d - mv) * e;
+        let dmu = -mv / h_m * (1.0 - e) - self.beta * (self.mu_d - mv) * e;
+        (self.pv * mu, self.pv * dmu)
+    }
+}
 
 /// Viscous friction coefficient of a film (eq. 4.13): mu = kappa eta v / (p h), written with the
 /// time-average of 1/h over a pixel (`inv_h_mean`, 1/m) so that the h -> 0 onset stays integrable.
@@ -68,6 +217,65 @@ mod tests {
         let mu = viscous_mu(1.0, 0.00182, 2.0, 250e3, 1.0 / 130e-9);
         assert!((mu - 0.00364 / (250e3 * 130e-9)).abs() < 1e-12);
         assert_eq!(viscous_mu(1.0, 0.00182, 2.0, 0.0, 1e7), 0.0);
+    }
+
+    #[test]
+    fn dry_law_is_mu_ref_at_reference_and_follows_fig_2_14_trends() {
+        let f = DryIceFriction::srtt(0.15);
+        assert!((f.mu(-10.0, 0.028, 250e3) - 0.15).abs() < 1e-12);
+        // falls with speed above the peak, with pressure and with temperature
+        assert!(f.mu(-10.0, 0.01, 250e3) > f.mu(-10.0, 0.1, 250e3));
+        assert!(f.mu(-10.0, 0.1, 250e3) > f.mu(-10.0, 1.0, 250e3));
+        assert!(f.mu(-10.0, 0.028, 150e3) > f.mu(-10.0, 0.028, 350e3));
+        assert!(f.mu(-10.0, 0.028, 250e3) > f.mu(-3.0, 0.028, 250e3));
+        // the adhesion peak: the static limit is the maximum over speed, reached at v_pk
+        let s = f.static_mu(-10.0, 250e3);
+        assert!((f.mu(-10.0, 0.005, 250e3) - s).abs() < 1e-12);
+        for k in 0..200 {
+            let v = 1e-5 * 1.1f64.powi(k);
+            assert!(f.mu(-10.0, v, 250e3) <= s + 1e-15);
+        }
+        // hand value: g = 0.35, w = 1, ln(0.028/0.005) = 1.7228 -> S(v_ref) = 1 + 0.35 e^-1.4840
+        let sref = 1.0 + 0.35 * (-0.5 * (0.028f64 / 0.005).ln().powi(2)).exp();
+        assert!((s - 0.15 * 1.35 / sref).abs() < 1e-12);
+        // extreme temperatures are clamped, not overflowed
+        assert!(f.mu(-1e6, 1.0, 2e5).is_finite() && f.mu(f64::NAN, 1.0, 2e5).is_finite());
+        let c = DryIceFriction::constant(0.2);
+        assert_eq!(c.mu(-3.0, 5.0, 1e5), 0.2);
+        assert_eq!(c.static_mu(-30.0, 9e5), 0.2);
+    }
+
+    #[test]
+    fn wet_law_limits_and_derivative() {
+        let (kappa, eta, v, p, hc) = (1.0, 0.00182, 2.0, 250e3, 50e-9);
+        let w = WetFilm { pv: p * v, mu_d: 0.12, beta: beta_from_critical_height(hc), visc_m: kappa * eta * v / p };
+        // h = 0 and thin films (mu_v >= mu_d): dry friction
+        let h_star = kappa * eta * v / (p * 0.12);
+        for h in [0.0, 1e-9, 0.99 * h_star] {
+            assert!((w.heat(h).0 - 0.12 * p * v).abs() < 1e-9 * p * v, "{h}");
+        }
+        // thick film: the viscous friction of eq. 4.13
+        let h = 5e-6;
+        let mu = w.heat(h).0 / (p * v);
+        assert!((mu - viscous_mu(kappa, eta, v, p, 1.0 / h)).abs() < 1e-6, "{mu}");
+        // equals eq. 2.1 with mu_F = min(mu_v, mu_d) at any h; continuous at h*; non-increasing
+        let mut last = f64::INFINITY;
+        for k in 0..400 {
+            let h = 1e-9 * 1.03f64.powi(k);
+            let mf = viscous_mu(kappa, eta, v, p, 1.0 / h).min(0.12);
+            let want = film_mu(0.12, mf, w.beta, h);
+            let got = w.heat(h).0 / (p * v);
+            assert!((got - want).abs() < 1e-9 * want, "{h}: {got} vs {want}");
+            assert!(got <= last + 1e-12);
+            last = got;
+        }
+        for h in [1.5 * h_star, 3e-7, 1e-6] {
+            let d = 1e-5 * h;
+            let fd = (w.heat(h + d).0 - w.heat(h - d).0) / (2.0 * d);
+            let an = w.heat(h).1;
+            assert!((fd - an).abs() < 1e-4 * an.abs(), "{h}: {fd} vs {an}");
+            assert!(an < 0.0);
+        }
     }
 
     #[test]

@@ -295,6 +295,32 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
     Ok(PressureGrid { rows: s.rows, cols: s.cols, dx_m: dx, dy_m: dy, p_pa: p })
 }
 
+/// Lateral pressure tilt per unit sin(slip angle): the pressure across the patch is multiplied by
+/// 1 + t eta (eta = -1 at column 0, +1 at the last column) with t = this x sin(alpha), clamped to
+/// +-0.9, then rescaled to the same load. Assumption (no measured map under slip angle is
+/// available): under a slip angle the carcass is pushed sideways and loads the shoulder toward
+/// which the wheel slides; 2.0 gives +-7 % across the patch at 2 degrees.
+pub const SLIP_ANGLE_TILT: f64 = 2.0;
+
+/// Tilt `grid` for slip angle `alpha_rad` (positive: the wheel slides toward +y, the pressure
+/// rises there); the load is unchanged. No-op for alpha = 0 or a single column.
+pub fn tilt_for_slip_angle(grid: &mut PressureGrid, alpha_rad: f64) {
+    let t = (SLIP_ANGLE_TILT * alpha_rad.sin()).clamp(-0.9, 0.9);
+    if t == 0.0 || !t.is_finite() || grid.cols < 2 || grid.p_pa.len() != grid.rows * grid.cols {
+        return;
+    }
+    let before: f64 = grid.p_pa.iter().sum();
+    let cols = grid.cols;
+    for (k, p) in grid.p_pa.iter_mut().enumerate() {
+        let eta = 2.0 * ((k % cols) as f64 + 0.5) / cols as f64 - 1.0;
+        *p *= 1.0 + t * eta;
+    }
+    let after: f64 = grid.p_pa.iter().sum();
+    if after > 0.0 {
+        grid.p_pa.iter_mut().for_each(|p| *p *= before / after);
+    }
+}
+
 /// How to read a PNG pressure map.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImageLayout {

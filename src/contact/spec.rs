@@ -9,8 +9,11 @@ use serde::{Deserialize, Serialize};
 
 use super::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableRanges, TyreBuild};
 use super::film::FilmParams;
-use super::model::PatchParams;
-use super::patch::{parse_csv, read_png_map, synthesize, ImageLayout, PressureGrid, SynthInputs, TreadPattern};
+use super::friction::DryIceFriction;
+use super::model::{carcass_stiffness_n_per_m, PatchParams};
+use super::patch::{
+    parse_csv, read_png_map, synthesize, tilt_for_slip_angle, ImageLayout, PressureGrid, SynthInputs, TreadPattern,
+};
 use super::thermal::{gent_modulus_mpa, preset_shore_a, Compound, PRESETS};
 use super::{ContactTemperature, Isothermal};
 use crate::error::{read_input, resolve, Checker, Error, Result};
@@ -63,6 +66,27 @@ fn d_sub() -> usize {
 fn d_radius() -> f64 {
     0.328
 }
+fn d_peak() -> f64 {
+    0.35
+}
+fn d_peak_speed() -> f64 {
+    0.005
+}
+fn d_peak_width() -> f64 {
+    1.0
+}
+fn d_p_exp() -> f64 {
+    0.25
+}
+fn d_t_coeff() -> f64 {
+    0.03
+}
+fn d_carcass() -> f64 {
+    super::model::SRTT_CARCASS_N_PER_M * 1e-3
+}
+fn d_frr() -> f64 {
+    0.010
+}
 
 /// Tyre and interface parameters shared by `[contact]` and scenario files (all optional).
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
@@ -94,9 +118,32 @@ pub struct TyreSpec {
     /// Tread depth, m (0.002–0.015).
     #[serde(default = "d_depth")]
     pub tread_depth_m: f64,
-    /// Dry-ice sliding friction, 0.02–0.6.
+    /// Dry rubber-ice friction at the reference conditions (-10 degC, 0.028 m/s sliding,
+    /// 250 kPa), 0.02–0.6.
     #[serde(default = "d_mu")]
     pub mu_dry: f64,
+    /// Adhesion-peak gain of the dry friction over its base, 0–2 (0 = no peak).
+    #[serde(default = "d_peak")]
+    pub adhesion_peak: f64,
+    /// Sliding speed of the adhesion peak, m/s (1e-4 – 1).
+    #[serde(default = "d_peak_speed")]
+    pub peak_speed_mps: f64,
+    /// Width of the adhesion peak in ln(sliding speed), 0.2–5.
+    #[serde(default = "d_peak_width")]
+    pub peak_width: f64,
+    /// Exponent of the dry friction's fall with contact pressure, 0–1.
+    #[serde(default = "d_p_exp")]
+    pub pressure_exponent: f64,
+    /// Relative fall of the dry friction per kelvin of interface temperature, 1/K (0–0.2).
+    #[serde(default = "d_t_coeff")]
+    pub temp_coeff_per_k: f64,
+    /// Longitudinal carcass stiffness at 241.3 kPa inflation, kN/m (0 = rigid, else 50–5000);
+    /// scaled in proportion to `inflation_kpa`.
+    #[serde(default = "d_carcass")]
+    pub carcass_stiffness_kn_per_m: f64,
+    /// Rolling-resistance coefficient for the rolling (hysteresis) heat, 0–0.05.
+    #[serde(default = "d_frr")]
+    pub rolling_resistance: f64,
     /// Real-contact ratio kappa, (0, 1].
     #[serde(default = "d_kappa")]
     pub kappa: f64,
@@ -142,6 +189,19 @@ impl TyreSpec {
         ck.range(&k("block_pitch_m"), self.block_pitch_m, 0.0, 0.2)?;
         ck.range(&k("tread_depth_m"), self.tread_depth_m, 0.002, 0.015)?;
         ck.range(&k("mu_dry"), self.mu_dry, 0.02, 0.6)?;
+        ck.range(&k("adhesion_peak"), self.adhesion_peak, 0.0, 2.0)?;
+        ck.range(&k("peak_speed_mps"), self.peak_speed_mps, 1e-4, 1.0)?;
+        ck.range(&k("peak_width"), self.peak_width, 0.2, 5.0)?;
+        ck.range(&k("pressure_exponent"), self.pressure_exponent, 0.0, 1.0)?;
+        ck.range(&k("temp_coeff_per_k"), self.temp_coeff_per_k, 0.0, 0.2)?;
+        let c = self.carcass_stiffness_kn_per_m;
+        ck.require(
+            &k("carcass_stiffness_kn_per_m"),
+            c,
+            c == 0.0 || (50.0..=5000.0).contains(&c),
+            "expected 0 (rigid) or 50..5000 kN/m",
+        )?;
+        ck.range(&k("rolling_resistance"), self.rolling_resistance, 0.0, 0.05)?;
         ck.require(&k("kappa"), self.kappa, self.kappa > 0.0 && self.kappa <= 1.0, "expected 0 < kappa <= 1")?;
         ck.range(&k("asperity_d_m"), self.asperity_d_m, 1e-6, 1.0)?;
         ck.range(&k("critical_film_nm"), self.critical_film_nm, 1.0, 10_000.0)?;
@@ -163,6 +223,17 @@ impl TyreSpec {
         Ok(PatchParams {
             compound: Compound::generic(shore),
             mu_dry: self.mu_dry,
+            dry: DryIceFriction {
+                mu_ref: self.mu_dry,
+                peak_gain: self.adhesion_peak,
+                peak_speed_mps: self.peak_speed_mps,
+                peak_width: self.peak_width,
+                pressure_exponent: self.pressure_exponent,
+                temp_coeff_per_k: self.temp_coeff_per_k,
+                ..DryIceFriction::srtt(self.mu_dry)
+            },
+            carcass_n_per_m: carcass_stiffness_n_per_m(self.carcass_stiffness_kn_per_m * 1e3, self.inflation_kpa * 1e3),
+            rolling_resistance: self.rolling_resistance,
             film: FilmParams { kappa: self.kappa, asperity_d_m: self.asperity_d_m, substeps: self.film_substeps },
             critical_film_m: self.critical_film_nm * 1e-9,
             tread_depth_m: self.tread_depth_m,
@@ -368,9 +439,10 @@ pub struct PressureSpec {
 pub struct OperatingSpec {
     /// Travel speed V, m/s (0.01–80).
     pub speed_mps: f64,
-    /// Slip ratio kappa = (omega R - V) / V (DESIGN §4; -1 = locked wheel, > 0 driving), -1..2.
+    /// Slip ratio kappa = (omega R - V_x) / V_x (-1 = locked wheel, < 0 braking, > 0 driving), -1..2.
     pub slip_ratio: f64,
-    /// Slip angle, deg (-30..30).
+    /// Slip angle, deg (-30..30): enters the sliding velocity and, for synthesized patches, tilts
+    /// the pressure toward the side the wheel slides to.
     #[serde(default)]
     pub slip_angle_deg: f64,
     /// Ice temperature, degC (-40..0).
@@ -383,7 +455,7 @@ pub struct OperatingSpec {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DrawbarSpec {
-    /// Slip ratios, 0–1 (default 0 to 0.02 in steps of 0.0005, then to 0.4 in steps of 0.005).
+    /// Slip ratios, -1..2 (< 0 braking; default 0 to 0.02 in steps of 0.0005, then to 0.4 in steps of 0.005).
     pub slips: Option<Vec<f64>>,
     /// Travel speed of the sweep, m/s (default: the operating speed).
     pub speed_mps: Option<f64>,
@@ -452,7 +524,7 @@ impl ScenarioSpec {
         ck.range("operating.ice_temp_c", o.ice_temp_c, -40.0, 0.0)?;
         let params = self.tyre.params(file, "tyre.", o.ice_temp_c)?;
         let p = &self.pressure;
-        let grid = match p.source.as_str() {
+        let mut grid = match p.source.as_str() {
             "synth" => {
                 let [rows, cols] = p.grid.unwrap_or([64, 48]);
                 let load = need(file, "pressure.load_n", p.load_n, "synth")?;
@@ -518,6 +590,9 @@ impl ScenarioSpec {
                 ))
             }
         };
+        if p.source == "synth" {
+            tilt_for_slip_angle(&mut grid, o.slip_angle_deg.to_radians());
+        }
         if grid.rows * grid.cols > 512 * 512 {
             return Err(Error::key(file, "pressure", "grid larger than 512 x 512 pixels"));
         }
@@ -529,7 +604,7 @@ impl ScenarioSpec {
             None => (default_slips(), o.speed_mps),
         };
         for (i, s) in slips.iter().enumerate() {
-            ck.range(&format!("drawbar.slips[{i}]"), *s, 0.0, 1.0)?;
+            ck.range(&format!("drawbar.slips[{i}]"), *s, -1.0, 2.0)?;
         }
         Ok(Scenario {
             name: self.name.clone(),

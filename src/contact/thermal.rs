@@ -2,7 +2,7 @@
 //!
 //! All values SI. Temperatures in degC where the name ends `_c`; differences in K.
 //!
-//! Errata applied (DESIGN.md §5): the ice density of Table 4.1 is 917 kg/m^3 (the table prints
+//! Errata applied: the ice density of Table 4.1 is 917 kg/m^3 (the table prints
 //! g/m^3); its 2.25 W/(m K) "heat transfer coefficient" is the thermal conductivity of ice; the
 //! specific heat of ice (2050 J/(kg K)) is not in the table and is added here. Gent's relation
 //! (eq. 4.24) gives Young's modulus in MPa.

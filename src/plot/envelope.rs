@@ -39,6 +39,7 @@ pub fn plot(stem: &Path, env: &Envelope, rows: &[Row]) -> Result<()> {
         x_label: env.keys.first().cloned().unwrap_or_else(|| "run".into()),
         y_label: y_label.into(),
         series,
+        note: String::new(),
     };
     line_chart(stem, &chart)
 }
