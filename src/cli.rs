@@ -116,7 +116,10 @@ pub enum Command {
     /// steady lateral acceleration; for every [sweep] combination. Writes <out>/<name>/envelope.csv
     /// and plots/envelope.png/.svg (spec keys: src/envelope.rs, docs/iso3888-2.md).
     Envelope {
+        /// Envelope spec: a run spec (iso3888_2 or constant_radius) with optional `[envelope]` search
+        /// settings and `[sweep]` (e.g. scenarios/envelope/envelope_ice_temperature.toml).
         file: PathBuf,
+        /// Output root; the envelope is written to OUT/<name>/ (envelope.csv, plots/).
         #[arg(long, default_value = "results")]
         out: PathBuf,
         /// Worker threads (default: all cores); the output does not depend on it.

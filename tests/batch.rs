@@ -196,7 +196,7 @@ fn compare_accepts_identical_and_detects_a_perturbed_trajectory() {
 
 /// A run that spins out is marked `failed` with its event while the other runs of the batch
 /// finish: a 15 m/s sine steer on mu 0.15 ice, rear drive, 4-DOF, ATIIM-Pacejka: 0.5 degrees of
-/// steer stays within friction, 2 degrees spins the car. (A constant-radius run that is too fast
+/// steer stays within friction, 3 degrees spins the car. (A constant-radius run that is too fast
 /// for its circle now ends earlier, leaving the circle: see tests/plausibility.rs.)
 #[test]
 fn a_spin_out_is_a_failed_run_and_the_batch_goes_on() {
@@ -205,7 +205,7 @@ fn a_spin_out_is_a_failed_run_and_the_batch_goes_on() {
         "name = \"spin\"\nvehicle = \"{}/vehicles/sedan_rwd.toml\"\ntyre_model = \"atiim_pacejka\"\n\
          vehicle_model = \"roll4dof\"\nduration_s = 12.0\n[surface]\nmu = 0.15\n[maneuver]\nkind = \"sine_steer\"\n\
          speed_mps = 15.0\nsteer_amplitude_deg = 1.0\nperiod_s = 4.0\n[contact]\nmodel = \"atiim\"\n[sweep]\n\
-         \"maneuver.steer_amplitude_deg\" = [0.5, 2.0]\n",
+         \"maneuver.steer_amplitude_deg\" = [0.5, 3.0]\n",
         common::root().display()
     );
     std::fs::write(dir.join("cr.toml"), spec).unwrap();
