@@ -15,7 +15,8 @@ use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, Maneuver};
 use crate::output::{create_dir, write_atomic};
-use crate::sim::{simulate, Controls, Recorder, Row, Summary};
+use crate::sim::observer::NoOutput;
+use crate::sim::{simulate, Controls, EndReason, Observer, Recorder, Row, Summary};
 use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
@@ -72,7 +73,9 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
             };
             Box::new(Iso3888_2::new(*p, body, cfg.driver))
         }
-        ManeuverConfig::OpenLoop { steer, speed } => Box::new(OpenLoop { steer: steer.clone(), speed: speed.clone() }),
+        ManeuverConfig::OpenLoop { steer, speed } => {
+            Box::new(OpenLoop::new(steer.clone(), speed.clone(), v.steer_rate_max_radps))
+        }
         ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
     }
 }
@@ -97,7 +100,7 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
                     max_speed_error_mps: None,
                     steps: 0,
                     end_time_s: 0.0,
-                    end_reason: "diverged".into(),
+                    end_reason: EndReason::Diverged,
                     events: vec![Event {
                         t_s: 0.0,
                         kind: "diverged".into(),
@@ -125,11 +128,13 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
             Ok(c) => (c, None),
             Err(e) => (Box::new(Isothermal), Some(e.to_string())),
         };
-    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut recorder);
+    let windows = maneuver.steady_state_windows();
+    // Rows are built only when someone reads them: the time series or the steady-state means.
+    let observer: &mut dyn Observer = if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
+    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, observer);
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }
-    let windows = maneuver.steady_state_windows();
     let steady_states = steady_state::steady_states(&windows, &recorder.rows);
     let understeer_gradient = steady_state::understeer_gradient(&steady_states, cfg.vehicle.wheelbase_m());
     let mut rows = recorder.rows;

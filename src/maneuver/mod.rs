@@ -69,6 +69,13 @@ pub trait Maneuver: Send {
     fn start(&self) -> Start;
     /// Command for the step starting at `t` with the vehicle at `kin`.
     fn command(&mut self, t: f64, kin: &Kinematics) -> Command;
+    /// The steer angle as a known function of time, rad, where the manoeuvre prescribes one
+    /// (open loop; already within the steering rate limit): the engine then evaluates it at every
+    /// integration stage instead of holding [`Command::steer_rad`] over the control period.
+    /// `None` (the default) for feedback steering.
+    fn steer_at(&self, _t: f64) -> Option<f64> {
+        None
+    }
     /// Signed lateral deviation of the CG from the reference path at the last command, m
     /// (`None` for open-loop manoeuvres).
     fn path_error_m(&self) -> Option<f64>;
@@ -77,6 +84,12 @@ pub trait Maneuver: Send {
     fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool;
     /// Verdict so far.
     fn outcome(&self) -> Outcome;
+
+    /// Once [`Maneuver::after_step`] has ended the run: the time within the last step at which
+    /// the end condition was met, interpolated, s (`None`: the end of the step).
+    fn end_time_s(&self) -> Option<f64> {
+        None
+    }
 
     /// The course for plots (gates, reference path, body outline), as JSON; `None` if there is none.
     fn layout(&self) -> Option<serde_json::Value> {
