@@ -182,7 +182,9 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
         }
         let config = match err {
             Some(e) => Err(e),
-            None => ManeuverFile::from_table(path, t).and_then(|f| f.build_cached(path, &mut cache)).map_err(|e| e.to_string()),
+            None => ManeuverFile::from_table(path, t)
+                .and_then(|f| f.build_cached(path, &mut cache))
+                .map_err(|e| e.to_string()),
         };
         runs.push(BatchRun { index, params, config });
     }
@@ -322,7 +324,8 @@ fn write_layouts(dir: &Path, runs: &[&BatchRun]) -> Result<()> {
         let file = if single {
             "layout.json".to_string()
         } else {
-            let safe: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
+            let safe: String =
+                name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
             format!("layout_{safe}.json")
         };
         let json = serde_json::to_string_pretty(layout).map_err(|e| Error::Run(format!("{file}: {e}")))?;

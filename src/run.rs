@@ -130,7 +130,8 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
         };
     let windows = maneuver.steady_state_windows();
     // Rows are built only when someone reads them: the time series or the steady-state means.
-    let observer: &mut dyn Observer = if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
+    let observer: &mut dyn Observer =
+        if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
     let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, observer);
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });

@@ -165,3 +165,50 @@ fn explore() {
         }
     }
 }
+
+/// Report, not a check: for each golden case (tests/golden.rs), the largest |yaw-rate| and |y|
+/// distance of the golden file (blessed before the controllers had their own clock) and of the
+/// current engine with the spec's settings from a step = control period = 0.25 ms run.
+///     cargo test --release --test accuracy golden_distances -- --ignored --nocapture
+#[test]
+#[ignore]
+fn golden_distances() {
+    let cases = [
+        ("dlc_ice__linear__bicycle", "maneuvers/dlc.toml", "linear", "bicycle", "isothermal"),
+        ("sine_steer_ice__linear__bicycle", "maneuvers/sine_steer.toml", "linear", "bicycle", "isothermal"),
+        ("dlc_ice__pacejka__bicycle", "maneuvers/dlc.toml", "pacejka", "bicycle", "isothermal"),
+        ("dlc_ice__atiim_pacejka__bicycle", "maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim"),
+        ("dlc_ice__dugoff__bicycle", "maneuvers/dlc.toml", "dugoff", "bicycle", "isothermal"),
+        ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
+        ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
+    ];
+    for (stem, spec, tyre, model, contact) in cases {
+        let path = common::root().join(spec);
+        let mut file = ManeuverFile::load(&path).unwrap();
+        file.tyre_model = tyre.into();
+        file.vehicle_model = Some(model.into());
+        file.contact.model = contact.into();
+        let base = file.build(&path).unwrap();
+        let now = execute(&base);
+        let reference = reference(&base);
+        let text = std::fs::read_to_string(common::root().join(format!("tests/data/golden/{stem}.csv"))).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+        let (ct, cr, cy) = (col("t_s"), col("yaw_rate_radps"), col("y_m"));
+        let (mut gr, mut gy) = (0.0_f64, 0.0_f64);
+        for l in lines {
+            let v: Vec<&str> = l.split(',').collect();
+            let t: f64 = v[ct].parse().unwrap();
+            if let Some(q) = reference.rows.iter().find(|q| (q.t_s - t).abs() < 1e-9) {
+                gr = gr.max((v[cr].parse::<f64>().unwrap() - q.obs.kin.yaw_rate_radps).abs());
+                gy = gy.max((v[cy].parse::<f64>().unwrap() - q.obs.kin.y_m).abs());
+            }
+        }
+        let (nr, ny, _) = diff(&now, &reference);
+        println!(
+            "{stem}: golden {gr:.2e} rad/s, {gy:.2e} m; now (step {} s, period {} s) {nr:.2e} rad/s, {ny:.2e} m",
+            base.settings.step_s, base.settings.control_period_s
+        );
+    }
+}

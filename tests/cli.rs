@@ -78,7 +78,12 @@ fn non_physical_values_name_key_and_allowed_range() {
         ("dlc.toml", "method = \"rk4\"", "method = \"rk4\"\nstep_s = 0.0", "step_s"),
         ("dlc.toml", "method = \"rk4\"", "method = \"rk4\"\nstep_s = -0.001", "step_s"),
         ("dlc.toml", "method = \"rk4\"", "method = \"rk4\"\nstep_s = 0.03", "step_s"),
-        ("dlc.toml", "method = \"rk4\"", "method = \"rk4\"\nstep_s = 0.004\ncontrol_period_s = 0.01", "control_period_s"),
+        (
+            "dlc.toml",
+            "method = \"rk4\"",
+            "method = \"rk4\"\nstep_s = 0.004\ncontrol_period_s = 0.01",
+            "control_period_s",
+        ),
         ("dlc.toml", "method = \"rk4\"", "method = \"rk4\"\ncontrol_period_s = 0.0", "control_period_s"),
         ("dlc.toml", "mu = 0.15", "mu = 0.0", "mu"),
         ("dlc.toml", "mu = 0.15", "mu = -0.2", "mu"),

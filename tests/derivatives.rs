@@ -60,7 +60,10 @@ fn check(model: &str, tyre: &str, names: &[&str], d: &[f64]) {
     for ((n, want), (name, got)) in rows.iter().zip(names.iter().zip(d)) {
         assert_eq!(n, name, "{model} + {tyre}");
         assert!(got.is_finite(), "{model} + {tyre}: d{name}/dt = {got}");
-        assert!((got - want).abs() <= TOL * want.abs().max(1.0), "{model} + {tyre}: d{name}/dt = {got:e}, fixture {want:e}");
+        assert!(
+            (got - want).abs() <= TOL * want.abs().max(1.0),
+            "{model} + {tyre}: d{name}/dt = {got:e}, fixture {want:e}"
+        );
     }
 }
 

@@ -120,7 +120,8 @@ pub enum EndReason {
 
 impl EndReason {
     /// Every end reason, in declaration order.
-    pub const ALL: [EndReason; 4] = [EndReason::Completed, EndReason::Duration, EndReason::SpinOut, EndReason::Diverged];
+    pub const ALL: [EndReason; 4] =
+        [EndReason::Completed, EndReason::Duration, EndReason::SpinOut, EndReason::Diverged];
 
     /// The serialised name.
     pub fn as_str(self) -> &'static str {

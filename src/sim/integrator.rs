@@ -109,10 +109,44 @@ pub fn step_t<const N: usize>(
             // each accepted step's own solution, the last at exactly h (dense output would
             // interpolate the end point).
             let (name, out) = if matches!(method, Method::Dopri5 { .. }) {
-                let mut s = Dopri5::from_param(sys, 0.0, h, h, y0, rtol, atol, 0.9, 0.04, 0.2, 10.0, h, 0.0, 100_000, u32::MAX, OutputType::Sparse);
+                let mut s = Dopri5::from_param(
+                    sys,
+                    0.0,
+                    h,
+                    h,
+                    y0,
+                    rtol,
+                    atol,
+                    0.9,
+                    0.04,
+                    0.2,
+                    10.0,
+                    h,
+                    0.0,
+                    100_000,
+                    u32::MAX,
+                    OutputType::Sparse,
+                );
                 ("dopri5", s.integrate().map(|_| s.y_out().last().cloned()))
             } else {
-                let mut s = Dop853::from_param(sys, 0.0, h, h, y0, rtol, atol, 0.9, 0.0, 0.333, 6.0, h, 0.0, 100_000, u32::MAX, OutputType::Sparse);
+                let mut s = Dop853::from_param(
+                    sys,
+                    0.0,
+                    h,
+                    h,
+                    y0,
+                    rtol,
+                    atol,
+                    0.9,
+                    0.0,
+                    0.333,
+                    6.0,
+                    h,
+                    0.0,
+                    100_000,
+                    u32::MAX,
+                    OutputType::Sparse,
+                );
                 ("dop853", s.integrate().map(|_| s.y_out().last().cloned()))
             };
             match out {

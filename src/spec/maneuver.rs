@@ -416,7 +416,8 @@ pub enum ManeuverConfig {
 impl ManeuverConfig {
     /// Lowest and highest speed the manoeuvre asks for, m/s.
     pub fn speed_range_mps(&self) -> (f64, f64) {
-        let fold = |it: &mut dyn Iterator<Item = f64>| it.fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
+        let fold =
+            |it: &mut dyn Iterator<Item = f64>| it.fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
         let (lo, hi) = match self {
             ManeuverConfig::Iso3888_2(p) => (p.speed_mps, p.speed_mps),
             ManeuverConfig::OpenLoop { speed, .. } => fold(&mut speed.points.iter().map(|p| p.1)),
@@ -517,7 +518,12 @@ impl ManeuverFile {
             c.require("integrator.step_s", h, h > 0.0 && h <= 0.05, "expected 0 < step_s <= 0.05 (s)")?;
         }
         if let Some(cp) = i.control_period_s {
-            c.require("integrator.control_period_s", cp, cp > 0.0 && cp <= 1.0, "expected 0 < control_period_s <= 1 (s)")?;
+            c.require(
+                "integrator.control_period_s",
+                cp,
+                cp > 0.0 && cp <= 1.0,
+                "expected 0 < control_period_s <= 1 (s)",
+            )?;
             if let Some(h) = i.step_s {
                 let m = (cp / h).round();
                 c.require(
