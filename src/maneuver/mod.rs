@@ -63,11 +63,12 @@ pub struct SteadyWindow {
     pub nominal_ay_mps2: f64,
 }
 
-/// A manoeuvre, driven by the engine once per step.
+/// A manoeuvre, driven by the engine: commands once per control period, checks once per step.
 pub trait Maneuver: Send {
     /// Where and how fast the vehicle starts.
     fn start(&self) -> Start;
-    /// Command for the step starting at `t` with the vehicle at `kin`.
+    /// Command held over the coming control period: the engine passes the middle of the period
+    /// as `t` and the kinematics predicted for that instant as `kin` (see [`crate::sim::engine`]).
     fn command(&mut self, t: f64, kin: &Kinematics) -> Command;
     /// The steer angle as a known function of time, rad, where the manoeuvre prescribes one
     /// (open loop; already within the steering rate limit): the engine then evaluates it at every
