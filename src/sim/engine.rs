@@ -402,10 +402,10 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         };
         let (next, k1) = match self.method {
             Method::Rk4 => {
-                let (n, k1, _) = rk4_step_t(&f, t, &self.x, h);
+                let (n, k1, _) = rk4_step_t(f, t, &self.x, h);
                 (Ok(n), k1)
             }
-            m => (step_t(m, &f, t, &self.x, h), f(t, &self.x)),
+            m => (step_t(m, f, t, &self.x, h), f(t, &self.x)),
         };
         let st = &mut self.st;
         let (_, ay) = model.body_acceleration(&self.x, &k1);
