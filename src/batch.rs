@@ -162,6 +162,8 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     };
     let mut runs = Vec::with_capacity(total);
     let checked = crate::progress::Progress::new(total, "combinations checked");
+    // Vehicle, tyre and .tir files are parsed once per distinct file over the combinations.
+    let mut cache = crate::spec::maneuver::BuildCache::default();
     for index in 0..total {
         // Mixed-radix digits of the index, the last key varying fastest.
         let mut rem = index;
@@ -181,7 +183,9 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
         }
         let config = match err {
             Some(e) => Err(e),
-            None => ManeuverFile::from_table(path, t).and_then(|f| f.build(path)).map_err(|e| e.to_string()),
+            None => ManeuverFile::from_table(path, t)
+                .and_then(|f| f.build_cached(path, &mut cache))
+                .map_err(|e| e.to_string()),
         };
         runs.push(BatchRun { index, params, config });
         checked.inc();
@@ -264,7 +268,7 @@ pub fn summary_row(r: &RunRecord) -> String {
             f.push(s.max_speed_mps.to_string());
             f.push(opt(s.max_speed_error_mps));
             f.push(s.end_time_s.to_string());
-            f.push(s.end_reason.clone());
+            f.push(s.end_reason.to_string());
         }
         None => f.extend(std::iter::repeat_n(String::new(), 11)),
     }
@@ -304,6 +308,33 @@ fn execute_one(run: &BatchRun, dir: Option<&Path>) -> Result<RunRecord> {
         }
     };
     Ok(RunRecord { index: run.index, params: run.params.clone(), status, summary, message })
+}
+
+/// Summary-only mode (`[output] runs = false`): the course layout of each distinct vehicle, as
+/// `layout.json` when the sweep has one vehicle, else `layout_<vehicle name>.json`.
+fn write_layouts(dir: &Path, runs: &[&BatchRun]) -> Result<()> {
+    let mut layouts: Vec<(String, serde_json::Value)> = Vec::new();
+    for cfg in runs.iter().filter_map(|r| r.config.as_ref().ok()) {
+        if layouts.iter().any(|(n, _)| *n == cfg.vehicle.name) {
+            continue;
+        }
+        if let Some(l) = run::build_maneuver(cfg).layout() {
+            layouts.push((cfg.vehicle.name.clone(), l));
+        }
+    }
+    let single = layouts.len() == 1;
+    for (name, layout) in &layouts {
+        let file = if single {
+            "layout.json".to_string()
+        } else {
+            let safe: String =
+                name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
+            format!("layout_{safe}.json")
+        };
+        let json = serde_json::to_string_pretty(layout).map_err(|e| Error::Run(format!("{file}: {e}")))?;
+        write_atomic(&dir.join(file), (json + "\n").as_bytes())?;
+    }
+    Ok(())
 }
 
 /// Run the batch (or its shard) and write its folder under `out_root` atomically.
@@ -347,13 +378,18 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         });
     } else {
         let plots = batch.runs.iter().any(|r| r.config.as_ref().is_ok_and(|c| c.output.plots));
+        let per_run = batch.runs.iter().any(|r| r.config.as_ref().is_ok_and(|c| c.output.runs));
         write_dir_atomic(&dir, |tmp| {
+            if !per_run {
+                write_layouts(tmp, &selected)?;
+            }
+            let run_dir = per_run.then_some(tmp);
             let recs: Vec<Result<RunRecord>> = pool.install(|| {
                 selected
                     .par_iter()
                     .map(|r| {
                         check_interrupted(&dir)?;
-                        let rec = execute_one(r, Some(tmp));
+                        let rec = execute_one(r, run_dir);
                         bar.inc();
                         rec
                     })
@@ -487,7 +523,7 @@ pub fn table(keys: &[String], records: &[RunRecord], max_rows: usize) -> String 
         l.extend(r.params.iter().map(|p| p.1.clone()));
         match &r.summary {
             Some(s) => l.extend([
-                s.end_reason.clone(),
+                s.end_reason.to_string(),
                 s.passed.map_or("-".into(), |p| p.to_string()),
                 s.cones_hit.to_string(),
                 format!("{:.3}", s.peak_yaw_rate_radps),

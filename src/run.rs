@@ -15,8 +15,9 @@ use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, Maneuver};
 use crate::output::{create_dir, write_atomic};
+use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
-use crate::sim::{simulate, Controls, Recorder, Row, Summary};
+use crate::sim::{simulate, Controls, EndReason, Observer, Recorder, Row, Summary};
 use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
@@ -75,7 +76,9 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
             };
             Box::new(Iso3888_2::new(*p, body, cfg.driver))
         }
-        ManeuverConfig::OpenLoop { steer, speed } => Box::new(OpenLoop { steer: steer.clone(), speed: speed.clone() }),
+        ManeuverConfig::OpenLoop { steer, speed } => {
+            Box::new(OpenLoop::new(steer.clone(), speed.clone(), v.steer_rate_max_radps))
+        }
         ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
     }
 }
@@ -100,7 +103,7 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
                     max_speed_error_mps: None,
                     steps: 0,
                     end_time_s: 0.0,
-                    end_reason: "diverged".into(),
+                    end_reason: EndReason::Diverged,
                     events: vec![Event {
                         t_s: 0.0,
                         kind: "diverged".into(),
@@ -133,23 +136,26 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
         };
     let tyre = &cfg.vehicle.tyre.model;
     tyre.take_run_notes(); // forget anything from an earlier run of the same provider
-    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut recorder);
+    let windows = maneuver.steady_state_windows();
+    let mut plausibility = Plausibility::for_run(cfg);
+    // Rows are kept only when someone reads them (the time series or the steady-state means); the
+    // plausibility checks see every recorded row either way.
+    let keep: &mut dyn Observer =
+        if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
+    let mut observer = Checked { plausibility: &mut plausibility, keep };
+    let mut summary =
+        simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
     for (kind, detail) in tyre.take_run_notes() {
         summary.events.push(Event { t_s: summary.end_time_s, kind: kind.into(), detail });
     }
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }
-    if summary.end_reason == "completed" {
+    if summary.end_reason == EndReason::Completed {
         if let Some(r) = maneuver.end_reason() {
-            summary.end_reason = r.into();
+            summary.end_reason = r;
         }
     }
-    let mut plausibility = Plausibility::for_run(cfg);
-    for r in &recorder.rows {
-        plausibility.check(r);
-    }
-    let windows = maneuver.steady_state_windows();
     let tol = plausibility::path_tolerance_m(cfg);
     let steady_states = steady_state::steady_states(&windows, &recorder.rows, tol);
     plausibility.finish(&mut summary, &steady_states);
@@ -353,4 +359,17 @@ pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Resul
     let final_dir = out_root.join(&cfg.name);
     write_dir_atomic(&final_dir, |tmp| write_run_files(tmp, cfg, out, &[]))?;
     Ok(final_dir)
+}
+
+/// The run's observer: every recorded row goes to the plausibility checks and to `keep`.
+struct Checked<'a> {
+    plausibility: &'a mut Plausibility,
+    keep: &'a mut dyn Observer,
+}
+
+impl Observer for Checked<'_> {
+    fn record(&mut self, row: &Row) {
+        self.plausibility.check(row);
+        self.keep.record(row);
+    }
 }

@@ -3,11 +3,12 @@
 //! smooth: the shipped sine steer on ice (`maneuvers/sine_steer.toml`, 10 m/s, mu 0.15, period
 //! 10 s), cut to its first [`DURATION_S`] seconds (the steer rises to its peak and half way back).
 //!
-//! - RK4: the step halves, h = 4, 2, 1, 0.5 ms, while the controller period stays 4 ms (the PID and
-//!   the steer are sampled at the same instants in every run, so only the integration error
+//! - RK4: the step halves, h = 4, 2, 1, 0.5 ms, while the controller period stays 4 ms (the PID is
+//!   sampled at the same instants in every run and the steer is a function of time, so only the integration error
 //!   changes). The error is the largest |yaw-rate difference| against a Dop853 reference over the
 //!   output rows (every 20 ms). Fourth order means the error falls 16-fold per halving: the
-//!   observed order p = log2(e_h / e_{h/2}) must lie in [3.6, 4.4] for every halving whose finer
+//!   observed order p = log2(e_h / e_{h/2}) must lie in [3.6, 4.4] ([3.4, 4.6] for the first
+//!   halving, see [`FIRST_HALVING_ORDER`]) for every halving whose finer
 //!   error is well above the noise floor (30 times; see [`noise_floor`]), and at least two
 //!   halvings must qualify per combination.
 //! - Adaptive: Dopri5 and Dop853 at rtol = atol = tol (1e-5, 1e-7), against Dop853 at 1e-10; the
@@ -48,6 +49,11 @@ const CONTROL_S: f64 = 0.004;
 const STEPS: [f64; 4] = [0.004, 0.002, 0.001, 0.0005];
 /// Accepted observed orders.
 const ORDER: (f64, f64) = (3.6, 4.4);
+/// Accepted observed orders of the first halving (4 ms to 2 ms). There h |lambda| = 0.62 for the
+/// wheel-spin mode (|lambda| about 156 1/s on ice), short of RK4's asymptotic range, and with the
+/// open-loop steer evaluated at every stage (no longer held over the 4 ms control period) the
+/// observed order there ranges from 3.55 to 4.51 over the combinations.
+const FIRST_HALVING_ORDER: (f64, f64) = (3.4, 4.6);
 /// Road-wheel steer amplitude of the smooth regime of the Dugoff providers, deg.
 const DUGOFF_AMPLITUDE_DEG: f64 = 1.0;
 
@@ -166,7 +172,8 @@ fn rk4_step_halving_is_fourth_order_for_every_model_and_provider() {
                 shown.push(format!("{p:.2}{}", if counted { "" } else { "*" }));
                 if counted {
                     asserted += 1;
-                    if !(ORDER.0..=ORDER.1).contains(p) {
+                    let band = if k == 0 { FIRST_HALVING_ORDER } else { ORDER };
+                    if !(band.0..=band.1).contains(p) {
                         failures.push(format!("{model}/{}: order {p:.2} at halving {k} ({errs:?})", tyre.as_str()));
                     }
                 }

@@ -411,19 +411,25 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     // RK4 at 10 ms on a 1 ms load-transfer lag is unstable (h / tau = 10 > 2.8): the lag state
     // grows by a factor ~290 per step until it overflows, while the clamped load transfer and the
     // friction-limited (saturating) tyre keep the vehicle itself sane, so the run ends `diverged`
-    // (not with a spin-out), naming the state.
+    // (not with a spin-out), naming the state. A spec asking for that step is refused (the bound is
+    // in the message); the engine is given it directly.
     let lag = [("ackermann = 0.5", "ackermann = 0.5\nload_transfer_lag_s = 0.001")];
-    let cfg = scratch(
+    let straight = "kind = \"straight\"\nspeed_schedule = [[0.0, 10.0]]";
+    let spec_text = spec("roll4dof", 0.15, straight, "duration_s = 10.0\n[integrator]\nstep_s = 0.01");
+    let mut cfg = scratch(
         "diverge",
         &lag,
         &[("saturate = false", "saturate = true")],
-        &spec(
-            "roll4dof",
-            0.15,
-            "kind = \"straight\"\nspeed_schedule = [[0.0, 10.0]]",
-            "duration_s = 10.0\n[integrator]\nstep_s = 0.01",
-        ),
+        &spec("roll4dof", 0.15, straight, "duration_s = 10.0"),
     );
+    std::fs::write(cfg.spec_file.with_file_name("refused.toml"), &spec_text).unwrap();
+    let err = vehsim::run::load(&cfg.spec_file.with_file_name("refused.toml")).unwrap_err().to_string();
+    assert!(
+        err.contains("integrator.step_s") && err.contains("stability bound") && err.contains("expected step_s <="),
+        "{err}"
+    );
+    cfg.settings.step_s = 0.01;
+    cfg.settings.control_period_s = 0.01;
     let out = execute(&cfg);
     assert_eq!(out.summary.end_reason, "diverged", "{:?}", out.summary.events);
     let e = out.summary.events.iter().find(|e| e.kind == "diverged").unwrap();

@@ -174,8 +174,8 @@ impl Maneuver for ConstantRadius {
         t >= self.params.total_s() - 1e-9
     }
 
-    fn end_reason(&self) -> Option<&'static str> {
-        self.left_path.then_some("left_path")
+    fn end_reason(&self) -> Option<crate::sim::EndReason> {
+        self.left_path.then_some(crate::sim::EndReason::LeftPath)
     }
 
     fn outcome(&self) -> Outcome {
@@ -229,7 +229,7 @@ mod tests {
                 break;
             }
         }
-        assert_eq!(m.end_reason(), Some("left_path"));
+        assert_eq!(m.end_reason(), Some(crate::sim::EndReason::LeftPath));
         assert_eq!(ev.last().map(|e| e.kind.as_str()), Some("left_path"));
     }
 

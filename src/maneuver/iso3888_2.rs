@@ -1,6 +1,7 @@
 //! ISO 3888-2:2011 severe lane change (obstacle avoidance), cone layout from the vehicle width.
 //!
-//! Layout (DESIGN.md §6; x along the course from the entry gate, y left, lane 1 centred on y = 0):
+//! Layout (x along the course from the entry gate, y left, lane 1 centred on y = 0; the lane
+//! widths are the standard's, as functions of the vehicle width):
 //!
 //! | section | x range (m)   | lane width                      | lateral position              |
 //! |---------|---------------|---------------------------------|-------------------------------|
@@ -12,7 +13,12 @@
 //!
 //! W is the vehicle body width. The standard's table of cone positions was not available; a cone
 //! strike is counted when a body corner crosses a gate's boundary line while it lies within that
-//! section, once per (section, side).
+//! section, once per (section, side). Strikes are found inside the step: each corner sweeps the
+//! straight segment between its positions at the start and end of the step, and the strike is
+//! the first point of that segment inside the section and beyond the boundary, with its time
+//! interpolated along the segment; so the count does not depend on where the steps fall. The
+//! course end (the whole body past the exit gate) and the run's end (the CG `exit_m` beyond it)
+//! are interpolated the same way.
 //!
 //! The reference path for the CG is designed for the vehicle: straight lines in each lane joined by
 //! two quintic (minimum-jerk) transitions. Centre-to-centre transitions over the 13.5 m and 12.5 m
@@ -260,6 +266,58 @@ pub struct Iso3888_2 {
     /// Struck (gate index, side 0 = right / 1 = left).
     struck: Vec<(usize, usize)>,
     course_done: bool,
+    /// Time and body corners at the end of the previous step (the start of the segments swept next).
+    previous: Option<(f64, [(f64, f64); 4])>,
+    /// CG x at the end of the previous step, m.
+    previous_x: Option<f64>,
+    /// Interpolated time at which the CG passed the end of the run, s.
+    end_time: Option<f64>,
+}
+
+/// Where along the segment p0 -> p1 (as a fraction in [0, 1]) a point first lies inside gate `g`'s
+/// x range and beyond its boundary `side` (0 right: y < y_right; 1 left: y > y_left), if anywhere.
+fn first_beyond(p0: (f64, f64), p1: (f64, f64), g: &Gate, side: usize) -> Option<f64> {
+    // Clip the segment to x0 <= x <= x1.
+    let dx = p1.0 - p0.0;
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    if dx == 0.0 {
+        if p0.0 < g.x0_m || p0.0 > g.x1_m {
+            return None;
+        }
+    } else {
+        let (a, b) = ((g.x0_m - p0.0) / dx, (g.x1_m - p0.0) / dx);
+        lo = lo.max(a.min(b));
+        hi = hi.min(a.max(b));
+        if lo > hi {
+            return None;
+        }
+    }
+    // Signed distance beyond the boundary (positive beyond), linear along the segment.
+    let beyond = |f: f64| {
+        let y = p0.1 + f * (p1.1 - p0.1);
+        if side == 0 {
+            g.y_right_m - y
+        } else {
+            y - g.y_left_m
+        }
+    };
+    let (d_lo, d_hi) = (beyond(lo), beyond(hi));
+    if d_lo > 0.0 {
+        Some(lo)
+    } else if d_hi > 0.0 {
+        Some(lo + (hi - lo) * d_lo / (d_lo - d_hi))
+    } else {
+        None
+    }
+}
+
+/// Time at which a quantity moving linearly from `v0` (at `t0`) to `v1` (at `t1`) passes `level`.
+fn crossing_time(t0: f64, t1: f64, v0: f64, v1: f64, level: f64) -> f64 {
+    if v1 > v0 && v0 <= level {
+        t0 + (t1 - t0) * (level - v0) / (v1 - v0)
+    } else {
+        t1
+    }
 }
 
 impl Iso3888_2 {
@@ -271,7 +329,19 @@ impl Iso3888_2 {
         let x_end = COURSE_LENGTH_M + params.exit_m + 100.0;
         let path = RefPath::from_fn(-params.approach_m - 50.0, x_end, 0.1, y);
         let driver = Driver::new(driver, body.wheelbase_m);
-        Self { params, gates, body, path, transitions, driver, struck: Vec::new(), course_done: false }
+        Self {
+            params,
+            gates,
+            body,
+            path,
+            transitions,
+            driver,
+            struck: Vec::new(),
+            course_done: false,
+            previous: None,
+            previous_x: None,
+            end_time: None,
+        }
     }
 
     /// Body corners in the ground frame: front-left, front-right, rear-left, rear-right.
@@ -307,45 +377,62 @@ impl Maneuver for Iso3888_2 {
 
     fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool {
         let corners = self.corners(kin);
-        for (ci, &(cx, cy)) in corners.iter().enumerate() {
+        // The previous step's corners; on the first call the segment degenerates to a point.
+        let (t0, prev) = self.previous.unwrap_or((t, corners));
+        self.previous = Some((t, corners));
+        let mut strikes: Vec<(f64, usize, usize, usize, f64, f64)> = Vec::new();
+        for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate() {
             for (gi, g) in self.gates.iter().enumerate() {
-                if cx < g.x0_m || cx > g.x1_m {
-                    continue;
-                }
-                let side = if cy < g.y_right_m {
-                    Some(0)
-                } else if cy > g.y_left_m {
-                    Some(1)
-                } else {
-                    None
-                };
-                if let Some(side) = side {
-                    if !self.struck.contains(&(gi, side)) {
-                        self.struck.push((gi, side));
-                        let corner = ["front-left", "front-right", "rear-left", "rear-right"][ci];
-                        let side_name = ["right", "left"][side];
-                        events.push(Event {
-                            t_s: t,
-                            kind: "cone_strike".into(),
-                            detail: format!(
-                                "{} {} boundary struck by the {corner} corner at x = {cx:.2} m, y = {cy:.3} m",
-                                g.name, side_name
-                            ),
-                        });
+                for side in 0..2 {
+                    if self.struck.contains(&(gi, side)) {
+                        continue;
+                    }
+                    if let Some(f) = first_beyond(p0, p1, g, side) {
+                        let (x, y) = (p0.0 + f * (p1.0 - p0.0), p0.1 + f * (p1.1 - p0.1));
+                        strikes.push((t0 + f * (t - t0), gi, side, ci, x, y));
                     }
                 }
             }
         }
-        let rear_x = corners.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
-        if !self.course_done && rear_x > COURSE_LENGTH_M {
+        // In time order; one strike per (gate, side).
+        strikes.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (ts, gi, side, ci, cx, cy) in strikes {
+            if self.struck.contains(&(gi, side)) {
+                continue;
+            }
+            self.struck.push((gi, side));
+            let corner = ["front-left", "front-right", "rear-left", "rear-right"][ci];
+            let side_name = ["right", "left"][side];
+            events.push(Event {
+                t_s: ts,
+                kind: "cone_strike".into(),
+                detail: format!(
+                    "{} {} boundary struck by the {corner} corner at x = {cx:.2} m, y = {cy:.3} m",
+                    self.gates[gi].name, side_name
+                ),
+            });
+        }
+        let rear = |c: &[(f64, f64); 4]| c.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+        let (rear0, rear1) = (rear(&prev), rear(&corners));
+        if !self.course_done && rear1 > COURSE_LENGTH_M {
             self.course_done = true;
             events.push(Event {
-                t_s: t,
+                t_s: crossing_time(t0, t, rear0, rear1, COURSE_LENGTH_M),
                 kind: "course_complete".into(),
                 detail: "the whole body passed the exit gate".into(),
             });
         }
-        kin.x_m > COURSE_LENGTH_M + self.params.exit_m
+        let x_end = COURSE_LENGTH_M + self.params.exit_m;
+        if kin.x_m > x_end {
+            self.end_time = Some(crossing_time(t0, t, self.previous_x.unwrap_or(kin.x_m), kin.x_m, x_end));
+            return true;
+        }
+        self.previous_x = Some(kin.x_m);
+        false
+    }
+
+    fn end_time_s(&self) -> Option<f64> {
+        self.end_time
     }
 
     fn outcome(&self) -> Outcome {

@@ -63,12 +63,20 @@ pub struct SteadyWindow {
     pub nominal_ay_mps2: f64,
 }
 
-/// A manoeuvre, driven by the engine once per step.
+/// A manoeuvre, driven by the engine: commands once per control period, checks once per step.
 pub trait Maneuver: Send {
     /// Where and how fast the vehicle starts.
     fn start(&self) -> Start;
-    /// Command for the step starting at `t` with the vehicle at `kin`.
+    /// Command held over the coming control period: the engine passes the middle of the period
+    /// as `t` and the kinematics predicted for that instant as `kin` (see [`crate::sim::engine`]).
     fn command(&mut self, t: f64, kin: &Kinematics) -> Command;
+    /// The steer angle as a known function of time, rad, where the manoeuvre prescribes one
+    /// (open loop; already within the steering rate limit): the engine then evaluates it at every
+    /// integration stage instead of holding [`Command::steer_rad`] over the control period.
+    /// `None` (the default) for feedback steering.
+    fn steer_at(&self, _t: f64) -> Option<f64> {
+        None
+    }
     /// Signed lateral deviation of the CG from the reference path at the last command, m
     /// (`None` for open-loop manoeuvres).
     fn path_error_m(&self) -> Option<f64>;
@@ -78,6 +86,12 @@ pub trait Maneuver: Send {
     /// Verdict so far.
     fn outcome(&self) -> Outcome;
 
+    /// Once [`Maneuver::after_step`] has ended the run: the time within the last step at which
+    /// the end condition was met, interpolated, s (`None`: the end of the step).
+    fn end_time_s(&self) -> Option<f64> {
+        None
+    }
+
     /// The course for plots (gates, reference path, body outline), as JSON; `None` if there is none.
     fn layout(&self) -> Option<serde_json::Value> {
         None
@@ -85,7 +99,7 @@ pub trait Maneuver: Send {
 
     /// Why the manoeuvre ended the run when that is not plain completion (e.g. `left_path`);
     /// `None` by default.
-    fn end_reason(&self) -> Option<&'static str> {
+    fn end_reason(&self) -> Option<crate::sim::EndReason> {
         None
     }
 

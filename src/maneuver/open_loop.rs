@@ -18,6 +18,26 @@ pub enum SteerProfile {
 }
 
 impl SteerProfile {
+    /// The profile as the steering rate limiter `rate_max` (rad/s) delivers it, where that is
+    /// again a profile: a step whose ramp is too steep is stretched to the limited rate (what the
+    /// limiter does to a ramp from rest); a sine must stay within the limit. `None` when the
+    /// limiter would reshape the profile into something else (then the engine samples and limits it).
+    pub fn rate_limited(&self, rate_max: f64) -> Option<SteerProfile> {
+        match *self {
+            SteerProfile::Zero => Some(SteerProfile::Zero),
+            SteerProfile::Sine { amplitude_rad, period_s, .. } => {
+                let peak_rate = amplitude_rad.abs() * 2.0 * std::f64::consts::PI / period_s;
+                (peak_rate <= rate_max).then(|| self.clone())
+            }
+            SteerProfile::Step { amplitude_rad, start_s, ramp_s } => {
+                if rate_max <= 0.0 {
+                    return None;
+                }
+                Some(SteerProfile::Step { amplitude_rad, start_s, ramp_s: ramp_s.max(amplitude_rad.abs() / rate_max) })
+            }
+        }
+    }
+
     pub fn at(&self, t: f64) -> f64 {
         match *self {
             SteerProfile::Zero => 0.0,
@@ -73,6 +93,20 @@ impl SpeedSchedule {
 pub struct OpenLoop {
     pub steer: SteerProfile,
     pub speed: SpeedSchedule,
+    /// True when `steer` already respects the steering limits, so the engine evaluates it at every
+    /// integration stage ([`Maneuver::steer_at`]); false to have it sampled and rate-limited.
+    pub continuous_steer: bool,
+}
+
+impl OpenLoop {
+    /// The manoeuvre for a vehicle whose steering rate is limited to `rate_max` rad/s: the profile
+    /// is evaluated continuously whenever the limiter would deliver it as a profile again.
+    pub fn new(steer: SteerProfile, speed: SpeedSchedule, rate_max: f64) -> Self {
+        match steer.rate_limited(rate_max) {
+            Some(steer) => Self { steer, speed, continuous_steer: true },
+            None => Self { steer, speed, continuous_steer: false },
+        }
+    }
 }
 
 impl Maneuver for OpenLoop {
@@ -82,6 +116,10 @@ impl Maneuver for OpenLoop {
 
     fn command(&mut self, t: f64, _kin: &Kinematics) -> Command {
         Command { steer_rad: self.steer.at(t), speed_target_mps: Some(self.speed.at(t)) }
+    }
+
+    fn steer_at(&self, t: f64) -> Option<f64> {
+        self.continuous_steer.then(|| self.steer.at(t))
     }
 
     fn path_error_m(&self) -> Option<f64> {
@@ -109,6 +147,19 @@ mod tests {
         assert_eq!(s.at(4.0), 10.0);
         assert_eq!(s.at(5.5), 5.0);
         assert_eq!(s.at(9.0), 0.0);
+    }
+
+    /// The limiter's ramp is the profile's ramp stretched to the rate limit; a sine within the
+    /// limit passes unchanged and one beyond it is left to the sampled limiter.
+    #[test]
+    fn rate_limited_profiles() {
+        let step = SteerProfile::Step { amplitude_rad: -0.2, start_s: 1.0, ramp_s: 0.0 };
+        assert_eq!(step.rate_limited(0.5), Some(SteerProfile::Step { amplitude_rad: -0.2, start_s: 1.0, ramp_s: 0.4 }));
+        let slow = SteerProfile::Step { amplitude_rad: 0.2, start_s: 1.0, ramp_s: 2.0 };
+        assert_eq!(slow.rate_limited(0.5), Some(slow.clone()));
+        let sine = SteerProfile::Sine { amplitude_rad: 0.1, period_s: 1.0, start_s: 0.0 };
+        assert_eq!(sine.rate_limited(0.7), Some(sine.clone()));
+        assert_eq!(sine.rate_limited(0.6), None);
     }
 
     #[test]

@@ -1,31 +1,43 @@
-//! The engine: owns time and runs the step loop.
+//! The engine: owns time and advances a run one integration step at a time.
 //!
-//! Per step k (t_k = k h, from the step index, never accumulated):
-//! 1. at every controller sample (every `control_period / h` steps; by default every step) sample
-//!    the manoeuvre (steer and speed commands) and the PID from the current kinematics, apply the
-//!    steering angle and rate limits, and hold the inputs until the next sample;
-//! 2. at the same instants update the contact-temperature estimate from every tyre's operating
-//!    conditions;
-//! 3. advance the state by one step with the chosen integrator;
-//! 4. check for divergence (non-finite state), report the onset and recovery of the model's
-//!    unphysical conditions (wheel lift, negative normal load; [`super::watch`]) at the new state,
-//!    check for spin-out (|sideslip| > 60 deg above 1 m/s), let the manoeuvre check its rules,
-//!    update the summary and notify observers.
+//! [`Simulation`] is the steppable engine: [`Simulation::new`] sets up the initial state,
+//! [`Simulation::step`] advances one step and says whether the run has ended, the state, time and
+//! inputs can be read between steps, and [`Simulation::finish`] records the final state and
+//! returns the [`Summary`]. [`simulate`] is the loop over it. Each step has three named phases:
+//!
+//! 1. [`Simulation::sample_controls`], at every controller sample (every `control_period_s`, a
+//!    whole number of steps, on its own clock: the period does not follow the step): the
+//!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the middle of
+//!    the coming control period*, extrapolated linearly from the last two samples:
+//!    x_k + (x_k - x_{k-1}) / 2 (samples only, so at a fixed period the prediction converges with
+//!    the integration, at fourth order in the step). Their outputs are held over the period
+//!    (zero-order hold); the hold acts like a delay of T_c / 2, which the prediction cancels, so
+//!    the sampled loop converges to the continuous-time one at second order in T_c instead of first. The steering
+//!    rate and lock limits apply to the held steer. The contact-temperature estimate is updated at
+//!    the same instants from the tyres' operating conditions.
+//! 2. [`Simulation::advance`]: one step of the chosen integrator. Inputs that are known functions
+//!    of time (an open-loop steer profile, [`Maneuver::steer_at`]) are evaluated at every stage.
+//! 3. [`Simulation::check_end`]: divergence (non-finite state), the onset and recovery of the
+//!    model's unphysical conditions (wheel lift, negative normal load; [`super::watch`]),
+//!    spin-out (|sideslip| > 60 deg above 1 m/s; its event carries the crossing time interpolated
+//!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
 //!
 //! Divergence and spin-out end the run with an event; they are results, not errors. The model's
-//! conditions are also checked once for the initial state, at t = 0.
+//! conditions are also checked once for the initial state, at t = 0. Time is t_k = k h, from the
+//! step index, never accumulated.
 
 use nalgebra::SVector;
 use serde::Serialize;
+use std::fmt;
 
-use super::integrator::{rk4_step, step, Method};
+use super::integrator::{rk4_step_t, step_t, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::limit_steer;
 use crate::control::{Pid, PidParams};
 use crate::maneuver::{Event, Maneuver};
-use crate::vehicle::{Environment, Inputs, VehicleModel};
+use crate::vehicle::{Environment, Inputs, Kinematics, VehicleModel};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
 pub const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
@@ -38,7 +50,8 @@ pub struct SimSettings {
     pub method: Method,
     /// Integration step, s.
     pub step_s: f64,
-    /// Controller sample period, s: a whole number of steps (rounded, at least one).
+    /// Controller sample period, s, on its own clock: a whole number of steps (rounded, at least
+    /// one; the spec layer refuses any other value).
     pub control_period_s: f64,
     /// Longest simulated time, s.
     pub duration_s: f64,
@@ -76,9 +89,11 @@ pub struct Summary {
     /// Largest |speed target - vx| while the PID was active, m/s (null if never active).
     pub max_speed_error_mps: Option<f64>,
     pub steps: u64,
+    /// When the run ended, s: for a completed manoeuvre or a spin-out the instant of the end
+    /// condition, interpolated within the last step; otherwise the end of the last step.
     pub end_time_s: f64,
-    /// `completed` (manoeuvre finished), `duration` (time limit reached), `spin_out`, `diverged`.
-    pub end_reason: String,
+    /// Why the run ended (serialised as `completed`, `duration`, `spin_out`, `diverged`, `left_path`).
+    pub end_reason: EndReason,
     pub events: Vec<Event>,
     /// False when a plausibility check failed ([`super::plausibility`]); the reasons follow.
     pub plausible: bool,
@@ -88,7 +103,65 @@ pub struct Summary {
 impl Summary {
     /// True when the run ended in divergence or spin-out.
     pub fn failed(&self) -> bool {
-        self.end_reason == "diverged" || self.end_reason == "spin_out"
+        self.end_reason.failed()
+    }
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EndReason {
+    /// The manoeuvre finished (its own end rule).
+    Completed,
+    /// The time limit `duration_s` was reached.
+    Duration,
+    /// |sideslip| exceeded 60 degrees above 1 m/s.
+    SpinOut,
+    /// The state became non-finite or the adaptive solver gave up.
+    Diverged,
+    /// The car left the path beyond the manoeuvre's tolerance (constant radius: off the circle).
+    /// Not a failure of the run: on a circle stepped to the friction limit it is how the run
+    /// reaches its end; the summary's plausibility reasons say so.
+    LeftPath,
+}
+
+impl EndReason {
+    /// Every end reason, in declaration order.
+    pub const ALL: [EndReason; 5] =
+        [EndReason::Completed, EndReason::Duration, EndReason::SpinOut, EndReason::Diverged, EndReason::LeftPath];
+
+    /// The serialised name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EndReason::Completed => "completed",
+            EndReason::Duration => "duration",
+            EndReason::SpinOut => "spin_out",
+            EndReason::Diverged => "diverged",
+            EndReason::LeftPath => "left_path",
+        }
+    }
+
+    /// Divergence and spin-out are failures of the run.
+    pub fn failed(self) -> bool {
+        matches!(self, EndReason::SpinOut | EndReason::Diverged)
+    }
+}
+
+impl fmt::Display for EndReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl PartialEq<str> for EndReason {
+    fn eq(&self, other: &str) -> bool {
+        self.as_str() == other
+    }
+}
+
+impl PartialEq<&str> for EndReason {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
     }
 }
 
@@ -113,106 +186,237 @@ fn max_opt(a: Option<f64>, v: f64) -> Option<f64> {
     Some(a.map_or(v, |a| a.max(v)))
 }
 
-/// Run one simulation of `model` through `maneuver`.
-pub fn simulate<const N: usize, M: VehicleModel<N>>(
-    model: &M,
+/// One run in progress: the steppable engine (see the module docs).
+pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
+    model: &'a M,
     env: Environment,
-    maneuver: &mut dyn Maneuver,
-    contact: &mut dyn ContactTemperature,
-    controls: &Controls,
-    settings: &SimSettings,
-    observer: &mut dyn Observer,
-) -> Summary {
-    let h = settings.step_s;
-    let n_steps = ((settings.duration_s / h) - 1e-9).ceil().max(0.0) as u64;
-    let out_every = ((settings.output_interval_s / h).round() as u64).max(1);
-    let ctrl_every = ((settings.control_period_s / h).round() as u64).max(1);
-    let hc = ctrl_every as f64 * h;
-    let start = maneuver.start();
-    let mut x = model.initial_state(start.x_m, start.y_m, start.yaw_rad, start.speed_mps);
-    let mut pid = Pid::new(controls.pid, -controls.brake_max_nm, controls.drive_max_nm);
-    pid.preload(controls.preload_nm);
-    let mut pid_active = true;
-    let mut u = Inputs { contact_temp_c: [env.surface_temp_c; 4], ..Inputs::default() };
-    let mut contacts = [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4];
-    let mut temps = [env.surface_temp_c; 4];
-    let mut events = Vec::new();
-    let mut watch = Watch::default();
-    watch.check(model, &x, &u, &env, 0.0, &mut events);
-    let mut st = Stats {
-        peak_r: 0.0,
-        peak_beta_dir: (1.0, 0.0),
-        peak_ay: 0.0,
-        max_dev: None,
-        vmin: f64::INFINITY,
-        vmax: 0.0,
-        max_verr: None,
-    };
-    let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
-    let mut end_reason = "duration";
-    let mut k: u64 = 0;
-    let mut last_row: Option<Row> = None;
-    let mut speed_target = f64::NAN;
-    let mut path_error = None;
-    while k < n_steps {
-        let t = k as f64 * h;
-        let kin = model.kinematics(&x);
-        if k % ctrl_every == 0 {
-            // 1. Controllers, sampled and held.
-            let cmd = maneuver.command(t, &kin);
-            u.steer_rad =
-                limit_steer(u.steer_rad, cmd.steer_rad, controls.steer_max_rad, controls.steer_rate_max_radps, hc);
-            speed_target = match cmd.speed_target_mps {
-                Some(v) => {
-                    if !pid_active {
-                        pid.reset();
-                        pid_active = true;
-                    }
-                    let torque = pid.update(v, kin.vx_mps, hc);
-                    u.drive_torque_nm = torque.max(0.0);
-                    u.brake_torque_nm = (-torque).max(0.0);
-                    st.max_verr = max_opt(st.max_verr, (v - kin.vx_mps).abs());
-                    v
-                }
-                None => {
-                    pid_active = false;
-                    u.drive_torque_nm = 0.0;
-                    u.brake_torque_nm = 0.0;
-                    f64::NAN
-                }
-            };
-            // 2. Contact temperature.
-            if contact.needs_conditions() {
-                model.tyre_contacts(&x, &u, &env, &mut contacts[..M::TYRES]);
-            }
-            contact.update(hc, &contacts[..M::TYRES], &mut temps[..M::TYRES]);
-            u.contact_temp_c = temps;
-            path_error = maneuver.path_error_m();
-            if let Some(e) = path_error {
-                st.max_dev = max_opt(st.max_dev, e.abs());
-            }
+    maneuver: &'a mut dyn Maneuver,
+    contact: &'a mut dyn ContactTemperature,
+    controls: &'a Controls,
+    observer: &'a mut dyn Observer,
+    method: Method,
+    /// Step and control period, s.
+    h: f64,
+    hc: f64,
+    n_steps: u64,
+    out_every: u64,
+    ctrl_every: u64,
+    x: SVector<f64, N>,
+    /// State at the previous controller sample (the predictor's secant; `None` before the first).
+    x_sample: Option<SVector<f64, N>>,
+    u: Inputs,
+    pid: Pid,
+    pid_active: bool,
+    contacts: [TyreContact; 4],
+    temps: [f64; 4],
+    events: Vec<Event>,
+    watch: Watch,
+    st: Stats,
+    spin_dir: (f64, f64),
+    k: u64,
+    last_row: Option<Row>,
+    speed_target: f64,
+    path_error: Option<f64>,
+    end: Option<EndReason>,
+}
+
+impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
+    /// Set up a run of `model` through `maneuver` from the manoeuvre's start (no step taken yet).
+    pub fn new(
+        model: &'a M,
+        env: Environment,
+        maneuver: &'a mut dyn Maneuver,
+        contact: &'a mut dyn ContactTemperature,
+        controls: &'a Controls,
+        settings: &SimSettings,
+        observer: &'a mut dyn Observer,
+    ) -> Self {
+        let h = settings.step_s;
+        let n_steps = ((settings.duration_s / h) - 1e-9).ceil().max(0.0) as u64;
+        let out_every = ((settings.output_interval_s / h).round() as u64).max(1);
+        let ctrl_every = ((settings.control_period_s / h).round() as u64).max(1);
+        let start = maneuver.start();
+        let x = model.initial_state(start.x_m, start.y_m, start.yaw_rad, start.speed_mps);
+        let mut pid = Pid::new(controls.pid, -controls.brake_max_nm, controls.drive_max_nm);
+        pid.preload(controls.preload_nm);
+        let u = Inputs { contact_temp_c: [env.surface_temp_c; 4], ..Inputs::default() };
+        let mut events = Vec::new();
+        let mut watch = Watch::default();
+        watch.check(model, &x, &u, &env, 0.0, &mut events);
+        let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
+        Self {
+            model,
+            env,
+            maneuver,
+            contact,
+            controls,
+            observer,
+            method: settings.method,
+            h,
+            hc: ctrl_every as f64 * h,
+            n_steps,
+            out_every,
+            ctrl_every,
+            x,
+            x_sample: None,
+            u,
+            pid,
+            pid_active: true,
+            contacts: [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4],
+            temps: [env.surface_temp_c; 4],
+            events,
+            watch,
+            st: Stats {
+                peak_r: 0.0,
+                peak_beta_dir: (1.0, 0.0),
+                peak_ay: 0.0,
+                max_dev: None,
+                vmin: f64::INFINITY,
+                vmax: 0.0,
+                max_verr: None,
+            },
+            spin_dir: (spin_cos, spin_sin),
+            k: 0,
+            last_row: None,
+            speed_target: f64::NAN,
+            path_error: None,
+            end: None,
         }
-        if k % out_every == 0 {
-            let row = Row {
-                t_s: t,
-                obs: model.observe(&x, &u, &env),
-                inputs: u,
-                speed_target_mps: speed_target,
-                path_error_m: path_error.unwrap_or(f64::NAN),
-            };
-            observer.record(&row);
-            last_row = Some(row);
+    }
+
+    /// Current time, s.
+    pub fn time_s(&self) -> f64 {
+        self.k as f64 * self.h
+    }
+
+    /// Current state.
+    pub fn state(&self) -> &SVector<f64, N> {
+        &self.x
+    }
+
+    /// Inputs held since the last controller sample (the steer of an open-loop profile is the
+    /// profile's value at that sample).
+    pub fn inputs(&self) -> &Inputs {
+        &self.u
+    }
+
+    /// Events so far.
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Why the run ended, once it has.
+    pub fn end_reason(&self) -> Option<EndReason> {
+        self.end
+    }
+
+    /// Advance one step; returns why the run ended if it did (then further calls do nothing and
+    /// return the same reason).
+    pub fn step(&mut self) -> Option<EndReason> {
+        if self.end.is_some() {
+            return self.end;
         }
-        // 3. Advance.
-        let f = |s: &SVector<f64, N>| model.derivatives(s, &u, &env);
-        let (next, k1) = match settings.method {
+        if self.k >= self.n_steps {
+            self.end = Some(EndReason::Duration);
+            return self.end;
+        }
+        let t = self.time_s();
+        let kin = self.model.kinematics(&self.x);
+        if self.k % self.ctrl_every == 0 {
+            self.sample_controls(t);
+        }
+        if self.k % self.out_every == 0 {
+            self.record(t);
+        }
+        let next = self.advance(t, &kin);
+        self.k += 1;
+        self.end = self.check_end(next, &kin);
+        self.end
+    }
+
+    /// Phase 1: sample the manoeuvre, the PID and the contact-temperature estimate at time `t`
+    /// from the state predicted at t + T_c / 2, and hold their outputs (see the module docs).
+    fn sample_controls(&mut self, t: f64) {
+        let c = self.controls;
+        let hc = self.hc;
+        // Linear extrapolation from the previous sample (none at the first: the start is steady).
+        let x_pred = match self.x_sample {
+            Some(prev) => self.x + (self.x - prev) * 0.5,
+            None => self.x,
+        };
+        self.x_sample = Some(self.x);
+        let kin = self.model.kinematics(&x_pred);
+        let cmd = self.maneuver.command(t + 0.5 * hc, &kin);
+        self.u.steer_rad = match self.maneuver.steer_at(t) {
+            Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
+            None => limit_steer(self.u.steer_rad, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc),
+        };
+        self.speed_target = match cmd.speed_target_mps {
+            Some(v) => {
+                if !self.pid_active {
+                    self.pid.reset();
+                    self.pid_active = true;
+                }
+                let torque = self.pid.update(v, kin.vx_mps, hc);
+                self.u.drive_torque_nm = torque.max(0.0);
+                self.u.brake_torque_nm = (-torque).max(0.0);
+                self.st.max_verr = max_opt(self.st.max_verr, (v - kin.vx_mps).abs());
+                v
+            }
+            None => {
+                self.pid_active = false;
+                self.u.drive_torque_nm = 0.0;
+                self.u.brake_torque_nm = 0.0;
+                f64::NAN
+            }
+        };
+        if self.contact.needs_conditions() {
+            self.model.tyre_contacts(&x_pred, &self.u, &self.env, &mut self.contacts[..M::TYRES]);
+        }
+        self.contact.update(hc, &self.contacts[..M::TYRES], &mut self.temps[..M::TYRES]);
+        self.u.contact_temp_c = self.temps;
+        self.path_error = self.maneuver.path_error_m();
+        if let Some(e) = self.path_error {
+            self.st.max_dev = max_opt(self.st.max_dev, e.abs());
+        }
+    }
+
+    /// Record the current state as an output row at time `t`.
+    fn record(&mut self, t: f64) {
+        let mut inputs = self.u;
+        if let Some(d) = self.maneuver.steer_at(t) {
+            inputs.steer_rad = d.clamp(-self.controls.steer_max_rad, self.controls.steer_max_rad);
+        }
+        let row = Row {
+            t_s: t,
+            obs: self.model.observe(&self.x, &inputs, &self.env),
+            inputs,
+            speed_target_mps: self.speed_target,
+            path_error_m: self.path_error.unwrap_or(f64::NAN),
+        };
+        self.observer.record(&row);
+        self.last_row = Some(row);
+    }
+
+    /// Phase 2: one integration step from time `t` (the state's kinematics `kin`); updates the
+    /// running figures of the step's start. Returns the new state or why the solver gave up.
+    fn advance(&mut self, t: f64, kin: &Kinematics) -> Result<SVector<f64, N>, String> {
+        let (model, env, u, h) = (self.model, self.env, self.u, self.h);
+        let lock = self.controls.steer_max_rad;
+        let maneuver: &dyn Maneuver = &*self.maneuver;
+        let f = |ts: f64, s: &SVector<f64, N>| match maneuver.steer_at(ts) {
+            Some(d) => model.derivatives(s, &Inputs { steer_rad: d.clamp(-lock, lock), ..u }, &env),
+            None => model.derivatives(s, &u, &env),
+        };
+        let (next, k1) = match self.method {
             Method::Rk4 => {
-                let (n, k1) = rk4_step(f, &x, h);
+                let (n, k1, _) = rk4_step_t(f, t, &self.x, h);
                 (Ok(n), k1)
             }
-            m => (step(m, f, &x, h), f(&x)),
+            m => (step_t(m, f, t, &self.x, h), f(t, &self.x)),
         };
-        let (_, ay) = model.body_acceleration(&x, &k1);
+        let st = &mut self.st;
+        let (_, ay) = model.body_acceleration(&self.x, &k1);
         if ay.is_finite() {
             st.peak_ay = st.peak_ay.max(ay.abs());
         }
@@ -223,81 +427,111 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
         if wider(kin.vx_mps, kin.vy_mps.abs(), st.peak_beta_dir.0, st.peak_beta_dir.1) {
             st.peak_beta_dir = (kin.vx_mps, kin.vy_mps.abs());
         }
-        k += 1;
-        let t_next = k as f64 * h;
-        // 4. Checks.
+        next
+    }
+
+    /// Phase 3: accept the new state (or end the run on divergence) and apply the end rules; `kin0`
+    /// is the kinematics at the start of the step.
+    fn check_end(&mut self, next: Result<SVector<f64, N>, String>, kin0: &Kinematics) -> Option<EndReason> {
+        let t_next = self.time_s();
         let next = match next {
             Ok(n) if n.iter().all(|v| v.is_finite()) => n,
             Ok(n) => {
-                let names = model.state_names();
+                let names = self.model.state_names();
                 let bad: Vec<&str> =
                     n.iter().zip(names.iter()).filter(|(v, _)| !v.is_finite()).map(|(_, s)| *s).collect();
-                events.push(Event {
+                self.events.push(Event {
                     t_s: t_next,
                     kind: "diverged".into(),
                     detail: format!("non-finite state: {}", bad.join(", ")),
                 });
-                end_reason = "diverged";
-                break;
+                return Some(EndReason::Diverged);
             }
             Err(msg) => {
-                events.push(Event { t_s: t_next, kind: "diverged".into(), detail: msg });
-                end_reason = "diverged";
-                break;
+                self.events.push(Event { t_s: t_next, kind: "diverged".into(), detail: msg });
+                return Some(EndReason::Diverged);
             }
         };
-        x = next;
-        watch.check(model, &x, &u, &env, t_next, &mut events);
-        let kin = model.kinematics(&x);
-        if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), spin_cos, spin_sin) {
-            events.push(Event {
-                t_s: t_next,
+        self.x = next;
+        self.watch.check(self.model, &self.x, &self.u, &self.env, t_next, &mut self.events);
+        let kin = self.model.kinematics(&self.x);
+        let (cx, sy) = self.spin_dir;
+        if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
+            // The crossing of 60 degrees, interpolated linearly in the cross product within the step.
+            let g = |k: &Kinematics| cx * k.vy_mps.abs() - sy * k.vx_mps;
+            let (g0, g1) = (g(kin0), g(&kin));
+            let frac = if g0 < 0.0 && g1 > g0 { g0 / (g0 - g1) } else { 1.0 };
+            self.events.push(Event {
+                t_s: t_next - (1.0 - frac) * self.h,
                 kind: "spin_out".into(),
                 detail: format!("sideslip {:.1} deg exceeds 60 deg", kin.sideslip_rad().to_degrees()),
             });
-            end_reason = "spin_out";
-            break;
+            return Some(EndReason::SpinOut);
         }
-        if maneuver.after_step(t_next, &kin, &mut events) {
-            end_reason = "completed";
-            break;
+        if self.maneuver.after_step(t_next, &kin, &mut self.events) {
+            return Some(EndReason::Completed);
         }
+        None
     }
-    // Record the final state (the inputs of the last step are kept for reference).
-    let t_end = k as f64 * h;
-    let kin = model.kinematics(&x);
-    if x.iter().all(|v| v.is_finite()) && last_row.is_none_or(|r| r.t_s < t_end) {
-        let row = Row {
-            t_s: t_end,
-            obs: model.observe(&x, &u, &env),
-            inputs: u,
-            speed_target_mps: last_row.map_or(f64::NAN, |r| r.speed_target_mps),
-            path_error_m: maneuver.path_error_m().unwrap_or(f64::NAN),
+
+    /// Record the final state (the inputs of the last step are kept for reference) and return the
+    /// run's summary.
+    pub fn finish(mut self) -> Summary {
+        let end_reason = self.end.unwrap_or(EndReason::Duration);
+        let t_end = self.time_s();
+        // A completed manoeuvre's end time is interpolated within the last step; a spin-out's is
+        // its event's (the state recorded is the one at the end of that step).
+        let end_time_s = match end_reason {
+            EndReason::Completed => self.maneuver.end_time_s().unwrap_or(t_end),
+            EndReason::SpinOut => self.events.last().map_or(t_end, |e| e.t_s),
+            _ => t_end,
         };
-        observer.record(&row);
-        st.vmin = st.vmin.min(kin.speed_mps());
-        st.vmax = st.vmax.max(kin.speed_mps());
+        let kin = self.model.kinematics(&self.x);
+        if self.x.iter().all(|v| v.is_finite()) && self.last_row.is_none_or(|r| r.t_s < t_end) {
+            let row = Row {
+                t_s: t_end,
+                obs: self.model.observe(&self.x, &self.u, &self.env),
+                inputs: self.u,
+                speed_target_mps: self.last_row.map_or(f64::NAN, |r| r.speed_target_mps),
+                path_error_m: self.maneuver.path_error_m().unwrap_or(f64::NAN),
+            };
+            self.observer.record(&row);
+            self.st.vmin = self.st.vmin.min(kin.speed_mps());
+            self.st.vmax = self.st.vmax.max(kin.speed_mps());
+        }
+        let outcome = self.maneuver.outcome();
+        let st = &self.st;
+        Summary {
+            passed: if end_reason.failed() { outcome.passed.map(|_| false) } else { outcome.passed },
+            cones_hit: outcome.cones_hit,
+            peak_yaw_rate_radps: st.peak_r,
+            peak_sideslip_rad: st.peak_beta_dir.1.atan2(st.peak_beta_dir.0),
+            peak_ay_mps2: st.peak_ay,
+            max_path_deviation_m: st.max_dev,
+            min_speed_mps: if st.vmin.is_finite() { st.vmin } else { 0.0 },
+            max_speed_mps: st.vmax,
+            max_speed_error_mps: st.max_verr,
+            steps: self.k,
+            end_time_s,
+            end_reason,
+            events: self.events,
+            plausible: true,
+            implausible: Vec::new(),
+        }
     }
-    let outcome = maneuver.outcome();
-    Summary {
-        passed: if end_reason == "diverged" || end_reason == "spin_out" {
-            outcome.passed.map(|_| false)
-        } else {
-            outcome.passed
-        },
-        cones_hit: outcome.cones_hit,
-        peak_yaw_rate_radps: st.peak_r,
-        peak_sideslip_rad: st.peak_beta_dir.1.atan2(st.peak_beta_dir.0),
-        peak_ay_mps2: st.peak_ay,
-        max_path_deviation_m: st.max_dev,
-        min_speed_mps: if st.vmin.is_finite() { st.vmin } else { 0.0 },
-        max_speed_mps: st.vmax,
-        max_speed_error_mps: st.max_verr,
-        steps: k,
-        end_time_s: t_end,
-        end_reason: end_reason.to_string(),
-        events,
-        plausible: true,
-        implausible: Vec::new(),
-    }
+}
+
+/// Run one simulation of `model` through `maneuver`: step until the run ends, then finish.
+pub fn simulate<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: Environment,
+    maneuver: &mut dyn Maneuver,
+    contact: &mut dyn ContactTemperature,
+    controls: &Controls,
+    settings: &SimSettings,
+    observer: &mut dyn Observer,
+) -> Summary {
+    let mut sim = Simulation::new(model, env, maneuver, contact, controls, settings, observer);
+    while sim.step().is_none() {}
+    sim.finish()
 }

@@ -6,9 +6,10 @@ pub mod engine;
 pub mod integrator;
 pub mod observer;
 pub mod plausibility;
+pub mod stability;
 pub mod watch;
 
-pub use engine::{simulate, Controls, SimSettings, Summary};
+pub use engine::{simulate, Controls, EndReason, SimSettings, Simulation, Summary};
 pub use integrator::Method;
 pub use observer::{Observer, Recorder, Row};
 pub use plausibility::Plausibility;

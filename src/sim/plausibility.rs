@@ -364,7 +364,7 @@ mod tests {
 
         let p = Plausibility::new(linear(true), ENV, Some(2.0));
         let mut s = empty_summary();
-        s.end_reason = "left_path".into();
+        s.end_reason = crate::sim::EndReason::LeftPath;
         p.finish(&mut s, &[]);
         assert!(!s.plausible && s.implausible[0].starts_with("left the path"), "{:?}", s.implausible);
 

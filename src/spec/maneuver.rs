@@ -20,7 +20,8 @@
 //! preview_time_s = 0.55
 //! [integrator]
 //! method = "rk4"                        # or dopri5, dop853
-//! step_s = 0.001
+//! control_period_s = 0.005              # controller sample period (default 0.005 s)
+//! # step_s = 0.005                      # default: from the vehicle's fastest mode
 //! [output]
 //! interval_s = 0.01
 //! ```
@@ -299,10 +300,13 @@ pub struct IntegratorSection {
     /// `rk4` (fixed step), `dopri5` or `dop853` (adaptive between controller samples).
     #[serde(default = "rk4")]
     pub method: String,
-    /// Step and controller sample period, s, in (0, 0.01] (default 0.001).
-    #[serde(default = "ms")]
-    pub step_s: f64,
-    /// Controller sample period, s: a whole multiple of step_s (default: step_s).
+    /// Integration step, s, in (0, 0.05] and within RK4's stability bound for the vehicle's
+    /// fastest mode (default: the control period divided into the fewest whole steps with
+    /// h |lambda| <= 2; see `sim::stability`).
+    #[serde(default)]
+    pub step_s: Option<f64>,
+    /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.005 s, or
+    /// the whole multiple of a given step_s nearest to it).
     #[serde(default)]
     pub control_period_s: Option<f64>,
     /// Relative and absolute tolerance of the adaptive methods.
@@ -315,9 +319,6 @@ pub struct IntegratorSection {
 fn rk4() -> String {
     "rk4".into()
 }
-fn ms() -> f64 {
-    0.001
-}
 fn rtol() -> f64 {
     1e-8
 }
@@ -327,7 +328,7 @@ fn atol() -> f64 {
 
 impl Default for IntegratorSection {
     fn default() -> Self {
-        Self { method: rk4(), step_s: ms(), control_period_s: None, rtol: rtol(), atol: atol() }
+        Self { method: rk4(), step_s: None, control_period_s: None, rtol: rtol(), atol: atol() }
     }
 }
 
@@ -344,6 +345,10 @@ pub struct OutputSection {
     /// Draw the comparison plots after a run or batch (default true; skipped above 24 runs).
     #[serde(default = "yes")]
     pub plots: bool,
+    /// Write a folder per run of a sweep (default true). With `runs = false` a sweep writes only
+    /// summary.csv and the course layout once per vehicle (summary-only mode).
+    #[serde(default = "yes")]
+    pub runs: bool,
 }
 
 fn yes() -> bool {
@@ -356,7 +361,7 @@ fn cs() -> f64 {
 
 impl Default for OutputSection {
     fn default() -> Self {
-        Self { interval_s: cs(), timeseries: true, plots: true }
+        Self { interval_s: cs(), timeseries: true, plots: true, runs: true }
     }
 }
 
@@ -408,6 +413,27 @@ pub enum ManeuverConfig {
     ConstantRadius(ConstantRadiusParams),
 }
 
+impl ManeuverConfig {
+    /// Lowest and highest speed the manoeuvre asks for, m/s.
+    pub fn speed_range_mps(&self) -> (f64, f64) {
+        let fold =
+            |it: &mut dyn Iterator<Item = f64>| it.fold((f64::INFINITY, 0.0_f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (lo, hi) = match self {
+            ManeuverConfig::Iso3888_2(p) => (p.speed_mps, p.speed_mps),
+            ManeuverConfig::OpenLoop { speed, .. } => fold(&mut speed.points.iter().map(|p| p.1)),
+            ManeuverConfig::ConstantRadius(p) => fold(&mut p.step_speeds_mps.iter().copied()),
+        };
+        (if lo.is_finite() { lo } else { 0.0 }, hi)
+    }
+}
+
+/// Vehicles already built from their files, keyed by (vehicle file, tyre model); see
+/// [`ManeuverFile::build_cached`].
+#[derive(Debug, Default)]
+pub struct BuildCache {
+    vehicles: std::collections::HashMap<(PathBuf, TyreModelKind), Vehicle>,
+}
+
 /// A fully validated run.
 #[derive(Debug, Clone)]
 pub struct RunConfig {
@@ -455,6 +481,12 @@ impl ManeuverFile {
 
     /// Validate everything (the vehicle and tyre files included) into a [`RunConfig`].
     pub fn build(&self, path: &Path) -> Result<RunConfig> {
+        self.build_cached(path, &mut BuildCache::default())
+    }
+
+    /// As [`ManeuverFile::build`], reading each vehicle file (with its tyre and `.tir` files) once
+    /// per (file, tyre model) over the builds that share `cache` (a sweep's combinations).
+    pub fn build_cached(&self, path: &Path, cache: &mut BuildCache) -> Result<RunConfig> {
         let c = Checker::new(path);
         if !valid_name(&self.name) {
             return Err(Error::key(
@@ -484,24 +516,26 @@ impl ManeuverFile {
         c.range("driver.preview_min_m", d.preview_min_m, 0.5, 100.0)?;
         c.range("driver.gain", d.gain, 0.0, 5.0)?;
         let i = &self.integrator;
-        c.require(
-            "integrator.step_s",
-            i.step_s,
-            i.step_s > 0.0 && i.step_s <= 0.01,
-            "expected 0 < step_s <= 0.01 (s)",
-        )?;
-        let control_period_s = match i.control_period_s {
-            None => i.step_s,
-            Some(cp) => {
-                let m = (cp / i.step_s).round();
+        if let Some(h) = i.step_s {
+            c.require("integrator.step_s", h, h > 0.0 && h <= 0.05, "expected 0 < step_s <= 0.05 (s)")?;
+        }
+        if let Some(cp) = i.control_period_s {
+            c.require(
+                "integrator.control_period_s",
+                cp,
+                cp > 0.0 && cp <= 1.0,
+                "expected 0 < control_period_s <= 1 (s)",
+            )?;
+            if let Some(h) = i.step_s {
+                let m = (cp / h).round();
                 c.require(
                     "integrator.control_period_s",
                     cp,
-                    cp > 0.0 && cp <= 1.0 && m >= 1.0 && ((m * i.step_s - cp).abs() <= 1e-9 * cp),
-                    "expected a whole multiple of step_s, at most 1 s",
-                )?
+                    m >= 1.0 && (m * h - cp).abs() <= 1e-9 * cp,
+                    &format!("expected a whole multiple of step_s = {h} s (at least one step)"),
+                )?;
             }
-        };
+        }
         let method = match i.method.as_str() {
             "rk4" => Method::Rk4,
             "dopri5" | "dop853" => {
@@ -547,7 +581,15 @@ impl ManeuverFile {
             }
         };
         let vehicle_file = resolve(path, &self.vehicle);
-        let vehicle = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+        let key = (vehicle_file.clone(), tyre_model);
+        let vehicle = match cache.vehicles.get(&key) {
+            Some(v) => v.clone(),
+            None => {
+                let v = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+                cache.vehicles.insert(key, v.clone());
+                v
+            }
+        };
         if vehicle_model == VehicleModelKind::Roll4Dof && vehicle.roll.is_none() {
             return Err(Error::key(
                 path,
@@ -558,6 +600,8 @@ impl ManeuverFile {
                 ),
             ));
         }
+        let (step_s, control_period_s) =
+            self.step_and_period(path, &vehicle, vehicle_model, &maneuver, method == Method::Rk4)?;
         Ok(RunConfig {
             spec_file: path.to_path_buf(),
             name: self.name.clone(),
@@ -572,7 +616,7 @@ impl ManeuverFile {
             driver: *d,
             settings: SimSettings {
                 method,
-                step_s: i.step_s,
+                step_s,
                 control_period_s,
                 duration_s,
                 output_interval_s: self.output.interval_s,
@@ -580,6 +624,53 @@ impl ManeuverFile {
             output: self.output.clone(),
             contact: self.contact.clone(),
         })
+    }
+
+    /// The integration step and control period (see [`IntegratorSection`]): the defaults, and the
+    /// refusal of an RK4 step beyond the stability bound of the vehicle's fastest mode over the
+    /// manoeuvre's speed range.
+    fn step_and_period(
+        &self,
+        path: &Path,
+        vehicle: &Vehicle,
+        model: VehicleModelKind,
+        maneuver: &ManeuverConfig,
+        rk4: bool,
+    ) -> Result<(f64, f64)> {
+        use crate::sim::stability::{default_step_s, fastest_rate_per_s, DEFAULT_CONTROL_PERIOD_S, RK4_REAL_BOUND};
+        let i = &self.integrator;
+        let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
+        let (lo, hi) = maneuver.speed_range_mps();
+        let speeds = [lo.max(1.0), hi.max(1.0)];
+        let rate = |v: f64| match (model, &vehicle.roll) {
+            (VehicleModelKind::Roll4Dof, Some(roll)) => {
+                fastest_rate_per_s(&crate::vehicle::Roll4Dof::new(vehicle.clone(), roll.clone()), &env, v)
+            }
+            _ => fastest_rate_per_s(&crate::vehicle::Bicycle::new(vehicle.clone()), &env, v),
+        };
+        let (lambda, at) = speeds.iter().map(|&v| (rate(v), v)).fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+        match i.step_s {
+            Some(h) => {
+                if rk4 && h * lambda > RK4_REAL_BOUND {
+                    return Err(Error::key(
+                        path,
+                        "integrator.step_s",
+                        format!(
+                            "{h} s is beyond RK4's stability bound for this vehicle; expected step_s <= {:.4} s \
+                             (the fastest mode, wheel spin with transient slip, has |lambda| = {lambda:.0} 1/s at {at} m/s \
+                             and RK4 needs step_s * |lambda| <= {RK4_REAL_BOUND}), or leave step_s unset for the default",
+                            RK4_REAL_BOUND / lambda
+                        ),
+                    ));
+                }
+                let cp = i.control_period_s.unwrap_or(h * (DEFAULT_CONTROL_PERIOD_S / h).round().max(1.0));
+                Ok((h, cp))
+            }
+            None => {
+                let cp = i.control_period_s.unwrap_or(DEFAULT_CONTROL_PERIOD_S);
+                Ok((if rk4 { default_step_s(cp, lambda) } else { cp }, cp))
+            }
+        }
     }
 
     fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, &'static str, Option<f64>)> {

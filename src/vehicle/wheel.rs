@@ -1,7 +1,9 @@
 //! Wheel kinematics and wheel-spin torques shared by the vehicle models.
 //!
-//! Slip definitions (DESIGN.md §4): kappa = (omega R_e - V_x) / |V_x|, alpha = -atan(V_y / |V_x|), with
-//! V_x, V_y the wheel-centre velocity in wheel axes. Near standstill |V_x| is floored at
+//! Slip definitions (kappa > 0 when the wheel drives; alpha > 0 when the wheel centre moves to the
+//! right of its heading, which makes a leftward, positive lateral force):
+//! kappa = (omega R_e - V_x) / |V_x|, alpha = -atan(V_y / |V_x|), with V_x, V_y the wheel-centre
+//! velocity in wheel axes. Near standstill |V_x| is floored at
 //! [`V_LOW`] so nothing divides by zero; the longitudinal slip the tyre sees additionally lags
 //! the kinematic one over the relaxation length sigma (first-order transient slip):
 //!

@@ -1,0 +1,244 @@
+//! Accuracy guard of the default time-stepping settings.
+//!
+//! The defaults (controllers sampled every 5 ms with the predicted hold, the RK4 step from the
+//! vehicle's fastest mode; `src/sim/stability.rs`) must stay close to a run with
+//! step = control period = 0.25 ms, which is within about 2e-6 rad/s of its own step-halved
+//! run:
+//!
+//! - every vehicle model x tyre provider on an ISO 3888-2 lane change on ice (10 m/s held,
+//!   mu 0.15; the ATIIM-Pacejka provider with the ATIIM contact estimate): largest |yaw-rate
+//!   difference| <= 5e-4 rad/s (7e-4 for the 4-DOF model with thermal Dugoff tyres, 6.2e-4
+//!   measured) and largest |lateral position difference| <= 2 cm over the common
+//!   output rows (every 10 ms), same cone count, same verdict;
+//! - a grid of 40 lane changes from the shipped 1000-run sweep's ranges (8 speeds x 5 frictions):
+//!   no pass/fail flip and no change in the cone count against the reference
+//!   (the whole 1000-run grid: `cargo test --release --test accuracy -- --ignored`);
+//! - a small-amplitude (1 degree) open-loop sine steer on the linear tyre, controllers at a fixed
+//!   4 ms: the yaw-rate error against a 0.125 ms run falls at fourth order as the step halves
+//!   from 2 ms to 0.5 ms (the steer is evaluated at every RK4 stage, not held over the step).
+//!   From 4 ms to 2 ms the observed order is 3.0: there h |lambda| = 0.62 for the wheel-spin mode,
+//!   outside RK4's asymptotic range.
+//!
+//! The specs are written here, in code; only the sedan and its tyre file are shipped data.
+
+mod common;
+
+use vehsim::run::{execute, RunOutput};
+use vehsim::spec::{ManeuverFile, RunConfig};
+
+/// A spec for the shipped sedan with the given tyre provider, vehicle model, friction and
+/// `[maneuver]` body, validated with the default integrator settings.
+fn config(tag: &str, tyre: &str, model: &str, mu: f64, maneuver: &str, extra: &str) -> RunConfig {
+    let dir = common::temp_dir(&format!("accuracy-{tag}"));
+    let contact = if tyre == "atiim_pacejka" { "[contact]\nmodel = \"atiim\"\n" } else { "" };
+    let vehicle = common::root().join("vehicles/sedan.toml");
+    let spec = format!(
+        "name = \"{tag}\"\nvehicle = \"{}\"\ntyre_model = \"{tyre}\"\nvehicle_model = \"{model}\"\n{extra}\
+         [surface]\nmu = {mu}\ntemperature_c = -3.0\n[maneuver]\n{maneuver}\n{contact}",
+        vehicle.display()
+    );
+    let path = dir.join("spec.toml");
+    std::fs::write(&path, spec).unwrap();
+    ManeuverFile::load(&path).and_then(|f| f.build(&path)).unwrap_or_else(|e| panic!("{tag}: {e}"))
+}
+
+fn dlc(tag: &str, tyre: &str, model: &str, speed: f64, mu: f64) -> RunConfig {
+    config(tag, tyre, model, mu, &format!("kind = \"iso3888_2\"\nspeed_mps = {speed}\nspeed_mode = \"hold\""), "")
+}
+
+/// The run with step and control period replaced, rows every 10 ms.
+fn run(base: &RunConfig, h: Option<f64>, tc: Option<f64>) -> RunOutput {
+    let mut c = base.clone();
+    if let Some(h) = h {
+        c.settings.step_s = h;
+    }
+    if let Some(tc) = tc {
+        c.settings.control_period_s = tc;
+    }
+    c.settings.output_interval_s = 0.01;
+    execute(&c)
+}
+
+/// The reference: step = control period = 0.25 ms.
+fn reference(base: &RunConfig) -> RunOutput {
+    run(base, Some(0.00025), Some(0.00025))
+}
+
+/// (largest |yaw-rate difference| rad/s, largest |y difference| m, rows compared) over the rows
+/// at common times.
+fn diff(a: &RunOutput, b: &RunOutput) -> (f64, f64, usize) {
+    let (mut r, mut y, mut n, mut j) = (0.0_f64, 0.0_f64, 0, 0);
+    for p in &a.rows {
+        while j < b.rows.len() && b.rows[j].t_s < p.t_s - 1e-9 {
+            j += 1;
+        }
+        if j < b.rows.len() && (b.rows[j].t_s - p.t_s).abs() < 1e-9 {
+            let q = &b.rows[j];
+            r = r.max((p.obs.kin.yaw_rate_radps - q.obs.kin.yaw_rate_radps).abs());
+            y = y.max((p.obs.kin.y_m - q.obs.kin.y_m).abs());
+            n += 1;
+        }
+    }
+    (r, y, n)
+}
+
+#[test]
+fn defaults_match_the_fine_reference_for_every_model_and_provider() {
+    for model in ["bicycle", "roll4dof"] {
+        for tyre in vehsim::tyre::TyreModelKind::ALLOWED {
+            let base = dlc(&format!("{model}-{tyre}"), tyre, model, 10.0, 0.15);
+            let (h, tc) = (base.settings.step_s, base.settings.control_period_s);
+            let d = run(&base, None, None);
+            let r = reference(&base);
+            let (er, ey, n) = diff(&d, &r);
+            println!("{model} + {tyre}: step {h} s, period {tc} s: yaw rate {er:.2e} rad/s, y {ey:.2e} m");
+            assert!(n > 1000, "{model} + {tyre}: {n} rows compared");
+            // The one known exceedance of the 5e-4 rad/s guard: the 4-DOF model with the thermal
+            // Dugoff provider, whose force is only C1 in slip (6.2e-4 rad/s at the 5 ms default).
+            let bound = if (model, *tyre) == ("roll4dof", "dugoff_thermal") { 7e-4 } else { 5e-4 };
+            assert!(er <= bound && ey <= 0.02, "{model} + {tyre}: yaw rate {er:.2e} rad/s, y {ey:.2e} m");
+            assert_eq!(d.summary.cones_hit, r.summary.cones_hit, "{model} + {tyre}");
+            assert_eq!(d.summary.passed, r.summary.passed, "{model} + {tyre}");
+            assert_eq!(d.summary.end_reason, r.summary.end_reason, "{model} + {tyre}");
+        }
+    }
+}
+
+/// Speeds and frictions of `maneuvers/bench/dlc_sweep_1000.toml`.
+fn sweep_grid() -> (Vec<f64>, Vec<f64>) {
+    ((0..40).map(|i| 8.0 + 0.2 * i as f64).collect(), (0..25).map(|i| 0.10 + 0.02 * i as f64).collect())
+}
+
+fn no_flips(every: usize) {
+    let (speeds, mus) = sweep_grid();
+    let mut n = 0;
+    for v in speeds.iter().step_by(every) {
+        for mu in mus.iter().step_by(every) {
+            let base = dlc(&format!("sweep-{v}-{mu}"), "pacejka", "bicycle", *v, *mu);
+            let (d, r) = (run(&base, None, None), reference(&base));
+            let what = format!("{v} m/s, mu {mu}: {:?} vs {:?}", d.summary.events, r.summary.events);
+            assert_eq!(d.summary.passed, r.summary.passed, "{what}");
+            assert_eq!(d.summary.cones_hit, r.summary.cones_hit, "{what}");
+            assert_eq!(d.summary.end_reason, r.summary.end_reason, "{what}");
+            n += 1;
+        }
+    }
+    assert!(n >= 40, "{n} runs");
+}
+
+#[test]
+fn sweep_subset_has_no_pass_fail_flips() {
+    no_flips(5);
+}
+
+/// The whole 1000-run grid (about 3 minutes on a quiet 2-core machine).
+#[test]
+#[ignore]
+fn sweep_has_no_pass_fail_flips() {
+    no_flips(1);
+}
+
+#[test]
+fn open_loop_sine_converges_at_fourth_order() {
+    let sine = "kind = \"sine_steer\"\nspeed_mps = 10.0\nsteer_amplitude_deg = 1.0\nperiod_s = 2.0";
+    let base = config("sine4", "linear", "bicycle", 0.15, sine, "duration_s = 4.0\n");
+    let tc = Some(0.004);
+    let reference = run(&base, Some(0.000125), tc);
+    let errs: Vec<f64> = [0.002, 0.001, 0.0005].iter().map(|&h| diff(&run(&base, Some(h), tc), &reference).0).collect();
+    for w in errs.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        println!("errors {:.3e} -> {:.3e}: order {order:.2}", w[0], w[1]);
+        assert!((3.5..=4.5).contains(&order), "observed order {order:.2} ({errs:?})");
+    }
+}
+
+/// Exploration, not a check: errors of step / period pairs against the reference.
+#[test]
+#[ignore]
+fn explore() {
+    for tyre in ["polynomial", "pacejka", "dugoff"] {
+        let base = dlc(&format!("explore-{tyre}"), tyre, "bicycle", 10.0, 0.15);
+        let reference = reference(&base);
+        for (h, tc) in [(0.0025, 0.0025), (0.005, 0.005), (0.005, 0.01), (0.01, 0.01), (0.0025, 0.01)] {
+            let (r, y, _) = diff(&run(&base, Some(h), Some(tc)), &reference);
+            println!("{tyre}: h {h} tc {tc}: yaw rate {r:.3e} rad/s, y {y:.3e} m");
+        }
+    }
+}
+
+/// Report, not a check: for each golden case (tests/golden.rs), the largest |yaw-rate| and |y|
+/// distance of the golden file (blessed before the controllers had their own clock) and of the
+/// current engine with the spec's settings from a step = control period = 0.25 ms run.
+///     cargo test --release --test accuracy golden_distances -- --ignored --nocapture
+#[test]
+#[ignore]
+fn golden_distances() {
+    let cases = [
+        ("dlc_ice__linear__bicycle", "maneuvers/dlc.toml", "linear", "bicycle", "isothermal"),
+        ("sine_steer_ice__linear__bicycle", "maneuvers/sine_steer.toml", "linear", "bicycle", "isothermal"),
+        ("dlc_ice__pacejka__bicycle", "maneuvers/dlc.toml", "pacejka", "bicycle", "isothermal"),
+        ("dlc_ice__atiim_pacejka__bicycle", "maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim"),
+        ("dlc_ice__dugoff__bicycle", "maneuvers/dlc.toml", "dugoff", "bicycle", "isothermal"),
+        ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
+        ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
+    ];
+    for (stem, spec, tyre, model, contact) in cases {
+        let path = common::root().join(spec);
+        let mut file = ManeuverFile::load(&path).unwrap();
+        file.tyre_model = tyre.into();
+        file.vehicle_model = Some(model.into());
+        file.contact.model = contact.into();
+        let base = file.build(&path).unwrap();
+        let now = execute(&base);
+        let reference = reference(&base);
+        let text = std::fs::read_to_string(common::root().join(format!("tests/data/golden/{stem}.csv"))).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+        let (ct, cr, cy) = (col("t_s"), col("yaw_rate_radps"), col("y_m"));
+        let (mut gr, mut gy) = (0.0_f64, 0.0_f64);
+        for l in lines {
+            let v: Vec<&str> = l.split(',').collect();
+            let t: f64 = v[ct].parse().unwrap();
+            if let Some(q) = reference.rows.iter().find(|q| (q.t_s - t).abs() < 1e-9) {
+                gr = gr.max((v[cr].parse::<f64>().unwrap() - q.obs.kin.yaw_rate_radps).abs());
+                gy = gy.max((v[cy].parse::<f64>().unwrap() - q.obs.kin.y_m).abs());
+            }
+        }
+        let (nr, ny, _) = diff(&now, &reference);
+        println!(
+            "{stem}: golden {gr:.2e} rad/s, {gy:.2e} m; now (step {} s, period {} s) {nr:.2e} rad/s, {ny:.2e} m",
+            base.settings.step_s, base.settings.control_period_s
+        );
+    }
+}
+
+/// Events inside the step: at a fixed control period, the cone strikes (count, boundaries and
+/// times) and the end time of a lane change that strikes cones do not depend on the step, since
+/// strikes come from the corners' swept segments and the end from an interpolated crossing.
+#[test]
+fn cone_strikes_and_end_time_do_not_move_with_the_step() {
+    let base = dlc("events", "pacejka", "bicycle", 12.0, 0.15);
+    let runs: Vec<RunOutput> = [0.005, 0.0025, 0.001].iter().map(|&h| run(&base, Some(h), Some(0.005))).collect();
+    let strikes = |o: &RunOutput| -> Vec<(f64, String)> {
+        o.summary.events.iter().filter(|e| e.kind == "cone_strike").map(|e| (e.t_s, e.detail.clone())).collect()
+    };
+    let fine = strikes(&runs[2]);
+    assert!(!fine.is_empty(), "the case must strike cones: {:?}", runs[2].summary.events);
+    for o in &runs[..2] {
+        let s = strikes(o);
+        assert_eq!(o.summary.cones_hit, runs[2].summary.cones_hit);
+        assert_eq!(s.len(), fine.len(), "{s:?} vs {fine:?}");
+        for ((t, d), (tf, df)) in s.iter().zip(&fine) {
+            assert!((t - tf).abs() < 1e-3, "{d} at {t} s vs {df} at {tf} s");
+            assert_eq!(d.split(" corner").next(), df.split(" corner").next());
+        }
+        assert_eq!(o.summary.end_reason, "completed");
+        assert!(
+            (o.summary.end_time_s - runs[2].summary.end_time_s).abs() < 1e-4,
+            "{} vs {}",
+            o.summary.end_time_s,
+            runs[2].summary.end_time_s
+        );
+    }
+}
