@@ -6,7 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-/// Library error. `Input` is the user's fault (exit 2); `Io` and `Run` are failures of a run (exit 1).
+/// Library error, each kind with its exit code ([`Error::exit_code`]): `Run` a run that could not
+/// be carried out (1), `Input` the user's fault (2), `Io` the environment's (3: disk full,
+/// permission, a collision), `Interrupted` a signal (130 for SIGINT, 143 for SIGTERM).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
@@ -23,19 +25,20 @@ pub enum Error {
     /// A run could not be carried out (not a bad input, not a simulation event).
     #[error("{0}")]
     Run(String),
-    /// The user interrupted the work (SIGINT); nothing partial was written.
+    /// SIGINT or SIGTERM stopped the work; nothing partial was written (the text says what was kept).
     #[error("interrupted: {0}")]
     Interrupted(String),
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input, 130 for an interruption (the shell's
-    /// convention for SIGINT), 1 otherwise.
+    /// Process exit code for this error: 1 a run failed, 2 bad input, 3 an I/O or environment
+    /// error, 128 + the signal number for an interruption (the shell's convention).
     pub fn exit_code(&self) -> u8 {
         match self {
+            Error::Run(_) => 1,
             Error::Input { .. } => 2,
-            Error::Interrupted(_) => 130,
-            _ => 1,
+            Error::Io { .. } => 3,
+            Error::Interrupted(_) => crate::output::signals::exit_code(),
         }
     }
 

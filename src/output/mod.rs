@@ -1,24 +1,59 @@
-//! Writing result files safely: everything goes to a temporary name in the destination folder and
-//! is renamed into place, so a reader never sees a half-written file. [`table`] reads numeric
-//! CSV tables back.
+//! Writing result files safely: every file goes to a hidden temporary name beside its final name
+//! (created exclusively, so a planted symlink is never followed) and is renamed into place; on any
+//! failure the temporary is removed, so nothing half-written ever carries a final name. Folders
+//! are replaced whole ([`replace`]); SIGINT/SIGTERM are handled in [`signals`]; [`table`] reads
+//! numeric CSV tables back.
 
+pub mod replace;
+pub mod signals;
 pub mod table;
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+pub use replace::{write_dir_atomic, Staged};
 
 use crate::error::{Error, Result};
 
-/// Temporary sibling name used while `path` is being written.
+/// Fault injection for tests: when non-zero, the file writer fails with "no space left on device"
+/// once this many more bytes would be written (a stand-in for a full disk).
+#[doc(hidden)]
+pub static FAIL_AFTER_BYTES: AtomicU64 = AtomicU64::new(0);
+
+/// Temporary sibling name used while `path` is being written: `.<name>.tmp<PID>`.
 pub fn temp_path(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.tmp{}", std::process::id()))
 }
 
-/// Write `bytes` to `path` through a temporary file and a rename.
+fn write_new(tmp: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let budget = FAIL_AFTER_BYTES.load(Ordering::SeqCst);
+    let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(tmp)?;
+    if budget > 0 {
+        let n = bytes.len() as u64;
+        if n >= budget {
+            f.write_all(&bytes[..budget as usize - 1])?;
+            return Err(std::io::Error::from_raw_os_error(libc::ENOSPC));
+        }
+        FAIL_AFTER_BYTES.store(budget - n, Ordering::SeqCst);
+    }
+    f.write_all(bytes)
+}
+
+/// Write `bytes` to `path` through a temporary file and a rename. A symlink at `path` is replaced,
+/// not followed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = temp_path(path);
-    std::fs::write(&tmp, bytes).map_err(|e| Error::Io { path: tmp.clone(), source: e })?;
-    rename(&tmp, path)
+    let _live = signals::Temp::register(&tmp, path);
+    if std::fs::symlink_metadata(&tmp).is_ok() {
+        std::fs::remove_file(&tmp).map_err(|e| Error::Io { path: tmp.clone(), source: e })?;
+    }
+    if let Err(e) = write_new(&tmp, bytes) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(Error::Io { path: path.to_path_buf(), source: e });
+    }
+    signals::committing(|| rename(&tmp, path))
 }
 
 /// Rename `tmp` onto `path`, removing `tmp` if that fails.

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::{xy_chart, Series, XyChart};
 use crate::error::{read_input, Error, Result};
-use crate::output::create_dir;
+use crate::output::Staged;
 use crate::output::table::Table;
 
 /// Above this many runs a batch is not overlaid automatically (`vehsim plot` still does it).
@@ -196,8 +196,10 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
             "no timeseries.csv found here or in its run folders (was `timeseries = false`?)",
         ));
     }
-    let dir = out.join("plots");
-    create_dir(&dir)?;
+    // A fresh plots/ folder swapped in whole: a symlink named plots is refused, never followed.
+    let dest = out.join("plots");
+    let staged = Staged::new(&dest)?;
+    let dir = staged.path().to_path_buf();
     let mut written = Vec::new();
     let deg = 180.0 / std::f64::consts::PI;
     // (file stem, title, y label, (column, legend suffix) per curve, scale to the plotted unit)
@@ -227,11 +229,12 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
     ];
     for (stem, title, ylabel, cols, scale) in charts {
         if time_chart(&dir, &runs, stem, title, ylabel, cols, scale)? {
-            written.push(dir.join(stem));
+            written.push(dest.join(stem));
         }
     }
     if trajectory_chart(&dir, &runs)? {
-        written.push(dir.join("trajectory"));
+        written.push(dest.join("trajectory"));
     }
+    staged.commit()?;
     Ok(written)
 }

@@ -430,7 +430,7 @@ pub struct RunConfig {
 }
 
 /// Is `name` usable as a results folder name?
-fn valid_name(name: &str) -> bool {
+pub fn valid_name(name: &str) -> bool {
     !name.is_empty()
         && name.len() <= 100
         && !name.starts_with('.')
