@@ -157,7 +157,20 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
         _ => return Err(Error::key(path, "name", "expected a string")),
     };
     let mut runs = Vec::with_capacity(total);
+    // A large sweep takes a while to validate: show progress on a terminal, stop on a signal.
+    let bar = if total >= 10_000 && std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(total as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("validating {bar:40} {pos}/{len} combinations, ETA {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
     for index in 0..total {
+        crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
+        bar.inc(1);
         // Mixed-radix digits of the index, the last key varying fastest.
         let mut rem = index;
         let mut choice = vec![0; lists.len()];
@@ -180,6 +193,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
         };
         runs.push(BatchRun { index, params, config });
     }
+    bar.finish_and_clear();
     if let Some(first_err) = runs.iter().find_map(|r| r.config.as_ref().err()) {
         if runs.iter().all(|r| r.config.is_err()) {
             // The stored message starts with the file name already.
@@ -390,6 +404,8 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         // A single run keeps the flat layout results/<name>/timeseries.csv.
         let run = &batch.runs[0];
         let cfg = run.config.as_ref().map_err(|e| Error::input(&batch.spec_file, e.clone()))?;
+        // Named for the signal handler's one line while the run itself (no check point) goes on.
+        let _pending = crate::output::signals::Temp::register(&crate::output::temp_path(&dir), &dir);
         let out = run::execute(cfg);
         check_interrupted(&dir)?;
         write_dir_atomic(&dir, |tmp| {

@@ -10,16 +10,18 @@ pub mod table;
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::cell::Cell;
 
 pub use replace::{write_dir_atomic, Staged};
 
 use crate::error::{Error, Result};
 
-/// Fault injection for tests: when non-zero, the file writer fails with "no space left on device"
-/// once this many more bytes would be written (a stand-in for a full disk).
-#[doc(hidden)]
-pub static FAIL_AFTER_BYTES: AtomicU64 = AtomicU64::new(0);
+thread_local! {
+    /// Fault injection for tests: when non-zero, this thread's file writes fail with "no space
+    /// left on device" once this many more bytes would be written (a stand-in for a full disk).
+    #[doc(hidden)]
+    pub static FAIL_AFTER_BYTES: Cell<u64> = const { Cell::new(0) };
+}
 
 /// Temporary sibling name used while `path` is being written: `.<name>.tmp<PID>`.
 pub fn temp_path(path: &Path) -> PathBuf {
@@ -28,7 +30,7 @@ pub fn temp_path(path: &Path) -> PathBuf {
 }
 
 fn write_new(tmp: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let budget = FAIL_AFTER_BYTES.load(Ordering::SeqCst);
+    let budget = FAIL_AFTER_BYTES.get();
     let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(tmp)?;
     if budget > 0 {
         let n = bytes.len() as u64;
@@ -36,7 +38,7 @@ fn write_new(tmp: &Path, bytes: &[u8]) -> std::io::Result<()> {
             f.write_all(&bytes[..budget as usize - 1])?;
             return Err(std::io::Error::from_raw_os_error(libc::ENOSPC));
         }
-        FAIL_AFTER_BYTES.store(budget - n, Ordering::SeqCst);
+        FAIL_AFTER_BYTES.set(budget - n);
     }
     f.write_all(bytes)
 }
@@ -67,4 +69,39 @@ pub fn rename(tmp: &Path, path: &Path) -> Result<()> {
 /// Create a folder and its parents.
 pub fn create_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_path_buf(), source: e })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A full disk in the middle of a folder: the writer fails, the temporary file and folder go,
+    /// the old folder stays whole and nothing half-written carries a final name.
+    #[test]
+    fn a_full_disk_leaves_no_file_under_a_final_name() {
+        let d = std::env::temp_dir().join(format!("vehsim_full_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        let dest = d.join("r");
+        write_dir_atomic(&dest, |t| write_atomic(&t.join("a.csv"), b"old")).unwrap();
+        std::fs::write(d.join("single.csv"), "old").unwrap();
+        FAIL_AFTER_BYTES.set(1000);
+        let e = write_dir_atomic(&dest, |t| {
+            write_atomic(&t.join("a.csv"), &[b'x'; 600])?;
+            write_atomic(&t.join("b.csv"), &[b'y'; 600])
+        })
+        .unwrap_err();
+        FAIL_AFTER_BYTES.set(10);
+        let e2 = write_atomic(&d.join("single.csv"), b"new and longer").unwrap_err();
+        FAIL_AFTER_BYTES.set(0);
+        assert_eq!((e.exit_code(), e2.exit_code()), (3, 3), "{e}; {e2}");
+        assert!(e.to_string().contains("No space left"), "{e}");
+        let mut names: Vec<String> =
+            std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        assert_eq!(names, ["r", "single.csv"]);
+        assert_eq!(std::fs::read(dest.join("a.csv")).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(&dest).unwrap().count(), 1);
+        assert_eq!(std::fs::read(d.join("single.csv")).unwrap(), b"old");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
 }
