@@ -174,7 +174,7 @@ pub fn compare(
         if let Some(i) = t.windows(2).position(|w| !(w[1] > w[0])) {
             return Err(Error::input(
                 path,
-                format!("column 't_s' is not strictly increasing: row {} has {} after {}", i + 2, t[i + 1], t[i]),
+                format!("column 't_s' is not strictly increasing: data row {} has {} after {}", i + 2, t[i + 1], t[i]),
             ));
         }
     }

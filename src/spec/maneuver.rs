@@ -545,7 +545,9 @@ impl ManeuverFile {
             }
         };
         let vehicle_file = resolve(path, &self.vehicle);
-        let vehicle = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+        let vehicle = VehicleFile::load(&vehicle_file)
+            .and_then(|v| v.build(&vehicle_file, tyre_model))
+            .map_err(crate::error::referred_by(path, "vehicle"))?;
         if vehicle_model == VehicleModelKind::Roll4Dof && vehicle.roll.is_none() {
             return Err(Error::key(
                 path,

@@ -145,7 +145,7 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     check_sweep(&c, "slip_angle_deg", &s.slip_angle_deg, -90.0, 90.0)?;
 
     let tyre_path = resolve(spec, &s.tyre_file);
-    let tyre_spec = TyreFileSpec::load(&tyre_path)?;
+    let tyre_spec = TyreFileSpec::load(&tyre_path).map_err(crate::error::referred_by(spec, "tyre_file"))?;
     let mut all: Vec<TyreModelKind> = providers.clone();
     for k in &thermal {
         if !all.contains(k) {
