@@ -330,3 +330,29 @@ fn serde_json_string(s: &str) -> String {
     }
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
 }
+
+/// Shards on two file systems (one on a tmpfs): the merge copies across, the result equals the
+/// unsharded run byte for byte, and `--remove-shards` removes both shards only afterwards.
+#[test]
+fn merge_across_file_systems_copies_and_verifies() {
+    let dir = common::temp_dir("fault_xfs");
+    let other = dir.join("other");
+    if !mount_tmpfs(&other, 8192) {
+        eprintln!("skipped: cannot mount a tmpfs here");
+        return;
+    }
+    let _unmount = Unmount(other.clone());
+    std::fs::write(dir.join("s.toml"), sweep_spec("s", "[0.15]", 0.5)).unwrap();
+    let (c, _, e) = vehsim(&dir, &["run", "--quiet", "--out", "whole", "s.toml"]);
+    assert_eq!(c, 0, "{e}");
+    let (c, _, e) = vehsim(&dir, &["run", "--quiet", "--out", "parts", "--shard", "1/2", "s.toml"]);
+    assert_eq!(c, 0, "{e}");
+    let (c, _, e) = vehsim(&dir, &["run", "--quiet", "--out", "other", "--shard", "2/2", "s.toml"]);
+    assert_eq!(c, 0, "{e}");
+    let (c, out, e) =
+        vehsim(&dir, &["merge", "--remove-shards", "parts/s.shard-1-of-2", "other/s.shard-2-of-2"]);
+    assert_eq!(c, 0, "{out}{e}");
+    assert!(tree(&dir.join("parts/s")) == tree(&dir.join("whole/s")), "merged differs from the whole run");
+    assert!(!dir.join("parts/s.shard-1-of-2").exists() && !other.join("s.shard-2-of-2").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
