@@ -315,7 +315,7 @@ pub fn free_bytes(dir: &Path) -> Option<f64> {
     // SAFETY: statvfs writes into the zeroed struct we own; the path is NUL-terminated.
     let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
     let r = unsafe { libc::statvfs(c.as_ptr(), &mut st) };
-    (r == 0).then(|| st.f_bavail as f64 * st.f_frsize as f64)
+    (r == 0).then_some(st.f_bavail as f64 * st.f_frsize as f64)
 }
 
 /// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`] (exit 2) or one
@@ -465,6 +465,12 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
 /// One shard folder as read and checked by [`merge`].
 struct ShardPart {
     dir: PathBuf,
+    name: String,
+    /// k, n and the batch's number of runs, from shard.json.
+    k_n_runs: (u64, u64, u64),
+    plots: bool,
+    /// summary.csv header.
+    header: String,
     /// (run index, summary.csv row, has a run folder)
     rows: Vec<(usize, String, bool)>,
 }
@@ -476,7 +482,7 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 /// Read and check one shard folder: its shard.json (name validated as a spec name, the folder
 /// named after it), its summary.csv rows (each of this shard, each ok/failed run with its folder,
 /// no run folder the summary does not list).
-fn read_shard(d: &Path) -> Result<(ShardPart, String, (u64, u64, u64), bool, String)> {
+fn read_shard(d: &Path) -> Result<ShardPart> {
     let meta_path = d.join("shard.json");
     let meta: serde_json::Value = serde_json::from_str(&read_input(&meta_path)?)
         .map_err(|e| Error::input(&meta_path, format!("not a shard description: {e}")))?;
@@ -533,7 +539,7 @@ fn read_shard(d: &Path) -> Result<(ShardPart, String, (u64, u64, u64), bool, Str
             return Err(Error::input(d, format!("{f} is not listed in summary.csv")));
         }
     }
-    Ok((ShardPart { dir: d.to_path_buf(), rows }, name, (k, n, runs), plots, header))
+    Ok(ShardPart { dir: d.to_path_buf(), name, k_n_runs: (k, n, runs), plots, header, rows })
 }
 
 /// Copy the folder `src` to `dst` (which must not exist), refusing symlinks; every file's length
@@ -575,7 +581,8 @@ pub fn merge(shards: &[PathBuf], remove_shards: bool) -> Result<PathBuf> {
     let mut parts = Vec::new();
     let mut plots = true;
     for d in shards {
-        let (part, name, (k, n, runs), p, h) = read_shard(d)?;
+        let part = read_shard(d)?;
+        let (name, (k, n, runs), p, h) = (part.name.clone(), part.k_n_runs, part.plots, part.header.clone());
         let meta_path = d.join("shard.json");
         if *batch.get_or_insert((name.clone(), n, runs)) != (name, n, runs) {
             return Err(Error::input(&meta_path, "shards of different batches cannot be merged"));

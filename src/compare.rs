@@ -171,7 +171,7 @@ pub fn compare(
         if t.is_empty() {
             return Err(Error::input(path, "no rows"));
         }
-        if let Some(i) = t.windows(2).position(|w| !(w[1] > w[0])) {
+        if let Some(i) = t.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
             return Err(Error::input(
                 path,
                 format!("column 't_s' is not strictly increasing: data row {} has {} after {}", i + 2, t[i + 1], t[i]),
