@@ -8,7 +8,6 @@
 //! summary is written in run order.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
@@ -18,17 +17,11 @@ use crate::run::{self, write_dir_atomic, RunOutput};
 use crate::sim::Summary;
 use crate::spec::{ManeuverFile, RunConfig};
 
-/// Set by the CLI's SIGINT handler. A batch checks it before each run and a single run before it
-/// writes; once set, the work stops and its temporary folder is removed, so a results folder is
+/// `Err(Interrupted)` once SIGINT or SIGTERM was received: a batch checks it before each run and
+/// a single run before it writes; the temporary folder is then removed, so a results folder is
 /// either complete or left as it was before.
-pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
 fn check_interrupted(dir: &Path) -> Result<()> {
-    if INTERRUPTED.load(Ordering::SeqCst) {
-        Err(Error::Interrupted(format!("{} was not written (no partial results)", dir.display())))
-    } else {
-        Ok(())
-    }
+    crate::output::signals::check(|| crate::output::replace::kept(dir))
 }
 
 /// One run of a batch: its index, its swept values (key, value as text) and its validated config
@@ -85,6 +78,9 @@ impl Shard {
         format!("{name}.shard-{}-of-{}", self.k, self.n)
     }
 }
+
+/// Most runs one sweep may expand to.
+pub const MAX_RUNS: usize = 1_000_000;
 
 /// Value of a swept key as text (strings without quotes).
 fn value_text(v: &toml::Value) -> String {
@@ -152,19 +148,21 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
             _ => return Err(Error::key(path, &format!("sweep.{k}"), "expected a non-empty list of values")),
         }
     }
-    let total: usize = lists.iter().map(|l| l.len()).product();
-    if total > 1_000_000 {
-        return Err(Error::key(path, "sweep", format!("{total} runs; at most 1000000 allowed")));
+    let total = lists.iter().try_fold(1usize, |a, l| a.checked_mul(l.len())).unwrap_or(usize::MAX);
+    if total > MAX_RUNS {
+        return Err(Error::key(path, "sweep", format!("{total} runs; at most {MAX_RUNS} allowed")));
     }
     let name = match table.get("name") {
         Some(toml::Value::String(s)) => s.clone(),
         _ => return Err(Error::key(path, "name", "expected a string")),
     };
     let mut runs = Vec::with_capacity(total);
+    // A large sweep takes a while to validate: progress on a terminal, stop on a signal.
     let checked = crate::progress::Progress::new(total, "combinations checked");
     // Vehicle, tyre and .tir files are parsed once per distinct file over the combinations.
     let mut cache = crate::spec::maneuver::BuildCache::default();
     for index in 0..total {
+        crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
         // Mixed-radix digits of the index, the last key varying fastest.
         let mut rem = index;
         let mut choice = vec![0; lists.len()];
@@ -276,6 +274,69 @@ pub fn summary_row(r: &RunRecord) -> String {
     f.join(",")
 }
 
+/// Most integration steps (summed over the runs) a call may ask for without `--force`: about
+/// half an hour of one core at the engine's roughly 0.5-1 million steps per second.
+pub const MAX_STEPS: f64 = 1e9;
+
+/// Most bytes of output a call may write without `--force` (also never more than the free space).
+pub const MAX_OUTPUT_BYTES: f64 = 10e9;
+
+/// Bytes of one timeseries.csv row (32 columns of shortest round-trip decimals), for estimates.
+const ROW_BYTES: f64 = 600.0;
+
+/// Estimated work and output of the runs of `batch` selected by `shard`: (steps, bytes).
+pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
+    let mut steps = 0.0;
+    let mut bytes = 0.0;
+    for cfg in batch.runs.iter().filter(|r| shard.is_none_or(|s| s.contains(r.index))).filter_map(|r| r.config.as_ref().ok()) {
+        let s = &cfg.settings;
+        steps += (s.duration_s / s.step_s).ceil();
+        bytes += 4096.0;
+        if cfg.output.timeseries {
+            bytes += ROW_BYTES * ((s.duration_s / s.output_interval_s).floor() + 1.0);
+        }
+    }
+    (steps, bytes)
+}
+
+/// Free bytes on the file system holding `dir` (or its nearest existing ancestor).
+pub fn free_bytes(dir: &Path) -> Option<f64> {
+    use std::os::unix::ffi::OsStrExt;
+    let mut d = dir.to_path_buf();
+    while !d.exists() {
+        d = d.parent().filter(|p| !p.as_os_str().is_empty()).map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    }
+    let c = std::ffi::CString::new(d.as_os_str().as_bytes()).ok()?;
+    // SAFETY: statvfs writes into the zeroed struct we own; the path is NUL-terminated.
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    let r = unsafe { libc::statvfs(c.as_ptr(), &mut st) };
+    (r == 0).then_some(st.f_bavail as f64 * st.f_frsize as f64)
+}
+
+/// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`] (exit 2) or one
+/// whose output would not fit the free space under `out_root` (exit 3), with the estimate.
+pub fn check_limits(batch: &Batch, shard: Option<Shard>, out_root: &Path, force: bool) -> Result<()> {
+    let (steps, bytes) = estimate(batch, shard);
+    let what = format!("estimated {steps:.3e} integration steps and {:.2} GB of output", bytes / 1e9);
+    if !force && (steps > MAX_STEPS || bytes > MAX_OUTPUT_BYTES) {
+        return Err(Error::input(
+            &batch.spec_file,
+            format!(
+                "{what}; above the limits of {MAX_STEPS:.0e} steps and {:.0} GB (a larger step_s, fewer runs, \
+                 --shard, or --force to run it anyway)",
+                MAX_OUTPUT_BYTES / 1e9
+            ),
+        ));
+    }
+    if let Some(free) = free_bytes(out_root).filter(|f| !force && bytes > *f) {
+        return Err(Error::Io {
+            path: out_root.to_path_buf(),
+            source: std::io::Error::other(format!("{what}, but only {:.2} GB free there", free / 1e9)),
+        });
+    }
+    Ok(())
+}
+
 /// Options of a batch execution.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Options {
@@ -358,6 +419,8 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         // A single run keeps the flat layout results/<name>/timeseries.csv.
         let run = &batch.runs[0];
         let cfg = run.config.as_ref().map_err(|e| Error::input(&batch.spec_file, e.clone()))?;
+        // Named for the signal handler's one line while the run itself (no check point) goes on.
+        let _pending = crate::output::signals::Temp::register(&crate::output::temp_path(&dir), &dir);
         let out = run::execute(cfg);
         check_interrupted(&dir)?;
         write_dir_atomic(&dir, |tmp| {
@@ -407,7 +470,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
             }
             write_atomic(&tmp.join("summary.csv"), csv.as_bytes())?;
             if let Some(s) = opts.shard {
-                let meta = serde_json::json!({"name": batch.name, "k": s.k, "n": s.n, "runs": batch.runs.len()});
+                let meta = serde_json::json!({"name": batch.name, "k": s.k, "n": s.n, "runs": batch.runs.len(), "plots": plots});
                 write_atomic(&tmp.join("shard.json"), format!("{meta}\n").as_bytes())?;
             } else if plots {
                 crate::plot::runs::plot_batch(tmp, records.len(), &batch.name)?;
@@ -419,57 +482,148 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
     Ok(BatchResult { dir, records })
 }
 
-/// Join shard folders (`<name>.shard-K-of-N`) into `<name>/` beside them, checking that they are
-/// the complete, disjoint parts of one batch. The merged summary.csv is identical to the one an
-/// unsharded run writes.
-pub fn merge(shards: &[PathBuf]) -> Result<PathBuf> {
+/// One shard folder as read and checked by [`merge`].
+struct ShardPart {
+    dir: PathBuf,
+    name: String,
+    /// k, n and the batch's number of runs, from shard.json.
+    k_n_runs: (u64, u64, u64),
+    plots: bool,
+    /// summary.csv header.
+    header: String,
+    /// (run index, summary.csv row, has a run folder)
+    rows: Vec<(usize, String, bool)>,
+}
+
+fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |e| Error::Io { path: path.to_path_buf(), source: e }
+}
+
+/// Read and check one shard folder: its shard.json (name validated as a spec name, the folder
+/// named after it), its summary.csv rows (each of this shard, each ok/failed run with its folder,
+/// no run folder the summary does not list).
+fn read_shard(d: &Path) -> Result<ShardPart> {
+    let meta_path = d.join("shard.json");
+    let meta: serde_json::Value = serde_json::from_str(&read_input(&meta_path)?)
+        .map_err(|e| Error::input(&meta_path, format!("not a shard description: {e}")))?;
+    let get = |k: &str| meta.get(k).cloned().unwrap_or(serde_json::Value::Null);
+    let (nm, k, n, runs) = (get("name"), get("k").as_u64(), get("n").as_u64(), get("runs").as_u64());
+    let (Some(name), Some(k), Some(n), Some(runs)) = (nm.as_str().map(str::to_string), k, n, runs) else {
+        return Err(Error::input(&meta_path, "expected name, k, n and runs"));
+    };
+    if !crate::spec::maneuver::valid_name(&name) {
+        return Err(Error::key(
+            &meta_path,
+            "name",
+            "not a usable folder name; use 1-100 letters, digits, '_', '-', '.', not starting with '.'",
+        ));
+    }
+    if n == 0 || k == 0 || k > n || runs > MAX_RUNS as u64 {
+        return Err(Error::input(&meta_path, format!("k = {k}, n = {n}, runs = {runs}: expected 1 <= k <= n, runs <= {MAX_RUNS}")));
+    }
+    let expected = Shard { k: k as usize, n: n as usize }.folder(&name);
+    if d.file_name().map(|f| f.to_string_lossy() != expected).unwrap_or(true) {
+        return Err(Error::input(d, format!("folder name does not match its shard.json (expected '{expected}')")));
+    }
+    let plots = meta.get("plots").and_then(|p| p.as_bool()).unwrap_or(true);
+    let csv_path = d.join("summary.csv");
+    let text = read_input(&csv_path)?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().to_string();
+    let mut rows = Vec::new();
+    for (i, l) in lines.enumerate() {
+        let malformed = || Error::input(&csv_path, format!("line {}: not a summary row", i + 2));
+        let mut fields = l.splitn(3, ',');
+        let idx = fields
+            .next()
+            .and_then(|f| f.strip_prefix("run_"))
+            .and_then(|f| f.parse::<usize>().ok())
+            .ok_or_else(malformed)?;
+        let status = fields.next().ok_or_else(malformed)?;
+        if idx as u64 >= runs || idx % n as usize != k as usize - 1 {
+            return Err(Error::input(&csv_path, format!("line {}: run {idx} does not belong to shard {k} of {n}", i + 2)));
+        }
+        let has_folder = matches!(status, "ok" | "failed");
+        if has_folder {
+            let rd = d.join(run_folder(idx));
+            let real_dir = std::fs::symlink_metadata(&rd).is_ok_and(|m| m.is_dir());
+            if !real_dir || !rd.join("summary.json").is_file() {
+                return Err(Error::input(d, format!("incomplete shard: {} is missing or has no summary.json", run_folder(idx))));
+            }
+        }
+        rows.push((idx, l.to_string(), has_folder));
+    }
+    for e in std::fs::read_dir(d).map_err(io_err(d))? {
+        let f = e.map_err(io_err(d))?.file_name().to_string_lossy().into_owned();
+        if f.starts_with("run_") && !rows.iter().any(|r| r.2 && run_folder(r.0) == f) {
+            return Err(Error::input(d, format!("{f} is not listed in summary.csv")));
+        }
+    }
+    Ok(ShardPart { dir: d.to_path_buf(), name, k_n_runs: (k, n, runs), plots, header, rows })
+}
+
+/// Copy the folder `src` to `dst` (which must not exist), refusing symlinks; every file's length
+/// is checked after the copy, and with `verify` its bytes too.
+fn copy_tree(src: &Path, dst: &Path, verify: bool) -> Result<()> {
+    std::fs::create_dir(dst).map_err(io_err(dst))?;
+    for e in std::fs::read_dir(src).map_err(io_err(src))? {
+        let e = e.map_err(io_err(src))?;
+        let (from, to) = (e.path(), dst.join(e.file_name()));
+        let m = std::fs::symlink_metadata(&from).map_err(io_err(&from))?;
+        if m.is_dir() {
+            copy_tree(&from, &to, verify)?;
+        } else if m.is_file() {
+            let n = std::fs::copy(&from, &to).map_err(io_err(&to))?;
+            let same = n == m.len()
+                && (!verify || std::fs::read(&from).map_err(io_err(&from))? == std::fs::read(&to).map_err(io_err(&to))?);
+            if !same {
+                return Err(Error::Io { path: to, source: std::io::Error::other("copy differs from its source") });
+            }
+        } else {
+            return Err(Error::input(&from, "not a plain file or folder (a symlink?); shards hold only files"));
+        }
+        crate::output::signals::check(|| "the merged folder was not written".to_string())?;
+    }
+    Ok(())
+}
+
+/// Join shard folders (`<name>.shard-K-of-N`) into `<name>/` beside the first, checking that they
+/// are the complete, disjoint parts of one batch, each complete. Run folders are copied (so the
+/// shards may sit on other file systems) and the merged folder replaces `<name>/` atomically, with
+/// its plots. The shards are kept unless `remove_shards`, in which case every copied file is
+/// compared byte for byte with its source before the shards are removed. The merged summary.csv
+/// is identical to the one an unsharded run writes.
+pub fn merge(shards: &[PathBuf], remove_shards: bool) -> Result<PathBuf> {
     let first = shards.first().ok_or_else(|| Error::Run("no shard folders given".into()))?;
-    let mut name = None;
-    let mut n_shards = None;
-    let mut total = None;
-    let mut seen_k = std::collections::BTreeSet::new();
+    let mut batch = None;
     let mut header = None;
-    let mut rows: Vec<(usize, String)> = Vec::new();
+    let mut seen_k = std::collections::BTreeSet::new();
+    let mut parts = Vec::new();
+    let mut plots = true;
     for d in shards {
+        let part = read_shard(d)?;
+        let (name, (k, n, runs), p, h) = (part.name.clone(), part.k_n_runs, part.plots, part.header.clone());
         let meta_path = d.join("shard.json");
-        let meta: serde_json::Value = serde_json::from_str(&read_input(&meta_path)?)
-            .map_err(|e| Error::input(&meta_path, format!("not a shard description: {e}")))?;
-        let get = |k: &str| meta.get(k).cloned().unwrap_or(serde_json::Value::Null);
-        let (nm, k, n, runs) = (get("name"), get("k").as_u64(), get("n").as_u64(), get("runs").as_u64());
-        let (Some(nm), Some(k), Some(n), Some(runs)) = (nm.as_str().map(str::to_string), k, n, runs) else {
-            return Err(Error::input(&meta_path, "expected name, k, n and runs"));
-        };
-        if name.get_or_insert(nm.clone()) != &nm
-            || *n_shards.get_or_insert(n) != n
-            || *total.get_or_insert(runs) != runs
-        {
+        if *batch.get_or_insert((name.clone(), n, runs)) != (name, n, runs) {
             return Err(Error::input(&meta_path, "shards of different batches cannot be merged"));
         }
         if !seen_k.insert(k) {
             return Err(Error::input(&meta_path, format!("shard {k} of {n} given twice")));
         }
-        let csv_path = d.join("summary.csv");
-        let text = read_input(&csv_path)?;
-        let mut lines = text.lines();
-        let h = lines.next().unwrap_or_default().to_string();
         if header.get_or_insert(h.clone()) != &h {
-            return Err(Error::input(&csv_path, "summary columns differ between shards"));
+            return Err(Error::input(&d.join("summary.csv"), "summary columns differ between shards"));
         }
-        for l in lines {
-            let idx = l
-                .split(',')
-                .next()
-                .and_then(|f| f.strip_prefix("run_"))
-                .and_then(|f| f.parse::<usize>().ok())
-                .ok_or_else(|| Error::input(&csv_path, format!("malformed row: {l}")))?;
-            rows.push((idx, l.to_string()));
-        }
+        plots &= p;
+        parts.push(part);
     }
-    let (name, n, total) = (name.unwrap_or_default(), n_shards.unwrap_or(0), total.unwrap_or(0) as usize);
+    let (name, n, total) = batch.unwrap_or_default();
+    let total = total as usize;
     if seen_k.len() as u64 != n {
         let missing: Vec<String> = (1..=n).filter(|k| !seen_k.contains(k)).map(|k| k.to_string()).collect();
         return Err(Error::input(first, format!("incomplete: shard(s) {} of {n} missing", missing.join(", "))));
     }
+    let mut rows: Vec<(usize, &str, &Path, bool)> =
+        parts.iter().flat_map(|p| p.rows.iter().map(|r| (r.0, r.1.as_str(), p.dir.as_path(), r.2))).collect();
     rows.sort_by_key(|r| r.0);
     if rows.len() != total || rows.iter().enumerate().any(|(i, r)| r.0 != i) {
         return Err(Error::input(
@@ -480,26 +634,27 @@ pub fn merge(shards: &[PathBuf]) -> Result<PathBuf> {
     let parent = first.parent().unwrap_or_else(|| Path::new("."));
     let dest = parent.join(&name);
     write_dir_atomic(&dest, |tmp| {
-        for d in shards {
-            for e in std::fs::read_dir(d).map_err(|e| Error::Io { path: d.clone(), source: e })? {
-                let e = e.map_err(|e| Error::Io { path: d.clone(), source: e })?;
-                let fname = e.file_name();
-                if fname.to_string_lossy().starts_with("run_") {
-                    std::fs::rename(e.path(), tmp.join(&fname))
-                        .map_err(|err| Error::Io { path: e.path(), source: err })?;
-                }
+        for (idx, _, dir, has_folder) in &rows {
+            if *has_folder {
+                copy_tree(&dir.join(run_folder(*idx)), &tmp.join(run_folder(*idx)), remove_shards)?;
             }
         }
         let mut csv = header.clone().unwrap_or_default();
         csv.push('\n');
-        for (_, r) in &rows {
+        for (_, r, _, _) in &rows {
             csv.push_str(r);
             csv.push('\n');
         }
-        write_atomic(&tmp.join("summary.csv"), csv.as_bytes())
+        write_atomic(&tmp.join("summary.csv"), csv.as_bytes())?;
+        if plots && total <= crate::plot::runs::MAX_OVERLAID_RUNS && rows.iter().any(|r| r.3) {
+            crate::plot::runs::plot_results(tmp, tmp)?;
+        }
+        Ok(())
     })?;
-    for d in shards {
-        let _ = std::fs::remove_dir_all(d);
+    if remove_shards {
+        for d in shards {
+            std::fs::remove_dir_all(d).map_err(io_err(d))?;
+        }
     }
     Ok(dest)
 }

@@ -1,5 +1,5 @@
 //! Command-line interface: parse arguments, validate every input before anything runs, call the
-//! library, print results, and map errors to exit codes (0 success, 1 a run failed, 2 bad input).
+//! library, print results, and map errors to exit codes in one place ([`report`], [`EXIT_CODES`]).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -8,11 +8,17 @@ use clap::{Parser, Subcommand};
 
 use crate::error::Error;
 use crate::output::num::{sig, Sig};
+use crate::output::signals;
 use crate::output::table::Table;
 use crate::{batch, compare};
 
+/// The exit codes, as `--help` shows them (README "Exit codes" says the same).
+pub const EXIT_CODES: &str = "Exit codes: 0 success; 1 a run failed (diverged, spun out, left its path) or compare found a \
+difference; 2 bad input (a spec, a flag, a referenced file); 3 I/O or environment error (disk full, permission, a \
+collision); 130 / 143 stopped by SIGINT / SIGTERM (temporary output removed, results left complete or as before).";
+
 #[derive(Debug, Parser)]
-#[command(name = "vehsim", version, about = "Vehicle-dynamics simulation for driving on ice")]
+#[command(name = "vehsim", version, about = "Vehicle-dynamics simulation for driving on ice", after_help = EXIT_CODES)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -38,19 +44,28 @@ pub enum Command {
         /// No progress bar, no table; print nothing but errors.
         #[arg(long)]
         quiet: bool,
+        /// Run even above the work and output limits (1e9 steps, 10 GB, the free space).
+        #[arg(long)]
+        force: bool,
     },
     /// Join shard folders (results/<name>.shard-K-of-N) into results/<name>/.
     Merge {
         /// Every shard folder of one batch.
         #[arg(required = true)]
         shards: Vec<PathBuf>,
+        /// Remove the shard folders once the merged folder is in place and every copied file was
+        /// compared with its source (default: keep them).
+        #[arg(long)]
+        remove_shards: bool,
     },
     /// Draw the standard charts of a results folder (one run or a batch) into <folder>/plots/.
     Plot {
         /// A results folder, e.g. results/dlc_ice.
         folder: PathBuf,
     },
-    /// Compare two time-series CSV files channel by channel; exit 0 within tolerance, 1 outside.
+    /// Compare two time-series CSV files channel by channel, one line per channel; exit 0 when every
+    /// channel is within tolerance, both have every channel (or it is --ignore'd) and their time
+    /// ranges overlap by at least 99 %; 1 otherwise.
     Compare {
         /// Reference file.
         a: PathBuf,
@@ -62,6 +77,9 @@ pub enum Command {
         /// Absolute tolerance of every channel not named by --tol.
         #[arg(long, default_value_t = 1e-6)]
         default_tol: f64,
+        /// A channel allowed to be in only one of the files (repeatable).
+        #[arg(long)]
+        ignore: Vec<String>,
     },
     /// Check manoeuvre specs, every sweep combination, and the vehicle and tyre files they name;
     /// run nothing.
@@ -188,7 +206,12 @@ pub enum Command {
     },
 }
 
-fn report(e: &Error) -> ExitCode {
+/// The one place an error becomes a message and an exit code; an interruption ends the process
+/// with its one line (130 / 143).
+pub fn report(e: &Error) -> ExitCode {
+    if let Error::Interrupted(kept) = e {
+        signals::exit_with(e.exit_code(), &signals::interrupted_line(kept));
+    }
     eprintln!("error: {e}");
     ExitCode::from(e.exit_code())
 }
@@ -196,13 +219,6 @@ fn report(e: &Error) -> ExitCode {
 /// Entry point used by the binary.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    // Ctrl-C: finish nothing partial. Batches stop between runs and remove their temporary
-    // folder; a second Ctrl-C ends the process at once (still leaving only hidden temporaries).
-    let _ = ctrlc::set_handler(|| {
-        if batch::INTERRUPTED.swap(true, std::sync::atomic::Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-    });
     match cli.command {
         Command::Validate { files, quiet } => {
             crate::progress::set_quiet(quiet);
@@ -247,7 +263,7 @@ pub fn main() -> ExitCode {
             }
             code
         }
-        Command::Run { files, out, jobs, shard, quiet } => {
+        Command::Run { files, out, jobs, shard, quiet, force } => {
             crate::progress::set_quiet(quiet);
             let mut batches = Vec::new();
             for f in &files {
@@ -280,8 +296,19 @@ pub fn main() -> ExitCode {
                     ));
                 }
             }
-            if jobs == Some(0) {
-                return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread"));
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            match jobs {
+                Some(0) => return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread")),
+                Some(j) if j > 4 * cores && !force => {
+                    let allowed = format!("{j} threads; at most 4 x {cores} cores = {} (or --force)", 4 * cores);
+                    return report(&Error::input(std::path::Path::new("--jobs"), allowed));
+                }
+                _ => {}
+            }
+            for b in &batches {
+                if let Err(e) = batch::check_limits(b, shard, &out, force) {
+                    return report(&e);
+                }
             }
             let mut code = ExitCode::SUCCESS;
             for b in &batches {
@@ -290,11 +317,16 @@ pub fn main() -> ExitCode {
                     Ok(r) => r,
                     Err(e) => return report(&e),
                 };
-                if result.records.iter().any(|r| r.status != "ok") {
+                if result.records.iter().any(|r| r.status == "invalid") {
+                    code = ExitCode::from(2);
+                } else if result.records.iter().any(|r| r.status != "ok") && code == ExitCode::SUCCESS {
                     code = ExitCode::from(1);
                 }
+                for r in result.records.iter().filter(|r| r.status == "invalid") {
+                    eprintln!("error: {} {}: invalid: {}", b.name, batch::run_folder(r.index), r.message);
+                }
                 if quiet {
-                    for r in result.records.iter().filter(|r| r.status != "ok") {
+                    for r in result.records.iter().filter(|r| r.status == "failed") {
                         eprintln!("{} {}: {} {}", b.name, batch::run_folder(r.index), r.status, r.message);
                     }
                     continue;
@@ -302,9 +334,6 @@ pub fn main() -> ExitCode {
                 if b.is_sweep() {
                     println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
                     print!("{}", batch::table(&b.keys, &result.records, 40));
-                    for r in result.records.iter().filter(|r| r.status == "invalid") {
-                        println!("{}: invalid: {}", batch::run_folder(r.index), r.message);
-                    }
                 } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
                     let verdict = match s.passed {
                         Some(true) => "passed".to_string(),
@@ -344,7 +373,7 @@ pub fn main() -> ExitCode {
             }
             Err(e) => report(&e),
         },
-        Command::Merge { shards } => match batch::merge(&shards) {
+        Command::Merge { shards, remove_shards } => match batch::merge(&shards, remove_shards) {
             Ok(d) => {
                 println!("merged {} shards -> {}", shards.len(), d.display());
                 ExitCode::SUCCESS
@@ -360,7 +389,7 @@ pub fn main() -> ExitCode {
             }
             Err(e) => report(&e),
         },
-        Command::Compare { a, b, tol, default_tol } => {
+        Command::Compare { a, b, tol, default_tol, ignore } => {
             let tols = match compare::parse_tolerances(&tol) {
                 Ok(t) => t,
                 Err(e) => return report(&Error::input(std::path::Path::new("--tol"), e)),
@@ -379,8 +408,14 @@ pub fn main() -> ExitCode {
                 Ok(r) => r,
                 Err(e) => return report(&e),
             };
-            for c in &r.only_in_one {
-                println!("note: channel '{c}' is in only one file; not compared");
+            if let Some(c) = ignore.iter().find(|c| ta.column(c).is_none() && tb.column(c).is_none()) {
+                return report(&Error::input(
+                    std::path::Path::new("--ignore"),
+                    format!("names channel '{c}', which neither file has"),
+                ));
+            }
+            for line in r.lines(&ignore) {
+                println!("{line}");
             }
             if let Some(w) = r.worst() {
                 println!(
@@ -391,20 +426,12 @@ pub fn main() -> ExitCode {
                     Sig(w.tolerance)
                 );
             }
-            let outside: Vec<_> = r.channels.iter().filter(|c| c.ratio() > 1.0).collect();
-            if outside.is_empty() {
+            let failed = r.lines(&ignore).iter().filter(|l| l.starts_with("FAIL")).count();
+            if r.passes(&ignore) {
                 println!("within tolerance: {} channels", r.channels.len());
                 ExitCode::SUCCESS
             } else {
-                for c in &outside {
-                    println!(
-                        "  outside: {} max error {} at t = {} s (tolerance {})",
-                        c.channel,
-                        Sig(c.max_abs_error),
-                        sig(c.at_t_s, 4),
-                        Sig(c.tolerance)
-                    );
-                }
+                println!("FAILED: {failed} of {} lines", r.channels.len() + r.only_in_one.len());
                 ExitCode::from(1)
             }
         }

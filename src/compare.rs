@@ -1,13 +1,16 @@
 //! Trajectory comparison: two time-series CSV files channel by channel, with per-channel absolute
 //! tolerances. The second file is interpolated linearly onto the first file's times (`t_s`), so the
 //! two need not share a sampling. Both NaN counts as equal (an empty field, e.g. no speed target
-//! while coasting); one NaN against a number is an infinite error. The time ranges must agree:
-//! a run that ended earlier or later fails the comparison on the `t_s` channel.
+//! while coasting); one NaN against a number is an infinite error. As a guard it is strict:
+//! both files' `t_s` must be strictly increasing; the time ranges must overlap by at least
+//! [`MIN_OVERLAP`] of the longer one and their ends agree within the `t_s` tolerance (a run that
+//! ended earlier or later fails); a channel in only one file fails unless it is ignored by name.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::output::num::{sig, Sig};
 use crate::output::table::Table;
 
 /// Worst disagreement of one channel.
@@ -34,22 +37,95 @@ impl ChannelError {
     }
 }
 
+/// Least fraction of the longer time range the two files must share.
+pub const MIN_OVERLAP: f64 = 0.99;
+
 /// Result of a comparison: every common channel, worst first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Report {
     pub channels: Vec<ChannelError>,
-    /// Channels present in only one of the files.
+    /// Channels present in only one of the files (A's first, then B's).
     pub only_in_one: Vec<String>,
+    /// Channels of A missing from B, and of B missing from A.
+    pub only_in_a: Vec<String>,
+    pub only_in_b: Vec<String>,
+    /// First and last `t_s` of A and of B, s.
+    pub a_range: (f64, f64),
+    pub b_range: (f64, f64),
 }
 
 impl Report {
-    /// True when every channel is within its tolerance.
+    /// True when every compared channel is within its tolerance.
     pub fn within(&self) -> bool {
         self.channels.iter().all(|c| c.ratio() <= 1.0)
     }
+    /// Shared part of the two time ranges as a fraction of the longer one (1 for equal ranges).
+    pub fn overlap(&self) -> f64 {
+        let (a, b) = (self.a_range, self.b_range);
+        let shared = (a.1.min(b.1) - a.0.max(b.0)).max(0.0);
+        let longer = (a.1 - a.0).max(b.1 - b.0);
+        if longer > 0.0 {
+            shared / longer
+        } else if a == b {
+            1.0
+        } else {
+            0.0
+        }
+    }
+    /// Channels in only one file and not in `ignore`.
+    pub fn missing<'a>(&'a self, ignore: &'a [String]) -> impl Iterator<Item = &'a String> + 'a {
+        self.only_in_one.iter().filter(move |c| !ignore.contains(c))
+    }
+    /// The strict verdict: within tolerance, the ranges overlapping, no channel missing unless ignored.
+    pub fn passes(&self, ignore: &[String]) -> bool {
+        self.within() && self.overlap() >= MIN_OVERLAP && self.missing(ignore).next().is_none()
+    }
+    /// The report, one line per channel (t_s first with both ranges, then worst first, then the
+    /// missing and ignored channels), for the terminal.
+    pub fn lines(&self, ignore: &[String]) -> Vec<String> {
+        let mut out = Vec::new();
+        let verdict = |ok: bool| if ok { "ok  " } else { "FAIL" };
+        for c in &self.channels {
+            let ok = c.ratio() <= 1.0;
+            if c.channel == "t_s" {
+                let ok = ok && self.overlap() >= MIN_OVERLAP;
+                out.push(format!(
+                    "{} t_s: A {} to {} s, B {} to {} s, overlap {:.1} % (at least {:.0} % needed), ends differ by {} (tolerance {})",
+                    verdict(ok),
+                    sig(self.a_range.0, 4),
+                    sig(self.a_range.1, 4),
+                    sig(self.b_range.0, 4),
+                    sig(self.b_range.1, 4),
+                    100.0 * self.overlap(),
+                    100.0 * MIN_OVERLAP,
+                    Sig(c.max_abs_error),
+                    Sig(c.tolerance)
+                ));
+            } else {
+                out.push(format!(
+                    "{} {}: max error {} at t = {} s (tolerance {})",
+                    verdict(ok),
+                    c.channel,
+                    Sig(c.max_abs_error),
+                    sig(c.at_t_s, 4),
+                    Sig(c.tolerance)
+                ));
+            }
+        }
+        for (list, file) in [(&self.only_in_a, "B"), (&self.only_in_b, "A")] {
+            for c in list {
+                if ignore.contains(c) {
+                    out.push(format!("skip {c}: not in {file}; ignored (--ignore)"));
+                } else {
+                    out.push(format!("FAIL {c}: not in {file} (name it with --ignore to skip it)"));
+                }
+            }
+        }
+        out
+    }
     /// The channel with the largest error relative to its tolerance.
     pub fn worst(&self) -> Option<&ChannelError> {
-        self.channels.first()
+        self.channels.iter().min_by(|p, q| q.ratio().total_cmp(&p.ratio()).then_with(|| p.channel.cmp(&q.channel)))
     }
 }
 
@@ -92,8 +168,16 @@ pub fn compare(
 ) -> Result<Report> {
     let ta = a.column("t_s").ok_or_else(|| Error::input(a_path, "no 't_s' column"))?;
     let tb = b.column("t_s").ok_or_else(|| Error::input(b_path, "no 't_s' column"))?;
-    if tb.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(Error::input(b_path, "column 't_s' is not strictly increasing"));
+    for (path, t) in [(a_path, ta), (b_path, tb)] {
+        if t.is_empty() {
+            return Err(Error::input(path, "no rows"));
+        }
+        if let Some(i) = t.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
+            return Err(Error::input(
+                path,
+                format!("column 't_s' is not strictly increasing: data row {} has {} after {}", i + 2, t[i + 1], t[i]),
+            ));
+        }
     }
     for k in tolerances.keys() {
         if a.column(k).is_none() && b.column(k).is_none() {
@@ -140,9 +224,13 @@ pub fn compare(
         }
         channels.push(worst);
     }
-    only_in_one.extend(b.columns.iter().filter(|c| a.column(c).is_none()).cloned());
-    channels.sort_by(|p, q| q.ratio().total_cmp(&p.ratio()).then_with(|| p.channel.cmp(&q.channel)));
-    Ok(Report { channels, only_in_one })
+    let only_in_a = only_in_one.clone();
+    let only_in_b: Vec<String> = b.columns.iter().filter(|c| a.column(c).is_none()).cloned().collect();
+    only_in_one.extend(only_in_b.iter().cloned());
+    channels.sort_by(|p, q| {
+        (q.channel == "t_s").cmp(&(p.channel == "t_s")).then(q.ratio().total_cmp(&p.ratio())).then_with(|| p.channel.cmp(&q.channel))
+    });
+    Ok(Report { channels, only_in_one, only_in_a, only_in_b, a_range: (a0, a1), b_range: (b0, b1) })
 }
 
 #[cfg(test)]

@@ -25,7 +25,6 @@
 //! the spec without its sweep (drawn as a horizontal line).
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 use rayon::prelude::*;
 use serde::Deserialize;
@@ -375,9 +374,7 @@ fn job_limit(env: &Envelope, job: &Job) -> Result<Limit> {
     let path = &env.spec_file;
     match env.search {
         Some(s) => search_speed(&s, |v| {
-            if batch::INTERRUPTED.load(Ordering::SeqCst) {
-                return Err(Error::Interrupted("the envelope was not written (no partial results)".into()));
-            }
+            crate::output::signals::check(|| "the envelope was not written (no partial results)".into())?;
             let out = run::execute(&job_config(path, job, Some(v))?);
             let pass = out.summary.passed == Some(true) && out.summary.end_reason == "completed";
             Ok(Trial { pass, plausible: out.summary.plausible })

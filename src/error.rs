@@ -6,7 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-/// Library error. `Input` is the user's fault (exit 2); `Io` and `Run` are failures of a run (exit 1).
+/// Library error, each kind with its exit code ([`Error::exit_code`]): `Run` a run that could not
+/// be carried out (1), `Input` the user's fault (2), `Io` the environment's (3: disk full,
+/// permission, a collision), `Interrupted` a signal (130 for SIGINT, 143 for SIGTERM).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
@@ -23,19 +25,20 @@ pub enum Error {
     /// A run could not be carried out (not a bad input, not a simulation event).
     #[error("{0}")]
     Run(String),
-    /// The user interrupted the work (SIGINT); nothing partial was written.
+    /// SIGINT or SIGTERM stopped the work; nothing partial was written (the text says what was kept).
     #[error("interrupted: {0}")]
     Interrupted(String),
 }
 
 impl Error {
-    /// Process exit code for this error: 2 for bad input, 130 for an interruption (the shell's
-    /// convention for SIGINT), 1 otherwise.
+    /// Process exit code for this error: 1 a run failed, 2 bad input, 3 an I/O or environment
+    /// error, 128 + the signal number for an interruption (the shell's convention).
     pub fn exit_code(&self) -> u8 {
         match self {
+            Error::Run(_) => 1,
             Error::Input { .. } => 2,
-            Error::Interrupted(_) => 130,
-            _ => 1,
+            Error::Io { .. } => 3,
+            Error::Interrupted(_) => crate::output::signals::exit_code(),
         }
     }
 
@@ -53,32 +56,96 @@ impl Error {
 /// Library result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
-/// Read a text file, mapping a missing or unreadable file to a bad-input error.
+/// Largest spec (TOML) or `.tir` file read, bytes.
+pub const MAX_SPEC_BYTES: u64 = 16 << 20;
+/// Largest data file (CSV) read, bytes.
+pub const MAX_DATA_BYTES: u64 = 256 << 20;
+
+/// Read a text file, mapping a missing or unreadable file to a bad-input error. Spec and `.tir`
+/// files above [`MAX_SPEC_BYTES`], others above [`MAX_DATA_BYTES`] are refused without reading
+/// further (so `/dev/zero` is no endless read).
 pub fn read_input(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| {
-        let why = match e.kind() {
-            std::io::ErrorKind::NotFound => "file not found".to_string(),
-            std::io::ErrorKind::InvalidData => "not valid UTF-8 text".to_string(),
-            _ => format!("cannot read: {e}"),
-        };
-        Error::input(path, why)
-    })
+    use std::io::Read as _;
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    let limit = if ext == "toml" || ext == "tir" { MAX_SPEC_BYTES } else { MAX_DATA_BYTES };
+    let why = |e: std::io::Error| match e.kind() {
+        std::io::ErrorKind::NotFound => "file not found".to_string(),
+        std::io::ErrorKind::InvalidData => "not valid UTF-8 text".to_string(),
+        _ => format!("cannot read: {e}"),
+    };
+    let f = std::fs::File::open(path).map_err(|e| Error::input(path, why(e)))?;
+    let kind = f.metadata().map_err(|e| Error::input(path, why(e)))?.file_type();
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if kind.is_dir() || kind.is_char_device() || kind.is_block_device() || kind.is_socket() {
+            return Err(Error::input(path, "not a regular file"));
+        }
+    }
+    let mut text = String::new();
+    f.take(limit + 1).read_to_string(&mut text).map_err(|e| Error::input(path, why(e)))?;
+    if text.len() as u64 > limit {
+        return Err(Error::input(path, format!("larger than the {} MiB allowed for this kind of file", limit >> 20)));
+    }
+    Ok(text)
 }
 
 /// Parse TOML text into `T` (unknown keys are rejected by `T`'s serde attributes); the message
-/// carries the line, the column and the key as reported by the toml crate.
+/// carries the line, the column and the key as reported by the toml crate, never the text of the
+/// file (it may not be a spec at all, e.g. a mistyped path naming a system file), and a missing
+/// key names the table it belongs in.
 pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
     let de = toml::Deserializer::new(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
+        let table = if key.is_empty() || key == "." { None } else { Some(key.as_str()) };
         let inner = e.into_inner().to_string();
-        let inner = inner.trim_end();
-        if key.is_empty() || key == "." {
-            Error::input(path, format!("invalid spec: {inner}"))
-        } else {
-            Error::input(path, format!("invalid spec at key '{key}': {inner}"))
+        if let Some(field) = missing_field(&inner) {
+            let place = table.map_or("the top level (above any [table])".to_string(), |t| format!("table [{t}]"));
+            return Error::input(path, format!("missing key '{field}' in {place}"));
+        }
+        let inner = without_source_lines(&inner);
+        match table {
+            None => Error::input(path, format!("invalid spec: {inner}")),
+            Some(k) => Error::input(path, format!("invalid spec at key '{k}': {inner}")),
         }
     })
+}
+
+/// The field named by serde's "missing field `x`" message.
+fn missing_field(msg: &str) -> Option<&str> {
+    let rest = &msg[msg.find("missing field `")? + "missing field `".len()..];
+    rest.split('`').next()
+}
+
+/// A toml error message without the quoted source line and its markers, on one line.
+fn without_source_lines(msg: &str) -> String {
+    let quoted = |l: &str| {
+        let t = l.trim_start();
+        t.starts_with('|') || t.split_once(" |").is_some_and(|(n, _)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    msg.lines().map(str::trim).filter(|l| !l.is_empty() && !quoted(l)).collect::<Vec<_>>().join(": ")
+}
+
+/// `'text'` when `text` is a short plain token (letters, digits, `_ - . + e`), else a note that it
+/// is not shown: for echoing a value read from a file that may not be a spec.
+pub fn shown(text: &str) -> String {
+    if text.len() <= 40 && text.chars().all(|c| c.is_ascii_alphanumeric() || "_-.+ ".contains(c)) {
+        format!("'{text}'")
+    } else {
+        "(text not shown)".to_string()
+    }
+}
+
+/// For `map_err` where `referrer` names another file under `key`: an error about that other file
+/// also says which file and key referred to it.
+pub fn referred_by<'a>(referrer: &'a Path, key: &'a str) -> impl FnOnce(Error) -> Error + 'a {
+    move |e| match e {
+        Error::Input { file, message } if file != referrer => Error::Input {
+            message: format!("{message} (named by {} key '{key}')", referrer.display()),
+            file,
+        },
+        other => other,
+    }
 }
 
 /// Checks on one spec file's numeric values. Each check returns the first violation as a

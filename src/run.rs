@@ -14,7 +14,7 @@ use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, Maneuver};
-use crate::output::{create_dir, write_atomic};
+use crate::output::write_atomic;
 use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
 use crate::sim::{simulate, Controls, EndReason, Observer, Recorder, Row, Summary};
@@ -331,28 +331,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
     Ok(())
 }
 
-/// Fill a fresh temporary folder next to `final_dir` with `fill`, then replace `final_dir` by it.
-/// On any error the temporary folder is removed and `final_dir` is left as it was.
-pub fn write_dir_atomic(final_dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-    let parent = final_dir.parent().unwrap_or_else(|| Path::new("."));
-    create_dir(parent)?;
-    let name = final_dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = parent.join(format!(".{name}.tmp{}", std::process::id()));
-    if tmp.exists() {
-        std::fs::remove_dir_all(&tmp).map_err(|e| Error::Io { path: tmp.clone(), source: e })?;
-    }
-    create_dir(&tmp)?;
-    let result = fill(&tmp).and_then(|_| {
-        if final_dir.exists() {
-            std::fs::remove_dir_all(final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })?;
-        }
-        std::fs::rename(&tmp, final_dir).map_err(|e| Error::Io { path: final_dir.to_path_buf(), source: e })
-    });
-    if result.is_err() {
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    result
-}
+pub use crate::output::write_dir_atomic;
 
 /// Write a single run's files into `out_root/<name>/` atomically; returns the folder.
 pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Result<PathBuf> {

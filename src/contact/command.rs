@@ -1,5 +1,5 @@
 //! `vehsim atiim FILE [--out DIR]`: run one ATIIM scenario and write its maps, the drawbar-pull
-//! curve and a summary into `out_root/<name>/` (every file through a temporary name and a rename).
+//! curve and a summary into `out_root/<name>/` (a temporary folder swapped in whole).
 //!
 //! Files: `pressure.csv` (kPa), `rise.csv` (K), `wet.csv` (1 = melting), `film.csv` (nm),
 //! `friction.csv` (tau / p), `mu_visc.csv` (eq. 4.13, wet pixels), each row one grid row along
@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use super::model::{drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchResult};
 use super::spec::{Scenario, ScenarioSpec};
 use crate::error::{Error, Result};
-use crate::output::{create_dir, write_atomic};
+use crate::output::{write_atomic, Staged};
 use crate::plot::{heat_map, line_chart, HeatMap, LineChart, Series};
 
 /// Kinematics of a scenario: travel speed, slip ratio, slip angle, ice temperature.
@@ -41,8 +41,10 @@ fn nested(values: &[f64], cols: usize) -> Vec<Vec<f64>> {
 /// Run the scenario in `spec` and write results into `out_root/<name>/`; returns that folder.
 pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     let sc = ScenarioSpec::load(spec)?;
-    let dir = out_root.join(&sc.name);
-    create_dir(&dir)?;
+    // Written under a temporary name and swapped in whole (see output::replace).
+    let dest = out_root.join(&sc.name);
+    let staged = Staged::new(&dest)?;
+    let dir = staged.path().to_path_buf();
     let op = operating(&sc);
     let res = solve_patch_at(&sc.grid, &op, &sc.params);
     write_maps(&dir, &sc, &res)?;
@@ -103,7 +105,8 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     });
     let text = serde_json::to_string_pretty(&summary).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    Ok(dir)
+    staged.commit()?;
+    Ok(dest)
 }
 
 /// (file stem, values for the CSV, title, colour-scale label, CSV decimals, values shown).

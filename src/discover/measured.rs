@@ -154,7 +154,7 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             let cell = rec.get(*ci).unwrap_or("");
             let v: f64 = cell
                 .parse()
-                .map_err(|_| Error::input(path, format!("line {line}, column '{name}': '{cell}' is not a number")))?;
+                .map_err(|_| Error::input(path, format!("line {line}, column '{name}': {} is not a number", crate::error::shown(cell))))?;
             if !v.is_finite() {
                 return Err(Error::input(
                     path,

@@ -49,10 +49,9 @@ pub fn convert(dir: &Path, out: &Path, segment_s: f64, max_segments: usize) -> R
             text.push('\n');
         }
         let p = out.join(format!("stanford_{:02}.csv", s + 1));
-        std::fs::write(&p, text).map_err(|e| Error::Io { path: p.clone(), source: e })?;
+        crate::output::write_atomic(&p, text.as_bytes())?;
         let side = p.with_extension("toml");
-        std::fs::write(&side, "# Dry race track (assumed; the data set does not say).\n[surface]\nmu = 1.0\n")
-            .map_err(|e| Error::Io { path: side.clone(), source: e })?;
+        crate::output::write_atomic(&side, b"# Dry race track (assumed; the data set does not say).\n[surface]\nmu = 1.0\n")?;
         files.push(p);
     }
     Ok(files)

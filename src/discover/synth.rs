@@ -195,10 +195,9 @@ pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
     for (r, name) in runs {
         let csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay);
         let p = dir.join(format!("{name}.csv"));
-        std::fs::write(&p, csv).map_err(|e| Error::Io { path: p.clone(), source: e })?;
+        crate::output::write_atomic(&p, csv.as_bytes())?;
         let s = dir.join(format!("{name}.toml"));
-        std::fs::write(&s, sidecar_toml(r.mu, r.on_ice.then_some(r.ice_temp_c)))
-            .map_err(|e| Error::Io { path: s.clone(), source: e })?;
+        crate::output::write_atomic(&s, sidecar_toml(r.mu, r.on_ice.then_some(r.ice_temp_c)).as_bytes())?;
     }
     Ok(())
 }

@@ -33,7 +33,8 @@ impl Table {
                     f64::NAN
                 } else {
                     f.parse::<f64>().map_err(|_| {
-                        Error::input(path, format!("line {}, column '{}': '{f}' is not a number", n + 1, columns[c]))
+                        let (col, val) = (crate::error::shown(&columns[c]), crate::error::shown(f));
+                        Error::input(path, format!("line {}, column {} {col}: {val} is not a number", n + 1, c + 1))
                     })?
                 };
                 data[c].push(v);

@@ -22,8 +22,8 @@ use super::{
     coincidence_note, figure, xy_chart, Band, Figure, LineStyle, RefLine, Series, XyChart, PALETTE_LEN, STYLES,
 };
 use crate::error::{read_input, Error, Result};
-use crate::output::create_dir;
 use crate::output::num::sig;
+use crate::output::Staged;
 use crate::output::table::Table;
 use crate::output::write_atomic;
 
@@ -732,8 +732,10 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
     }
     let params: Vec<Vec<(String, String)>> = runs.iter().map(|r| r.params.clone()).collect();
     let factors = factors(&params);
-    let dir = out.join("plots");
-    create_dir(&dir)?;
+    // A fresh plots/ folder swapped in whole: a symlink named plots is refused, never followed.
+    let dest = out.join("plots");
+    let staged = Staged::new(&dest)?;
+    let dir = staged.path().to_path_buf();
     let mut written = Vec::new();
     let deg = 180.0 / std::f64::consts::PI;
     // (file stem, title, y label, (column, legend suffix) per curve, scale to the plotted unit)
@@ -763,15 +765,16 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
     ];
     for (stem, title, ylabel, cols, scale) in charts {
         if time_chart(&dir, &runs, &factors, stem, title, ylabel, cols, scale)? {
-            written.push(dir.join(stem));
+            written.push(dest.join(stem));
         }
     }
     for (stem, chart) in [("trajectory", trajectory_xy(&runs, &factors)), ("steer_vs_ay", steer_xy(&runs, &factors))] {
         if let Some(chart) = chart {
             xy_chart(&dir.join(stem), &chart)?;
-            written.push(dir.join(stem));
+            written.push(dest.join(stem));
         }
     }
+    staged.commit()?;
     Ok(written)
 }
 
@@ -782,13 +785,14 @@ pub fn plot_batch(results: &Path, runs: usize, name: &str) -> Result<Vec<PathBuf
     if runs <= MAX_OVERLAID_RUNS {
         return plot_results(results, results);
     }
-    let dir = results.join("plots");
-    create_dir(&dir)?;
+    let dest = results.join("plots");
+    let staged = Staged::new(&dest)?;
     let note = format!(
         "No charts were drawn for this batch: {runs} runs exceed the {MAX_OVERLAID_RUNS} drawn automatically.\n\
          Draw them (percentile bands and small multiples) with: vehsim plot <results>/{name}\n"
     );
-    write_atomic(&dir.join("NOTE.txt"), note.as_bytes())?;
+    write_atomic(&staged.path().join("NOTE.txt"), note.as_bytes())?;
+    staged.commit()?;
     Ok(Vec::new())
 }
 

@@ -299,7 +299,7 @@ mod tests {
             max_speed_error_mps: None,
             steps: 0,
             end_time_s: 10.0,
-            end_reason: "completed".into(),
+            end_reason: crate::sim::EndReason::Completed,
             events: Vec::new(),
             plausible: true,
             implausible: Vec::new(),

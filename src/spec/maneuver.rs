@@ -456,7 +456,7 @@ pub struct RunConfig {
 }
 
 /// Is `name` usable as a results folder name?
-fn valid_name(name: &str) -> bool {
+pub fn valid_name(name: &str) -> bool {
     !name.is_empty()
         && name.len() <= 100
         && !name.starts_with('.')
@@ -585,7 +585,9 @@ impl ManeuverFile {
         let vehicle = match cache.vehicles.get(&key) {
             Some(v) => v.clone(),
             None => {
-                let v = VehicleFile::load(&vehicle_file)?.build(&vehicle_file, tyre_model)?;
+                let v = VehicleFile::load(&vehicle_file)
+                    .and_then(|v| v.build(&vehicle_file, tyre_model))
+                    .map_err(crate::error::referred_by(path, "vehicle"))?;
                 cache.vehicles.insert(key, v.clone());
                 v
             }

@@ -334,7 +334,9 @@ impl VehicleFile {
         c.non_negative("drag_area_m2", self.drag_area_m2)?;
         c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
         let tyre_path = resolve(path, &self.tyre);
-        let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)?.build_with_warnings(&tyre_path, tyre_model)?;
+        let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)
+            .and_then(|t| t.build_with_warnings(&tyre_path, tyre_model))
+            .map_err(crate::error::referred_by(path, "tyre"))?;
         let roll = match &self.roll {
             Some(r) => Some(r.build(&c, self, tyre.unloaded_radius_m)?),
             None => None,

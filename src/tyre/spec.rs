@@ -586,7 +586,7 @@ impl TyreFileSpec {
         let (source, base): (std::path::PathBuf, BTreeMap<String, f64>) = match (&s.tir_file, &s.coefficients) {
             (Some(rel), None) => {
                 let tir_path = resolve(path, rel);
-                let f = super::tir::read_tir(&tir_path)?;
+                let f = super::tir::read_tir(&tir_path).map_err(crate::error::referred_by(path, "pacejka.tir_file"))?;
                 warnings.extend(f.warnings.iter().cloned());
                 side = match f.string("TYRESIDE").map(|v| v.trim().to_ascii_uppercase()) {
                     None if f.num("TYRESIDE").is_some() => {

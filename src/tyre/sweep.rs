@@ -31,7 +31,7 @@ use serde::Deserialize;
 use super::spec::{Tyre, TyreFileSpec, TyreModelKind};
 use super::TyreInput;
 use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
-use crate::output::{create_dir, write_atomic};
+use crate::output::{write_atomic, Staged};
 use crate::plot::{line_chart, LineChart, Series};
 
 /// A closed range sampled at `points` evenly spaced values.
@@ -147,7 +147,7 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     check_sweep(&c, "slip_angle_deg", &s.slip_angle_deg, -90.0, 90.0)?;
 
     let tyre_path = resolve(spec, &s.tyre_file);
-    let tyre_spec = TyreFileSpec::load(&tyre_path)?;
+    let tyre_spec = TyreFileSpec::load(&tyre_path).map_err(crate::error::referred_by(spec, "tyre_file"))?;
     let mut all: Vec<TyreModelKind> = providers.clone();
     for k in &thermal {
         if !all.contains(k) {
@@ -197,8 +197,10 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
             .collect(),
     };
 
-    let out = out_root.join(&s.name);
-    create_dir(&out)?;
+    // Written under a temporary name and swapped in whole (see output::replace).
+    let dest = out_root.join(&s.name);
+    let staged = Staged::new(&dest)?;
+    let out = staged.path().to_path_buf();
     let mut long_curves = Vec::new();
     let mut lat_curves = Vec::new();
     for &fz in &s.loads_n {
@@ -275,7 +277,8 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         }
     }
     write_atomic(&out.join("fy_vs_slip_angle.csv"), csv.as_bytes())?;
-    Ok(out)
+    staged.commit()?;
+    Ok(dest)
 }
 
 /// Draw the pair of charts of one sweep: Fx versus slip ratio from `curves.0` into `stems.0`,

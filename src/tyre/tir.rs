@@ -219,7 +219,7 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         }
         if body.starts_with('[') {
             let Some(end) = body.find(']') else {
-                return Err(line_err(path, no, format!("malformed section header '{body}' (expected [NAME])")));
+                return Err(line_err(path, no, format!("malformed section header {} (expected [NAME])", crate::error::shown(body))));
             };
             let name = body[1..end].trim().to_ascii_uppercase();
             if name.is_empty() {
@@ -238,12 +238,12 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         }
         if mode == Mode::Skip {
             if section.is_none() {
-                return Err(line_err(path, no, format!("'{body}' appears before the first [SECTION] header")));
+                return Err(line_err(path, no, format!("{} appears before the first [SECTION] header", crate::error::shown(body))));
             }
             continue;
         }
         let Some((k, v)) = body.split_once('=') else {
-            return Err(line_err(path, no, format!("malformed line '{body}' (expected KEY = value)")));
+            return Err(line_err(path, no, format!("malformed line {} (expected KEY = value)", crate::error::shown(body))));
         };
         let key = k.trim().to_ascii_uppercase();
         let key_ok = key.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
