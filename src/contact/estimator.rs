@@ -401,9 +401,9 @@ impl FlashTable {
         Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry, c_t })
     }
 
-    /// Interpolated patch-average rise, K, at load `fz_n`, sliding speed `vs_mps`, rolling speed
-    /// `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive load or sliding
-    /// speed or for t_c >= 0 degC.
+    /// Interpolated rise (the table's statistic), K, at load `fz_n`, sliding speed `vs_mps`,
+    /// rolling speed `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive
+    /// load or sliding speed or for t_c >= 0 degC.
     #[inline]
     pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
         self.rise_k_priced(fz_n, vs_mps, vr_mps, t_c, 1.0)
@@ -599,6 +599,24 @@ mod tests {
             x *= 1.37;
         }
         assert!(fast_ln(0.0) == f64::NEG_INFINITY && fast_ln(-1.0).is_nan());
+    }
+
+    #[test]
+    fn node_temperatures_solve_the_w_equation() {
+        // c_T = 0: closed form T = -R0 e^w
+        for (r0, w) in [(0.01f64, -2.0), (3.0, 0.5), (40.0, 2.0)] {
+            let t = node_ice_temp_c(r0.ln(), 0.0, w);
+            assert!((t / (-r0 * w.exp()) - 1.0).abs() < 1e-9, "{r0} {w}: {t}");
+        }
+        // c_T = 0.03: the warmest root of ln(-T) - ln R0(T) = w
+        for (r0, w) in [(0.01f64, -2.0), (3.0, 0.5), (30.0, 2.0), (200.0, 1.0)] {
+            let t = node_ice_temp_c(r0.ln(), 0.03, w);
+            let res = (-t).ln() - ln_dry_rise(r0.ln() + ln_temp_factor(0.03, t), 0.03, t) - w;
+            assert!(res.abs() < 1e-9 && t < 0.0, "{r0} {w}: T {t}, residual {res}");
+        }
+        // no self-heating correction where the rise stays below the law's -40 degC clamp
+        assert_eq!(ln_dry_rise(2f64.ln(), 0.03, -1e6), 2f64.ln());
+        assert!((ln_dry_rise(2f64.ln(), 0.03, -10.0) - (2.0 / 1.03f64).ln()).abs() < 1e-9);
     }
 
     #[test]
