@@ -4,7 +4,9 @@
 use std::path::Path;
 use std::time::Instant;
 
-use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID};
+use vehsim::contact::estimator::{
+    node_ice_temp_c, roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID,
+};
 use vehsim::contact::model::{solve_patch, Operating, PatchParams};
 use vehsim::contact::patch::{synthesize, SynthInputs, TreadPattern};
 use vehsim::contact::spec::ContactSpec;
@@ -38,19 +40,20 @@ fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64, stat: Statistic) -> f
     stat.of(&solve_patch(&g, &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t }, &tb.params).summary)
 }
 
-/// The default table (statistic `max`) against the full model's maximum pixel rise. The hottest
-/// pixel of the coarse table grid moves less smoothly with load and speed than the patch average,
-/// so between nodes the table is looser (measured worst 19.3 % over 1239 cell centres; 2.3 % at
-/// nodes).
+/// The default table (statistic `max`) against the full model's maximum pixel rise (SRTT
+/// parameters, friction law with c_T = 0.03 /K). The hottest pixel of the coarse table grid moves
+/// less smoothly with load and speed than the patch average, so between nodes the table is looser
+/// (worst at small rises where the rolling heat is a large share of the flux).
 #[test]
 fn table_agrees_with_full_model_at_and_between_nodes() {
     table_agrees(Statistic::Max, 0.05, 0.20);
 }
 
-/// The `mean` table against the full model's patch-average rise.
+/// The `mean` table against the full model's patch-average rise (worst between nodes at rises
+/// below 0.1 K that the rolling heat dominates, which does not scale with the sliding speed).
 #[test]
 fn mean_table_agrees_with_full_model_at_and_between_nodes() {
-    table_agrees(Statistic::Mean, 0.05, 0.10);
+    table_agrees(Statistic::Mean, 0.05, 0.11);
 }
 
 fn table_agrees(stat: Statistic, node_tol: f64, mid_tol: f64) {
@@ -70,8 +73,9 @@ fn table_agrees(stat: Statistic, node_tol: f64, mid_tol: f64) {
             a.node(k)
         }
     };
-    // nodes: (load, slide, slip-fraction) nodes at the temperatures of the w nodes, T = -R0 e^w,
-    // with R0 the full model's dry rise
+    // nodes: (load, slide, slip-fraction) nodes at the temperatures of the w nodes,
+    // -T = R0(T) e^w, with R0(T) the full model's dry rise with the friction of -40 degC times the
+    // dry law's temperature factor at T
     let mut worst_node: f64 = 0.0;
     for il in [0, 2, la.n() - 1] {
         for is in [0, 1, sa.n() - 1] {
@@ -80,7 +84,7 @@ fn table_agrees(stat: Statistic, node_tol: f64, mid_tol: f64) {
                 let vr = roll_speed_for(vs, val(&ra, ir as f64).exp());
                 let r0 = full(&tb, fz, vs, vr, -1e6);
                 for iw in [0, 3, table.w.n() - 1] {
-                    let t = -r0 * val(&table.w, iw as f64).exp();
+                    let t = node_ice_temp_c(r0.ln(), tb.params.dry.temp_coeff_per_k, val(&table.w, iw as f64));
                     let f = full(&tb, fz, vs, vr, t);
                     let e = table.rise_k(fz, vs, vr, t);
                     if f > 0.05 {

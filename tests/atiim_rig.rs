@@ -7,7 +7,7 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use vehsim::contact::estimator::{roll_speed_for, FlashTable, TableRanges, TyreBuild, REFERENCE_GRID};
+use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID};
 use vehsim::contact::model::{
     drawbar_curve, slip_stiffness_per_fz, solve_patch, solve_patch_at, Kinematics, Operating, PatchParams, PatchResult,
     PatchSummary,
@@ -392,23 +392,26 @@ fn reported_viscous_friction_and_film_are_grid_independent() {
 /// `solve_patch`, the braking reading of roll and slide speeds); its error against the full model
 /// on the reference grid between nodes, with the default ranges.
 ///
-/// With the dry law's temperature dependence the table is off by up to about 50 % away from its
-/// w range: it stores the dry rise R0 at an ice temperature far below the law's -40 degC clamp and
-/// reads the rise above the w range at the last w node's temperature, while the friction (hence
-/// the heat) now depends on the interface temperature. Without that dependence (c_T = 0) the
-/// table stays within 15 %. The fix belongs in the estimator (scale R0 by the law's temperature
-/// factor at the start temperature, or add the ice temperature as an axis).
+/// 375 points (5 loads x 5 sliding speeds x 5 slip fractions x 3 ice temperatures), both
+/// statistics, with and without the dry law's temperature dependence (c_T = 0.03 /K and 0). The
+/// table carries its stored dry rise (friction of -40 degC) to the start temperature by the law's
+/// temperature factor with a first-order self-heating correction, and solves its melting-cap
+/// nodes at the matching ice temperatures. Rises below 0.05 K count relative to 0.05 K.
 #[test]
 fn flash_table_error_against_the_new_patch_model() {
-    let with_t = table_error(PatchParams { brush: false, ..PatchParams::srtt(-5.0) });
-    let mut pp = PatchParams { brush: false, ..PatchParams::srtt(-5.0) };
-    pp.dry.temp_coeff_per_k = 0.0;
-    let without_t = table_error(pp);
-    assert!(without_t < 0.15, "without temperature dependence: {without_t}");
-    assert!(with_t < 0.6, "with temperature dependence: {with_t}");
+    // bounds (with c_T, without c_T): measured 0.109, 0.052 (mean) and 0.213, 0.078 (max); the
+    // worst points with c_T are rises of 0.03-0.05 K near free rolling (error relative to 0.05 K)
+    for (stat, bound_t, bound_0) in [(Statistic::Mean, 0.12, 0.07), (Statistic::Max, 0.24, 0.10)] {
+        let with_t = table_error(PatchParams { brush: false, ..PatchParams::srtt(-5.0) }, stat);
+        let mut pp = PatchParams { brush: false, ..PatchParams::srtt(-5.0) };
+        pp.dry.temp_coeff_per_k = 0.0;
+        let without_t = table_error(pp, stat);
+        assert!(without_t < bound_0, "{stat:?} without temperature dependence: {without_t}");
+        assert!(with_t < bound_t, "{stat:?} with temperature dependence: {with_t}");
+    }
 }
 
-fn table_error(params: PatchParams) -> f64 {
+fn table_error(params: PatchParams, stat: Statistic) -> f64 {
     let tb = TyreBuild {
         inflation_pa: 241.3e3,
         tread_width_m: 0.18,
@@ -416,7 +419,8 @@ fn table_error(params: PatchParams) -> f64 {
         pattern: TreadPattern { ribs: 5, void_ratio: 0.3, block_pitch_m: 0.03 },
         params,
     };
-    let table = FlashTable::build(Path::new("t"), &tb, &TableRanges::default()).unwrap();
+    let table =
+        FlashTable::build(Path::new("t"), &tb, &TableRanges { statistic: stat, ..TableRanges::default() }).unwrap();
     let mut worst: (f64, String) = (0.0, String::new());
     let mut n = 0;
     for &fz in &[2500.0, 4000.0, 5600.0, 7000.0, 9500.0] {
@@ -443,8 +447,8 @@ fn table_error(params: PatchParams) -> f64 {
                         &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t },
                         &tb.params,
                     )
-                    .summary
-                    .mean_rise_k;
+                    .summary;
+                    let full = stat.of(&full);
                     let est = table.rise_k(fz, vs, vr, t);
                     let err = if full < 0.05 { (est - full).abs() / 0.05 } else { (est - full).abs() / full };
                     if err > worst.0 {
@@ -457,7 +461,7 @@ fn table_error(params: PatchParams) -> f64 {
         }
     }
     eprintln!(
-        "flash table vs full model (c_T {}), {n} off-node points: worst relative error {:.3} ({})",
+        "flash table ({stat:?}) vs full model (c_T {}), {n} off-node points: worst relative error {:.3} ({})",
         tb.params.dry.temp_coeff_per_k, worst.0, worst.1
     );
     worst.0

@@ -10,7 +10,9 @@
 //! - flash = the patch-average interface rise of the full patch model ([`super::model::solve_patch`])
 //!   (with the whole patch sliding, see [`FlashTable::build`])
 //!   at (load, sliding speed, rolling speed, T_start), read from a table built once per run and
-//!   interpolated trilinearly on ln(rise) in (ln F_z, ln v_slide, ln sigma), with the ice temperature handled through the melting cap (see [`FlashTable`]);
+//!   interpolated trilinearly on ln(rise) in (ln F_z, ln v_slide, ln sigma), with the ice
+//!   temperature handled through the dry law's temperature factor and the melting cap (see
+//!   [`FlashTable`]);
 //!   the rolling
 //!   speed enters through the slip fraction sigma = v_slide / (v_roll + v_slide) (0 free rolling,
 //!   1 locked). In these coordinates the dry-regime rise, about mu p v_slide sqrt(L / v_roll), is
@@ -132,11 +134,15 @@ const RISE_FLOOR_K: f64 = 1e-9;
 ///
 /// Melting caps the rise at dtm = (0 degC - T), which puts a kink into the rise as a function of
 /// ice temperature. To interpolate across it, the table stores, for each (load, sliding speed,
-/// slip fraction) node, the dry (never-melting) rise R0 and, on a fixed grid of w = ln(dtm / R0)
-/// (the kink sits near w = 0 for every node), the ratio G = rise / S of the rise to the smooth
-/// cap S = R0 dtm / (R0 + dtm). G is 1 at both ends (dry: rise = R0; fully capped: rise = dtm) and
-/// smooth between, so it interpolates well. Above the w range the rise is held at its last-node
-/// value (dry); below it the rise is proportional to dtm (capped).
+/// slip fraction) node, the dry (never-melting) rise with the friction of -40 degC (the dry law's
+/// clamp; no self-heating), and, on a fixed grid of w = ln(dtm / R0(T)) (the kink sits near w = 0
+/// for every node), the ratio G = rise / S of the rise to the smooth cap S = R0 dtm / (R0 + dtm).
+/// R0(T) is the stored rise carried to start temperature T by the dry law's temperature factor
+/// exp(-c_T (T + 40)) and a first-order self-heating correction ([`ln_dry_rise`]); each w node is
+/// solved at the ice temperature where w(T) equals it ([`node_ice_temp_c`]). G is near 1 at both
+/// ends (dry: rise = R0; fully capped: rise = dtm) and smooth between, so it interpolates well.
+/// Above the w range G is held at its last-node value (dry); below it the rise is proportional
+/// to dtm (capped).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlashTable {
     /// ln F_z.
@@ -145,9 +151,9 @@ pub struct FlashTable {
     pub slide: Axis,
     /// ln sigma, sigma = v_slide / (v_roll + v_slide).
     pub roll: Axis,
-    /// w = ln((0 degC - T) / R0).
+    /// w = ln((0 degC - T) / R0(T)).
     pub w: Axis,
-    /// ln R0 (K), index (il * ns + is) * nr + ir.
+    /// ln of the dry rise with the friction of -40 degC (K), index (il * ns + is) * nr + ir.
     pub ln_r0: Vec<f64>,
     /// ln G, index ((il * ns + is) * nr + ir) * nw + iw.
     pub ln_g: Vec<f64>,
@@ -155,6 +161,9 @@ pub struct FlashTable {
     vs_min: f64,
     /// Dry friction the table's heat flux assumed (patch model's mu_dry), for the force pricing.
     mu_dry: f64,
+    /// Temperature coefficient c_T of the dry friction law, 1/K: R0 at start temperature T is
+    /// the stored R0 (built at [`DRY_LAW_COLD_C`]) times exp(-c_T (clamp(T) - DRY_LAW_COLD_C)).
+    c_t: f64,
 }
 
 /// Which statistic of the patch's rise field the table stores (see the module docs).
@@ -201,7 +210,7 @@ pub struct TableRanges {
     /// 0.2, 0.35, 0.5 (where the transit speed switches from rolling to sliding), 0.65, 0.8, 0.9,
     /// 0.97 and 1 (locked) resolve the approach to a locked wheel.
     pub sigma_min: (f64, usize),
-    /// Range of w = ln((0 degC - T) / R0) and nodes (about -2.5 .. 2.5, 8 nodes).
+    /// Range of w = ln((0 degC - T) / R0(T)) and nodes (default -2 .. 2, 9 nodes).
     pub w: (f64, f64, usize),
     /// Patch grid of the table (rows along travel, cols across).
     pub grid: (usize, usize),
@@ -213,9 +222,9 @@ impl Default for TableRanges {
     fn default() -> Self {
         TableRanges {
             load_n: (2000.0, 12000.0, 5),
-            slide_mps: (0.01, 30.0, 6),
+            slide_mps: (0.01, 30.0, 9),
             sigma_min: (1e-4, 5),
-            w: (-2.0, 2.0, 6),
+            w: (-2.0, 2.0, 9),
             grid: (16, 12),
             statistic: Statistic::Max,
         }
@@ -246,8 +255,67 @@ pub fn soft_cap(w: f64) -> f64 {
 /// Reference patch grid (rows, cols) whose rise the table reproduces (see `FlashTable::build`).
 pub const REFERENCE_GRID: (usize, usize) = (64, 48);
 
-/// Ice temperature used for the dry (never-melting) rise, degC.
+/// Ice temperature used for the dry (never-melting) rise, degC. The friction law clamps its
+/// temperature to [DRY_LAW_COLD_C, 0 degC], so this rise is the one with the friction of
+/// DRY_LAW_COLD_C everywhere (no self-heating, no melting): linear in the friction.
 const DRY_ICE_C: f64 = -1e6;
+
+/// Coldest temperature the dry friction law distinguishes (its clamp), degC.
+pub const DRY_LAW_COLD_C: f64 = -40.0;
+
+/// ln of the dry law's temperature factor relative to [`DRY_LAW_COLD_C`]:
+/// -c_T (clamp(T, -40, 0) - (-40)).
+#[inline]
+fn ln_temp_factor(c_t: f64, t_c: f64) -> f64 {
+    -c_t * (t_c.clamp(DRY_LAW_COLD_C, MELT_C) - DRY_LAW_COLD_C)
+}
+
+/// Share of the dry rise that the friction of the sliding pixels sees on average (self-heating
+/// of the dry law), used in [`ln_dry_rise`].
+const SELF_HEAT_SHARE: f64 = 0.5;
+
+/// ln of a cell's dry rise R0(T) at start temperature `t_c` from ln `ln_r_lin`, the rise the
+/// friction of T would give with no self-heating (the stored R0 times the law's temperature
+/// factor and the force pricing): R0 = R_lin / (1 + a c_T R_band), a = 0.5, R_band = the part
+/// of R_lin above the law's -40 degC clamp. The sliding pixels' friction falls by
+/// exp(-c_T rise) with the rise the earlier pixels left; this first-order form takes out most of
+/// that amplitude dependence, and the table's ratio G carries the rest (so a is not fitted).
+#[inline]
+fn ln_dry_rise(ln_r_lin: f64, c_t: f64, t_c: f64) -> f64 {
+    if c_t <= 0.0 {
+        return ln_r_lin;
+    }
+    let r = ln_r_lin.exp();
+    let band = (t_c - DRY_LAW_COLD_C + r).clamp(0.0, r);
+    ln_r_lin - fast_ln(1.0 + SELF_HEAT_SHARE * c_t * band)
+}
+
+/// The ice temperature, degC, at which a table cell's melting coordinate
+/// w = ln((0 degC - T) / R0(T)) equals `w`, with R0(T) the dry rise of [`ln_dry_rise`] for a
+/// cell whose rise with the friction of -40 degC is exp(`ln_r0_cold`) and c_T = `c_t`. w is not
+/// monotonic in T (the friction rises as the ice gets colder), so the warmest solution is
+/// returned: a scan up in ln(-T) from 1e-6 K in steps of 0.05, then 50 bisections. The table's
+/// w nodes sit at these temperatures.
+pub fn node_ice_temp_c(ln_r0_cold: f64, c_t: f64, w: f64) -> f64 {
+    let g = |u: f64| {
+        let t = -u.exp();
+        u - ln_dry_rise(ln_r0_cold + ln_temp_factor(c_t, t), c_t, t) - w
+    };
+    let (mut lo, mut hi) = (-14.0f64, -14.0f64);
+    while g(hi) < 0.0 && hi < 40.0 {
+        lo = hi;
+        hi += 0.05;
+    }
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) >= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    -(0.5 * (lo + hi)).exp()
+}
 
 impl FlashTable {
     /// Build the table: one synthesized patch per load node, (1 + w nodes) patch solves per
@@ -281,6 +349,7 @@ impl FlashTable {
         // where the flash is negligible anyway (an upper bound there).
         let mut params = tyre.params;
         params.brush = false;
+        let c_t = params.dry.temp_coeff_per_k.max(0.0);
         let per_load = slide.n() * roll.n();
         let cells: Vec<(f64, Vec<f64>)> = (0..load.n() * per_load)
             .into_par_iter()
@@ -298,8 +367,9 @@ impl FlashTable {
                 let g = (0..w.n())
                     .map(|iw| {
                         let wk = w.node(iw);
-                        let rise = solve(MELT_C - r0 * wk.exp()).max(RISE_FLOOR_K);
-                        (rise / r0).ln() - soft_cap(wk)
+                        let t = node_ice_temp_c(r0.ln(), c_t, wk);
+                        let rise = solve(t).max(RISE_FLOOR_K);
+                        rise.ln() - ln_dry_rise(r0.ln() + ln_temp_factor(c_t, t), c_t, t) - soft_cap(wk)
                     })
                     .collect();
                 (r0.ln(), g)
@@ -328,12 +398,12 @@ impl FlashTable {
             ln_g.extend(g);
         }
         let vs_min = slide.node(0).exp();
-        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry })
+        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry, c_t })
     }
 
-    /// Interpolated patch-average rise, K, at load `fz_n`, sliding speed `vs_mps`, rolling speed
-    /// `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive load or sliding
-    /// speed or for t_c >= 0 degC.
+    /// Interpolated rise (the table's statistic), K, at load `fz_n`, sliding speed `vs_mps`,
+    /// rolling speed `vr_mps` and start temperature `t_c` (degC). Never NaN; 0 for non-positive
+    /// load or sliding speed or for t_c >= 0 degC.
     #[inline]
     pub fn rise_k(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64) -> f64 {
         self.rise_k_priced(fz_n, vs_mps, vr_mps, t_c, 1.0)
@@ -378,8 +448,11 @@ impl FlashTable {
                 }
             }
         }
-        // the dry rise is linear in the heat flux
+        // the dry rise is linear in the heat flux: the force pricing and the dry law's temperature
+        // factor at the start temperature
+        let lr0 = lr0 + ln_temp_factor(self.c_t, t_c);
         let lr0 = if heat_ratio == 1.0 { lr0 } else { lr0 + fast_ln(heat_ratio) };
+        let lr0 = ln_dry_rise(lr0, self.c_t, t_c);
         let wq = ln_dtm - lr0;
         let (k, f) = self.w.locate(wq);
         let nw = self.w.n();
@@ -526,6 +599,24 @@ mod tests {
             x *= 1.37;
         }
         assert!(fast_ln(0.0) == f64::NEG_INFINITY && fast_ln(-1.0).is_nan());
+    }
+
+    #[test]
+    fn node_temperatures_solve_the_w_equation() {
+        // c_T = 0: closed form T = -R0 e^w
+        for (r0, w) in [(0.01f64, -2.0), (3.0, 0.5), (40.0, 2.0)] {
+            let t = node_ice_temp_c(r0.ln(), 0.0, w);
+            assert!((t / (-r0 * w.exp()) - 1.0).abs() < 1e-9, "{r0} {w}: {t}");
+        }
+        // c_T = 0.03: the warmest root of ln(-T) - ln R0(T) = w
+        for (r0, w) in [(0.01f64, -2.0), (3.0, 0.5), (30.0, 2.0), (200.0, 1.0)] {
+            let t = node_ice_temp_c(r0.ln(), 0.03, w);
+            let res = (-t).ln() - ln_dry_rise(r0.ln() + ln_temp_factor(0.03, t), 0.03, t) - w;
+            assert!(res.abs() < 1e-9 && t < 0.0, "{r0} {w}: T {t}, residual {res}");
+        }
+        // no self-heating correction where the rise stays below the law's -40 degC clamp
+        assert_eq!(ln_dry_rise(2f64.ln(), 0.03, -1e6), 2f64.ln());
+        assert!((ln_dry_rise(2f64.ln(), 0.03, -10.0) - (2.0 / 1.03f64).ln()).abs() < 1e-9);
     }
 
     #[test]
