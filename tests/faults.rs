@@ -165,7 +165,8 @@ fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, Str
 #[test]
 fn sigterm_and_sigint_stop_every_run_quickly_and_leave_no_temporaries() {
     let dir = common::temp_dir("fault_term");
-    std::fs::write(dir.join("sweep.toml"), sweep_spec("res", "[0.15, 0.2, 0.25, 0.3, 0.35, 0.4]", 6.0)).unwrap();
+    // 36 runs of 60 s: long enough (a few seconds) that the signal at 0.4 s lands mid-sweep.
+    std::fs::write(dir.join("sweep.toml"), sweep_spec("res", "[0.15, 0.2, 0.25, 0.3, 0.35, 0.4]", 60.0)).unwrap();
     let (c, _, e) = vehsim(&dir, &["run", "--quiet", "sweep.toml"]);
     assert_eq!(c, 0, "{e}");
     let before = tree(&dir.join("results/res"));

@@ -29,8 +29,8 @@ fn compare_fails_missing_channels_short_or_shifted_ranges_and_unordered_times() 
     let cases = [
         ("no_z.csv", "t_s,y\n0,0\n0.5,1\n1,2\n".to_string(), "FAIL z: not in B"),
         ("only_t.csv", "t_s\n0\n0.5\n1\n".to_string(), "FAIL y: not in B"),
-        ("shifted.csv", format!("t_s,y,z\n{}", rows(0.5, 11)), "A 0 to 1 s, B 0.5 to 1.5 s"),
-        ("short.csv", format!("t_s,y,z\n{}", rows(0.0, 6)), "A 0 to 1 s, B 0 to 0.5 s"),
+        ("shifted.csv", format!("t_s,y,z\n{}", rows(0.5, 11)), "A 0 to 1.000 s, B 0.5000 to 1.500 s"),
+        ("short.csv", format!("t_s,y,z\n{}", rows(0.0, 6)), "A 0 to 1.000 s, B 0 to 0.5000 s"),
         ("extra.csv", "t_s,y,z,w\n0,0,1,5\n1,2,1,5\n".to_string(), "FAIL w: not in A"),
     ];
     let (c, out, e) = vehsim(&dir, &["compare", &a, &a]);
