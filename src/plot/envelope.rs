@@ -1,12 +1,14 @@
 //! The envelope chart: the limit (highest passing entry speed, m/s, or highest steady lateral
 //! acceleration, m/s^2) against the first swept factor, one line per value of the remaining factors
-//! (the second first), and each reference as a horizontal line across the chart.
+//! (the second first), and each reference as a horizontal line across the chart, or in the note
+//! under it when drawing it would squash the combinations' lines (more than 50 % beyond their range).
 
 use std::path::Path;
 
 use super::{line_chart, LineChart, Series};
 use crate::envelope::{Envelope, Kind, Row};
 use crate::error::Result;
+use crate::output::num::sig;
 
 /// Write `<stem>.png` and `<stem>.svg`. The first factor's values are the x axis when they are
 /// numbers, else their position (1, 2, ...).
@@ -26,20 +28,32 @@ pub fn plot(stem: &Path, env: &Envelope, rows: &[Row]) -> Result<()> {
     let xs: Vec<f64> = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).collect();
     let (x0, x1) = xs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
     let (x0, x1) = if x0.is_finite() { (x0, x1) } else { (0.0, 1.0) };
+    let ys = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.is_finite());
+    let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
+    let (what, y_label, unit) = match env.kind {
+        Kind::Speed => ("Highest passing ISO 3888-2 entry speed", "entry speed (m/s)", "m/s"),
+        Kind::LateralAcceleration => ("Highest steady lateral acceleration", "a_y (m/s^2)", "m/s^2"),
+    };
+    let mut off_scale = Vec::new();
     for r in rows.iter().filter(|r| !r.label.is_empty()) {
         let v = r.limit.value.unwrap_or(f64::NAN);
-        series.push(Series { label: format!("{} (reference)", r.label), points: vec![(x0, v), (x1, v)] });
+        if y0.is_finite() && v.is_finite() && (v > y1 + 0.5 * y1.abs() || v < y0 - 0.5 * y0.abs()) {
+            off_scale.push(format!("{}: {} {unit}", r.label, sig(v, 3)));
+        } else {
+            series.push(Series { label: format!("{} (reference)", r.label), points: vec![(x0, v), (x1, v)] });
+        }
     }
-    let (what, y_label) = match env.kind {
-        Kind::Speed => ("highest passing ISO 3888-2 entry speed", "entry speed (m/s)"),
-        Kind::LateralAcceleration => ("highest steady lateral acceleration", "a_y (m/s^2)"),
+    let note = if off_scale.is_empty() {
+        String::new()
+    } else {
+        format!("Reference, off this scale: {}.", off_scale.join("; "))
     };
     let chart = LineChart {
-        title: format!("{}: {what}", env.name),
+        title: what.into(),
         x_label: env.keys.first().cloned().unwrap_or_else(|| "run".into()),
         y_label: y_label.into(),
         series,
-        note: String::new(),
+        note,
     };
     line_chart(stem, &chart)
 }
