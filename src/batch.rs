@@ -233,6 +233,7 @@ pub fn summary_header(keys: &[String]) -> String {
         "max_speed_error_mps",
         "end_time_s",
         "end_reason",
+        "plausible",
         "message",
     ] {
         cols.push(c.to_string());
@@ -267,8 +268,9 @@ pub fn summary_row(r: &RunRecord) -> String {
             f.push(opt(s.max_speed_error_mps));
             f.push(s.end_time_s.to_string());
             f.push(s.end_reason.to_string());
+            f.push(s.plausible.to_string());
         }
-        None => f.extend(std::iter::repeat_n(String::new(), 11)),
+        None => f.extend(std::iter::repeat_n(String::new(), 12)),
     }
     f.push(csv_field(&r.message));
     f.join(",")
@@ -671,6 +673,7 @@ pub fn table(keys: &[String], records: &[RunRecord], max_rows: usize) -> String 
         "peak r rad/s".into(),
         "peak beta deg".into(),
         "peak ay m/s2".into(),
+        "plausible".into(),
     ]);
     lines.push(head);
     for r in records.iter().take(max_rows) {
@@ -684,8 +687,9 @@ pub fn table(keys: &[String], records: &[RunRecord], max_rows: usize) -> String 
                 format!("{:.3}", s.peak_yaw_rate_radps),
                 format!("{:.2}", s.peak_sideslip_rad.to_degrees()),
                 format!("{:.2}", s.peak_ay_mps2),
+                if s.plausible { "yes".into() } else { "NO".into() },
             ]),
-            None => l.extend(["-".into(), "-".into(), "-".into(), "-".into(), "-".into(), "-".into()]),
+            None => l.extend(std::iter::repeat_n("-".to_string(), 7)),
         }
         lines.push(l);
     }

@@ -1,7 +1,7 @@
 //! `vehsim._vehsim`: the native half of the Python package, a thin layer over the library's
 //! high-level entry points (the ones the command line uses): spec loading and validation
 //! (`batch::from_table`), run execution (`run::execute`), tyre files (`TyreFileSpec`), ATIIM
-//! scenarios (`ScenarioSpec`, `solve_patch`, `drawbar_curve`) and discovery (`run_discover`).
+//! scenarios (`ScenarioSpec`, `solve_patch_at`, `drawbar_curve`) and discovery (`run_discover`).
 //!
 //! Every simulation and every tyre loop runs with the GIL released. Library errors become Python
 //! exceptions carrying the command line's message: bad input `ValueError`, I/O `OSError`, an
@@ -20,7 +20,7 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use rayon::prelude::*;
 use vehsim::batch::{self, BatchRun};
 use vehsim::contact::command::operating;
-use vehsim::contact::model::{drawbar_curve, solve_patch};
+use vehsim::contact::model::{drawbar_curve, solve_patch_at};
 use vehsim::contact::spec::ScenarioSpec;
 use vehsim::error::{parse_toml, read_input, Checker};
 use vehsim::run::{self, RunOutput};
@@ -484,8 +484,15 @@ fn atiim_scenario(
                 Some(p) => ScenarioSpec::load(&p)?,
                 None => parse_toml::<ScenarioSpec>(&file, &text)?.validate(&file)?,
             };
-            let res = solve_patch(&sc.grid, &operating(&sc), &sc.params);
-            let curve = drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.ice_temp_c, &sc.drawbar_slips);
+            let res = solve_patch_at(&sc.grid, &operating(&sc), &sc.params);
+            let curve = drawbar_curve(
+                &sc.grid,
+                &sc.params,
+                sc.drawbar_speed_mps,
+                sc.slip_angle_rad,
+                sc.ice_temp_c,
+                &sc.drawbar_slips,
+            );
             Ok((sc, res, curve))
         })
         .map_err(py_err)?;
@@ -500,8 +507,9 @@ fn atiim_scenario(
     opd.set_item("slip_ratio", sc.slip_ratio)?;
     opd.set_item("slip_angle_rad", sc.slip_angle_rad)?;
     opd.set_item("ice_temp_c", sc.ice_temp_c)?;
-    opd.set_item("roll_speed_mps", op.roll_speed_mps)?;
-    opd.set_item("slide_speed_mps", op.slide_speed_mps)?;
+    let (roll_speed_mps, _, _) = op.speeds();
+    opd.set_item("roll_speed_mps", roll_speed_mps)?;
+    opd.set_item("slide_speed_mps", op.slide_speed_mps())?;
     d.set_item("operating", opd)?;
     let summary = serde_json::to_string(&res.summary).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     d.set_item("summary_json", summary)?;
