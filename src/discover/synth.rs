@@ -58,7 +58,7 @@ pub fn default_params(e: Effect) -> Vec<f64> {
     match e {
         Effect::TyreRelaxation => vec![1.2],
         Effect::LoadTransfer => vec![0.6],
-        Effect::ThermalFriction => vec![-0.6],
+        Effect::ThermalFriction => vec![-1.0],
         Effect::FrictionChange => vec![0.7],
         Effect::FrictionStretch => vec![0.5, 40.0, 50.0],
         Effect::SteerCompliance => vec![0.004],
