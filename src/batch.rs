@@ -290,7 +290,9 @@ const ROW_BYTES: f64 = 600.0;
 pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
     let mut steps = 0.0;
     let mut bytes = 0.0;
-    for cfg in batch.runs.iter().filter(|r| shard.is_none_or(|s| s.contains(r.index))).filter_map(|r| r.config.as_ref().ok()) {
+    for cfg in
+        batch.runs.iter().filter(|r| shard.is_none_or(|s| s.contains(r.index))).filter_map(|r| r.config.as_ref().ok())
+    {
         let s = &cfg.settings;
         steps += (s.duration_s / s.step_s).ceil();
         bytes += 4096.0;
@@ -521,7 +523,10 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
         ));
     }
     if n == 0 || k == 0 || k > n || runs > MAX_RUNS as u64 {
-        return Err(Error::input(&meta_path, format!("k = {k}, n = {n}, runs = {runs}: expected 1 <= k <= n, runs <= {MAX_RUNS}")));
+        return Err(Error::input(
+            &meta_path,
+            format!("k = {k}, n = {n}, runs = {runs}: expected 1 <= k <= n, runs <= {MAX_RUNS}"),
+        ));
     }
     let expected = Shard { k: k as usize, n: n as usize }.folder(&name);
     if d.file_name().map(|f| f.to_string_lossy() != expected).unwrap_or(true) {
@@ -543,14 +548,20 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
             .ok_or_else(malformed)?;
         let status = fields.next().ok_or_else(malformed)?;
         if idx as u64 >= runs || idx % n as usize != k as usize - 1 {
-            return Err(Error::input(&csv_path, format!("line {}: run {idx} does not belong to shard {k} of {n}", i + 2)));
+            return Err(Error::input(
+                &csv_path,
+                format!("line {}: run {idx} does not belong to shard {k} of {n}", i + 2),
+            ));
         }
         let has_folder = matches!(status, "ok" | "failed");
         if has_folder {
             let rd = d.join(run_folder(idx));
             let real_dir = std::fs::symlink_metadata(&rd).is_ok_and(|m| m.is_dir());
             if !real_dir || !rd.join("summary.json").is_file() {
-                return Err(Error::input(d, format!("incomplete shard: {} is missing or has no summary.json", run_folder(idx))));
+                return Err(Error::input(
+                    d,
+                    format!("incomplete shard: {} is missing or has no summary.json", run_folder(idx)),
+                ));
             }
         }
         rows.push((idx, l.to_string(), has_folder));
@@ -577,7 +588,8 @@ fn copy_tree(src: &Path, dst: &Path, verify: bool) -> Result<()> {
         } else if m.is_file() {
             let n = std::fs::copy(&from, &to).map_err(io_err(&to))?;
             let same = n == m.len()
-                && (!verify || std::fs::read(&from).map_err(io_err(&from))? == std::fs::read(&to).map_err(io_err(&to))?);
+                && (!verify
+                    || std::fs::read(&from).map_err(io_err(&from))? == std::fs::read(&to).map_err(io_err(&to))?);
             if !same {
                 return Err(Error::Io { path: to, source: std::io::Error::other("copy differs from its source") });
             }

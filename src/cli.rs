@@ -13,7 +13,8 @@ use crate::output::table::Table;
 use crate::{batch, compare};
 
 /// The exit codes, as `--help` shows them (README "Exit codes" says the same).
-pub const EXIT_CODES: &str = "Exit codes: 0 success; 1 a run failed (diverged, spun out, left its path) or compare found a \
+pub const EXIT_CODES: &str =
+    "Exit codes: 0 success; 1 a run failed (diverged, spun out, left its path) or compare found a \
 difference; 2 bad input (a spec, a flag, a referenced file); 3 I/O or environment error (disk full, permission, a \
 collision); 130 / 143 stopped by SIGINT / SIGTERM (temporary output removed, results left complete or as before).";
 

@@ -228,7 +228,10 @@ pub fn compare(
     let only_in_b: Vec<String> = b.columns.iter().filter(|c| a.column(c).is_none()).cloned().collect();
     only_in_one.extend(only_in_b.iter().cloned());
     channels.sort_by(|p, q| {
-        (q.channel == "t_s").cmp(&(p.channel == "t_s")).then(q.ratio().total_cmp(&p.ratio())).then_with(|| p.channel.cmp(&q.channel))
+        (q.channel == "t_s")
+            .cmp(&(p.channel == "t_s"))
+            .then(q.ratio().total_cmp(&p.ratio()))
+            .then_with(|| p.channel.cmp(&q.channel))
     });
     Ok(Report { channels, only_in_one, only_in_a, only_in_b, a_range: (a0, a1), b_range: (b0, b1) })
 }

@@ -121,7 +121,8 @@ fn missing_field(msg: &str) -> Option<&str> {
 fn without_source_lines(msg: &str) -> String {
     let quoted = |l: &str| {
         let t = l.trim_start();
-        t.starts_with('|') || t.split_once(" |").is_some_and(|(n, _)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+        t.starts_with('|')
+            || t.split_once(" |").is_some_and(|(n, _)| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
     };
     msg.lines().map(str::trim).filter(|l| !l.is_empty() && !quoted(l)).collect::<Vec<_>>().join(": ")
 }
@@ -140,10 +141,9 @@ pub fn shown(text: &str) -> String {
 /// also says which file and key referred to it.
 pub fn referred_by<'a>(referrer: &'a Path, key: &'a str) -> impl FnOnce(Error) -> Error + 'a {
     move |e| match e {
-        Error::Input { file, message } if file != referrer => Error::Input {
-            message: format!("{message} (named by {} key '{key}')", referrer.display()),
-            file,
-        },
+        Error::Input { file, message } if file != referrer => {
+            Error::Input { message: format!("{message} (named by {} key '{key}')", referrer.display()), file }
+        }
         other => other,
     }
 }

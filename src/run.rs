@@ -143,8 +143,7 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     let keep: &mut dyn Observer =
         if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
-    let mut summary =
-        simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
+    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
     for (kind, detail) in tyre.take_run_notes() {
         summary.events.push(Event { t_s: summary.end_time_s, kind: kind.into(), detail });
     }

@@ -62,7 +62,9 @@ fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
 /// Hidden entries (temporaries, aside copies) directly in `dir`.
 fn hidden(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
-        .map(|r| r.map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n.starts_with('.')).collect())
+        .map(|r| {
+            r.map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n.starts_with('.')).collect()
+        })
         .unwrap_or_default()
 }
 
@@ -146,13 +148,8 @@ fn sigkill_while_replacing_leaves_the_old_or_the_new_folder_complete() {
 /// Start `args` in `dir`, send `sig` after `after`, return (exit code, stderr, seconds from the
 /// signal to the exit).
 fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, String, f64) {
-    let child = Command::new(BIN)
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child =
+        Command::new(BIN).args(args).current_dir(dir).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
     std::thread::sleep(after);
     let t0 = Instant::now();
     signal(child.id(), sig);
@@ -171,7 +168,8 @@ fn sigterm_and_sigint_stop_every_run_quickly_and_leave_no_temporaries() {
     assert_eq!(c, 0, "{e}");
     let before = tree(&dir.join("results/res"));
     // One run with no check point inside: 3000 s of simulated time.
-    let long = sweep_spec("long", "[0.15]", 3000.0).replace("\"maneuver.speed_mps\" = [8.0, 9.0, 10.0, 11.0, 12.0, 13.0]\n", "");
+    let long = sweep_spec("long", "[0.15]", 3000.0)
+        .replace("\"maneuver.speed_mps\" = [8.0, 9.0, 10.0, 11.0, 12.0, 13.0]\n", "");
     std::fs::write(dir.join("long.toml"), long.replace("[sweep]\n\"surface.mu\" = [0.15]\n", "")).unwrap();
     for (spec, sig, code, name) in [
         ("sweep.toml", "-TERM", 143, "SIGTERM"),
@@ -242,7 +240,8 @@ fn a_full_disk_leaves_nothing_half_written() {
     assert_eq!(c, 3, "{e}");
     assert!(e.contains("No space left on device"), "{e}");
     assert!(tree(&disk) == before, "the older result is whole and nothing else was left");
-    for (cmd, spec) in [("tyre", "maneuvers/tyre_curves.toml"), ("atiim", "maneuvers/atiim/srtt_4kN_free_rolling.toml")] {
+    for (cmd, spec) in [("tyre", "maneuvers/tyre_curves.toml"), ("atiim", "maneuvers/atiim/srtt_4kN_free_rolling.toml")]
+    {
         let spec = common::root().join(spec);
         if !spec.exists() {
             continue;
@@ -350,8 +349,7 @@ fn merge_across_file_systems_copies_and_verifies() {
     assert_eq!(c, 0, "{e}");
     let (c, _, e) = vehsim(&dir, &["run", "--quiet", "--out", "other", "--shard", "2/2", "s.toml"]);
     assert_eq!(c, 0, "{e}");
-    let (c, out, e) =
-        vehsim(&dir, &["merge", "--remove-shards", "parts/s.shard-1-of-2", "other/s.shard-2-of-2"]);
+    let (c, out, e) = vehsim(&dir, &["merge", "--remove-shards", "parts/s.shard-1-of-2", "other/s.shard-2-of-2"]);
     assert_eq!(c, 0, "{out}{e}");
     assert!(tree(&dir.join("parts/s")) == tree(&dir.join("whole/s")), "merged differs from the whole run");
     assert!(!dir.join("parts/s.shard-1-of-2").exists() && !other.join("s.shard-2-of-2").exists());

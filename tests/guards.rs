@@ -19,11 +19,12 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 fn compare_fails_missing_channels_short_or_shifted_ranges_and_unordered_times() {
     let dir = common::temp_dir("guard_compare");
     let rows = |t0: f64, n: usize| -> String {
-        (0..n).map(|i| {
-            let t = t0 + 0.1 * i as f64;
-            format!("{t},{},{}\n", 2.0 * t, 1.0)
-        })
-        .collect()
+        (0..n)
+            .map(|i| {
+                let t = t0 + 0.1 * i as f64;
+                format!("{t},{},{}\n", 2.0 * t, 1.0)
+            })
+            .collect()
     };
     let a = write(&dir, "a.csv", &format!("t_s,y,z\n{}", rows(0.0, 11)));
     let cases = [
@@ -52,7 +53,12 @@ fn compare_fails_missing_channels_short_or_shifted_ranges_and_unordered_times() 
     let unordered = write(&dir, "unordered.csv", "t_s,y,z\n0,0,1\n0.2,1,1\n0.1,2,1\n");
     let (c, _, e) = vehsim(&dir, &["compare", &unordered, &a]);
     assert_eq!(c, 2, "{e}");
-    assert!(e.contains("unordered.csv") && e.contains("not strictly increasing") && e.contains("data row 3 has 0.1 after 0.2"), "{e}");
+    assert!(
+        e.contains("unordered.csv")
+            && e.contains("not strictly increasing")
+            && e.contains("data row 3 has 0.1 after 0.2"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -68,9 +74,8 @@ fn help_lists_the_exit_codes() {
 #[test]
 fn a_closed_stdout_is_a_clean_exit() {
     let spec = common::root().join("maneuvers/dlc.toml");
-    let args: Vec<String> = std::iter::once("validate".to_string())
-        .chain(std::iter::repeat_n(spec.display().to_string(), 400))
-        .collect();
+    let args: Vec<String> =
+        std::iter::once("validate".to_string()).chain(std::iter::repeat_n(spec.display().to_string(), 400)).collect();
     let mut child = Command::new(BIN).args(&args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     // Read nothing and close the pipe: every println! after this point meets EPIPE.
     drop(child.stdout.take());
@@ -105,7 +110,8 @@ fn absurd_work_is_refused_with_the_estimate() {
     }
     // 300 runs of 3600 s each: about 1e9 steps at the default step and some 60 GB of output.
     let speeds: Vec<String> = (0..100).map(|i| format!("{}", 5.0 + 0.01 * i as f64)).collect();
-    let sweep = format!("{SPEC}[sweep]\n\"maneuver.speed_mps\" = [{}]\n\"surface.mu\" = [0.1, 0.2, 0.3]\n", speeds.join(", "));
+    let sweep =
+        format!("{SPEC}[sweep]\n\"maneuver.speed_mps\" = [{}]\n\"surface.mu\" = [0.1, 0.2, 0.3]\n", speeds.join(", "));
     std::fs::write(case.dir.join("g.toml"), sweep).unwrap();
     let (c, _, e) = case.run(&["run", "g.toml"]);
     assert_eq!(c, 2, "{e}");

@@ -126,7 +126,14 @@ pub fn parse_csv(file: &Path, text: &str, dx_m: f64, dy_m: f64) -> Result<Pressu
         }
         for (j, f) in rec.iter().enumerate() {
             let v: f64 = f.parse().map_err(|_| {
-                Error::input(file, format!("CSV row {rows}, column {}: {} is not a number (pressure in kPa)", j + 1, crate::error::shown(f)))
+                Error::input(
+                    file,
+                    format!(
+                        "CSV row {rows}, column {}: {} is not a number (pressure in kPa)",
+                        j + 1,
+                        crate::error::shown(f)
+                    ),
+                )
             })?;
             if !v.is_finite() || v < 0.0 {
                 return Err(Error::input(

@@ -152,9 +152,12 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
         let rec = rec.map_err(|e| Error::input(path, format!("line {line}: {e}")))?;
         for (j, (ci, name)) in used.iter().enumerate() {
             let cell = rec.get(*ci).unwrap_or("");
-            let v: f64 = cell
-                .parse()
-                .map_err(|_| Error::input(path, format!("line {line}, column '{name}': {} is not a number", crate::error::shown(cell))))?;
+            let v: f64 = cell.parse().map_err(|_| {
+                Error::input(
+                    path,
+                    format!("line {line}, column '{name}': {} is not a number", crate::error::shown(cell)),
+                )
+            })?;
             if !v.is_finite() {
                 return Err(Error::input(
                     path,

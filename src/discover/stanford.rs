@@ -51,7 +51,10 @@ pub fn convert(dir: &Path, out: &Path, segment_s: f64, max_segments: usize) -> R
         let p = out.join(format!("stanford_{:02}.csv", s + 1));
         crate::output::write_atomic(&p, text.as_bytes())?;
         let side = p.with_extension("toml");
-        crate::output::write_atomic(&side, b"# Dry race track (assumed; the data set does not say).\n[surface]\nmu = 1.0\n")?;
+        crate::output::write_atomic(
+            &side,
+            b"# Dry race track (assumed; the data set does not say).\n[surface]\nmu = 1.0\n",
+        )?;
         files.push(p);
     }
     Ok(files)

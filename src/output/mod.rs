@@ -9,9 +9,9 @@ pub mod replace;
 pub mod signals;
 pub mod table;
 
+use std::cell::Cell;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::cell::Cell;
 
 pub use replace::{write_dir_atomic, Staged};
 

@@ -23,9 +23,9 @@ use super::{
 };
 use crate::error::{read_input, Error, Result};
 use crate::output::num::sig;
-use crate::output::Staged;
 use crate::output::table::Table;
 use crate::output::write_atomic;
+use crate::output::Staged;
 
 /// Above this many runs a batch gets no charts automatically (a note in plots/NOTE.txt says how
 /// to draw them; `vehsim plot` draws them at any size).

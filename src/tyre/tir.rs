@@ -219,7 +219,11 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         }
         if body.starts_with('[') {
             let Some(end) = body.find(']') else {
-                return Err(line_err(path, no, format!("malformed section header {} (expected [NAME])", crate::error::shown(body))));
+                return Err(line_err(
+                    path,
+                    no,
+                    format!("malformed section header {} (expected [NAME])", crate::error::shown(body)),
+                ));
             };
             let name = body[1..end].trim().to_ascii_uppercase();
             if name.is_empty() {
@@ -238,12 +242,20 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         }
         if mode == Mode::Skip {
             if section.is_none() {
-                return Err(line_err(path, no, format!("{} appears before the first [SECTION] header", crate::error::shown(body))));
+                return Err(line_err(
+                    path,
+                    no,
+                    format!("{} appears before the first [SECTION] header", crate::error::shown(body)),
+                ));
             }
             continue;
         }
         let Some((k, v)) = body.split_once('=') else {
-            return Err(line_err(path, no, format!("malformed line {} (expected KEY = value)", crate::error::shown(body))));
+            return Err(line_err(
+                path,
+                no,
+                format!("malformed line {} (expected KEY = value)", crate::error::shown(body)),
+            ));
         };
         let key = k.trim().to_ascii_uppercase();
         let key_ok = key.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
