@@ -174,6 +174,7 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     }
     RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient, understeer_gradient_note }
 }
+
 /// `summary.json`: the run's identity plus the engine's figures.
 #[derive(Debug, Serialize)]
 struct SummaryFile<'a> {
