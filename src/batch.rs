@@ -83,15 +83,27 @@ impl Shard {
 pub const MAX_RUNS: usize = 1_000_000;
 
 /// Value of a swept key as text (strings without quotes).
-fn value_text(v: &toml::Value) -> String {
+pub(crate) fn value_text(v: &toml::Value) -> String {
     match v {
         toml::Value::String(s) => s.clone(),
         other => other.to_string(),
     }
 }
 
+/// The value index of each swept key for combination `index` (mixed-radix digits, the last key
+/// varying fastest), so that `vehsim run` and `vehsim envelope` number combinations alike.
+pub(crate) fn combination(index: usize, lists: &[Vec<toml::Value>]) -> Vec<usize> {
+    let mut rem = index;
+    let mut choice = vec![0; lists.len()];
+    for (d, l) in lists.iter().enumerate().rev() {
+        choice[d] = rem % l.len();
+        rem /= l.len();
+    }
+    choice
+}
+
 /// Set `value` at the dotted `key` of `table` (intermediate tables are created).
-fn set_path(table: &mut toml::Table, key: &str, value: toml::Value) -> std::result::Result<(), String> {
+pub(crate) fn set_path(table: &mut toml::Table, key: &str, value: toml::Value) -> std::result::Result<(), String> {
     let mut parts: Vec<&str> = key.split('.').collect();
     let last = parts.pop().ok_or("empty key")?;
     let mut t = table;
@@ -163,13 +175,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     let mut cache = crate::spec::maneuver::BuildCache::default();
     for index in 0..total {
         crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
-        // Mixed-radix digits of the index, the last key varying fastest.
-        let mut rem = index;
-        let mut choice = vec![0; lists.len()];
-        for (d, l) in lists.iter().enumerate().rev() {
-            choice[d] = rem % l.len();
-            rem /= l.len();
-        }
+        let choice = combination(index, &lists);
         let mut t = table.clone();
         let mut params = Vec::with_capacity(keys.len());
         let mut err = None;

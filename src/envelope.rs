@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::Deserialize;
 
-use crate::batch;
+use crate::batch::{self, set_path};
 use crate::error::{parse_toml, read_input, Error, Result};
 use crate::output::write_atomic;
 use crate::run::{self, write_dir_atomic};
@@ -168,21 +168,6 @@ fn steady_limit(cfg: &RunConfig) -> Limit {
     limit
 }
 
-/// Set `value` at the dotted `key` of `table` (intermediate tables are created).
-fn set_key(table: &mut toml::Table, key: &str, value: toml::Value) -> std::result::Result<(), String> {
-    let (parents, last) = match key.rsplit_once('.') {
-        Some((p, l)) => (p.split('.').collect::<Vec<_>>(), l),
-        None => (Vec::new(), key),
-    };
-    let mut t = table;
-    for p in parents {
-        let e = t.entry(p.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        t = e.as_table_mut().ok_or_else(|| format!("'{p}' in '{key}' is not a table"))?;
-    }
-    t.insert(last.to_string(), value);
-    Ok(())
-}
-
 /// One job: a sweep combination or a reference, as a spec table without a sweep.
 #[derive(Debug, Clone)]
 struct Job {
@@ -275,25 +260,19 @@ pub fn load(path: &Path) -> Result<Envelope> {
     }
     let mut jobs = Vec::with_capacity(total + raw.reference.len());
     for index in 0..total {
-        // Mixed-radix digits of the index, the last key varying fastest (as `vehsim run`).
-        let mut rem = index;
-        let mut choice = vec![0; lists.len()];
-        for (d, l) in lists.iter().enumerate().rev() {
-            choice[d] = rem % l.len();
-            rem /= l.len();
-        }
+        let choice = batch::combination(index, &lists);
         let mut t = table.clone();
         let mut params = Vec::new();
         for ((k, l), c) in keys.iter().zip(&lists).zip(&choice) {
-            set_key(&mut t, k, l[*c].clone()).map_err(|e| Error::key(path, &format!("sweep.{k}"), e))?;
-            params.push(value_text(&l[*c]));
+            set_path(&mut t, k, l[*c].clone()).map_err(|e| Error::key(path, &format!("sweep.{k}"), e))?;
+            params.push(batch::value_text(&l[*c]));
         }
         jobs.push(Job { label: String::new(), params, table: t });
     }
     for (i, r) in raw.reference.iter().enumerate() {
         let mut t = table.clone();
         for (k, v) in &r.set {
-            set_key(&mut t, k, v.clone())
+            set_path(&mut t, k, v.clone())
                 .map_err(|e| Error::key(path, &format!("envelope.reference[{i}].set.{k}"), e))?;
         }
         jobs.push(Job { label: r.label.clone(), params: Vec::new(), table: t });
@@ -343,13 +322,6 @@ fn speed_search(path: &Path, raw: &RawSettings) -> Result<SpeedSearch> {
     Ok(SpeedSearch { min_mps: lo, max_mps: hi, scan_step_mps: step, tolerance_mps: tol })
 }
 
-fn value_text(v: &toml::Value) -> String {
-    match v {
-        toml::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    }
-}
-
 fn describe(keys: &[String], params: &[String]) -> String {
     keys.iter().zip(params).map(|(k, v)| format!("{k} = {v}")).collect::<Vec<_>>().join(", ")
 }
@@ -363,7 +335,7 @@ fn strip_file(path: &Path, msg: &str) -> String {
 fn job_config(path: &Path, job: &Job, speed: Option<f64>) -> Result<RunConfig> {
     let mut t = job.table.clone();
     if let Some(v) = speed {
-        set_key(&mut t, SPEED_KEY, toml::Value::Float(v)).map_err(|e| Error::key(path, SPEED_KEY, e))?;
+        set_path(&mut t, SPEED_KEY, toml::Value::Float(v)).map_err(|e| Error::key(path, SPEED_KEY, e))?;
     }
     let mut b = batch::from_table(path, t)?;
     b.runs.remove(0).config.map_err(|e| Error::input(path, e))
@@ -511,9 +483,9 @@ mod tests {
     #[test]
     fn set_key_creates_tables() {
         let mut t = toml::Table::new();
-        set_key(&mut t, "a.b.c", toml::Value::Integer(3)).unwrap();
+        set_path(&mut t, "a.b.c", toml::Value::Integer(3)).unwrap();
         assert_eq!(t["a"]["b"]["c"].as_integer(), Some(3));
-        set_key(&mut t, "top", toml::Value::Integer(1)).unwrap();
-        assert!(set_key(&mut t, "top.x", toml::Value::Integer(1)).is_err());
+        set_path(&mut t, "top", toml::Value::Integer(1)).unwrap();
+        assert!(set_path(&mut t, "top.x", toml::Value::Integer(1)).is_err());
     }
 }
