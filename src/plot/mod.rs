@@ -264,32 +264,36 @@ pub fn equal_aspect(x: (f64, f64), y: (f64, f64), px: (u32, u32)) -> ((f64, f64)
     (widen(x, w), widen(y, h))
 }
 
-/// The tick spacing plotters uses on an axis spanning `span` with at most `max` labels: the
-/// smallest of 1, 2 or 5 times a power of ten that gives no more than `max` ticks.
-pub fn tick_step(span: f64, max: usize) -> f64 {
-    let span = span.abs().max(1e-300);
-    let fits = |step: f64| 1.0 + (span / step).floor() <= max.max(2) as f64;
-    let top = span.log10().ceil() as i32;
-    let mut best = 10f64.powi(top);
-    for e in (top - 20..=top).rev() {
-        for m in [5.0, 2.0, 1.0] {
-            let step = m * 10f64.powi(e);
-            if step >= best {
-                continue;
+/// The tick spacing plotters 0.3.7 uses on an axis from `lo` to `hi` with at most `max` labels:
+/// starting from the power of ten below the span, it divides by 2, 5 and 10 in turn while the
+/// ticks that fall inside the range (multiples of the step) stay no more than `max`.
+pub fn tick_step(lo: f64, hi: f64, max: usize) -> f64 {
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let span = (hi - lo).max(1e-300);
+    let max = max.max(1) as f64;
+    let inside = |step: f64| 1.0 + (hi / step).floor() - (lo / step).ceil();
+    let mut step = 10f64.powf(span.log10().floor());
+    if 1.0 + (span / step).floor() > max {
+        step *= 10.0;
+    }
+    // 60 decades below the span: far past any tick count plotters would accept.
+    for _ in 0..60 {
+        let coarse = step;
+        for m in [2.0, 5.0, 10.0] {
+            if inside(coarse / m) > max {
+                return step;
             }
-            if !fits(step) {
-                return best;
-            }
-            best = step;
+            step = coarse / m;
         }
     }
-    best
+    step
 }
 
-/// A tick label for value `v` on an axis spanning `span` with at most `max` labels: the decimals
-/// the tick spacing needs, and never `-0` or `-0.0`.
-pub fn tick_label(v: f64, span: f64, max: usize) -> String {
-    let step = tick_step(span, max);
+/// A tick label for value `v` on an axis from `lo` to `hi` with at most `max` labels: the
+/// decimals the tick spacing needs (so neighbouring ticks never read alike), and never `-0` or
+/// `-0.0`.
+pub fn tick_label(v: f64, lo: f64, hi: f64, max: usize) -> String {
+    let step = tick_step(lo, hi, max);
     let decimals = (-(step.log10() + 1e-9).floor()).clamp(0.0, 9.0) as usize;
     let s = format!("{v:.decimals$}");
     if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
@@ -347,11 +351,10 @@ where
     let mut builder = ChartBuilder::on(&area);
     build(&mut builder);
     let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(e2s)?;
-    let (xs, ys) = (x1 - x0, y1 - y0);
     // Fewer labels in the small panels of a figure.
     let n = if caption < 20 { 6 } else { 10 };
-    let xf = move |v: &f64| tick_label(*v, xs, n);
-    let yf = move |v: &f64| tick_label(*v, ys, n);
+    let xf = move |v: &f64| tick_label(*v, x0, x1, n);
+    let yf = move |v: &f64| tick_label(*v, y0, y1, n);
     chart
         .configure_mesh()
         .x_labels(n)
@@ -689,9 +692,9 @@ where
 {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let (main, bar) = root.split_horizontally(SIZE.0 - 150);
-    let (xs, ys) = (h.x_range.1 - h.x_range.0, h.y_range.1 - h.y_range.0);
-    let xf = move |v: &f64| tick_label(*v, xs, 10);
-    let yf = move |v: &f64| tick_label(*v, ys, 10);
+    let ((x0, x1), (y0, y1)) = (h.x_range, h.y_range);
+    let xf = move |v: &f64| tick_label(*v, x0, x1, 10);
+    let yf = move |v: &f64| tick_label(*v, y0, y1, 10);
     let (lo, hi) = bounds(h.values.iter().flatten().copied());
     let span = (hi - lo).max(1e-300);
     let rows = h.values.len();
@@ -752,8 +755,7 @@ where
         .caption(&h.value_label, ("sans-serif", 14))
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(|e| e.to_string())?;
-    let bar_span = hi - lo;
-    let bf = move |v: &f64| tick_label(*v, bar_span, 10);
+    let bf = move |v: &f64| tick_label(*v, lo, hi, 10);
     cb.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
@@ -963,17 +965,41 @@ mod tests {
     #[test]
     fn tick_labels_never_read_minus_zero() {
         // Steps of 1, 2 or 5 times a power of ten, as plotters places its ticks.
-        assert_eq!(tick_step(9.9, 10), 1.0);
-        assert_eq!(tick_step(9.9, 6), 2.0);
-        assert_eq!(tick_step(0.42, 10), 0.05);
-        assert_eq!(tick_step(400.0, 10), 50.0);
-        assert_eq!(tick_label(-0.0, 1.0, 10), "0.0");
-        assert_eq!(tick_label(-1e-17, 1.0, 10), "0.0");
-        assert_eq!(tick_label(-0.04, 10.0, 10), "0");
-        assert_eq!(tick_label(-0.5, 2.0, 10), "-0.5");
-        assert_eq!(tick_label(0.35, 0.42, 10), "0.35");
-        assert_eq!(tick_label(120.0, 400.0, 10), "120");
-        assert_eq!(tick_label(4.0, 9.9, 10), "4");
+        assert_eq!(tick_step(0.0, 9.9, 10), 1.0);
+        assert_eq!(tick_step(0.0, 9.9, 6), 2.0);
+        assert_eq!(tick_step(0.0, 0.42, 10), 0.05);
+        assert_eq!(tick_step(0.0, 400.0, 10), 50.0);
+        assert_eq!(tick_label(-0.0, 0.0, 1.0, 10), "0.0");
+        assert_eq!(tick_label(-1e-17, 0.0, 1.0, 10), "0.0");
+        assert_eq!(tick_label(-0.04, -5.0, 5.0, 10), "0");
+        assert_eq!(tick_label(-0.5, -1.0, 1.0, 10), "-0.5");
+        assert_eq!(tick_label(0.35, 0.0, 0.42, 10), "0.35");
+        assert_eq!(tick_label(120.0, 0.0, 400.0, 10), "120");
+        assert_eq!(tick_label(4.0, 0.0, 9.9, 10), "4");
+    }
+
+    #[test]
+    fn tick_labels_of_plotters_own_ticks_are_distinct_and_exact_to_half_a_step() {
+        use plotters::coord::ranged1d::Ranged;
+        use plotters::coord::types::RangedCoordf64;
+        // Ranges of many widths and offsets, including the steer axis of a constant-radius run
+        // (about 3.97 to 4.46 deg), where labels once repeated ("4.0, 4.0, 4.0, 4.1").
+        let mut ranges = vec![(3.97, 4.46), (3.9512, 4.4688), (-0.21, 0.16), (0.0, 7.35)];
+        for k in 0..400 {
+            let lo = -3.0 + 0.0173 * k as f64;
+            ranges.push((lo, lo + 0.05 + 0.011 * (k % 97) as f64));
+        }
+        for (lo, hi) in ranges {
+            for max in [6, 10] {
+                let ticks = RangedCoordf64::from(lo..hi).key_points(max);
+                let labels: Vec<String> = ticks.iter().map(|&v| tick_label(v, lo, hi, max)).collect();
+                for (w, &v) in labels.windows(2).zip(&ticks) {
+                    assert_ne!(w[0], w[1], "{lo}..{hi}, {max} labels: {labels:?}");
+                    let step = tick_step(lo, hi, max);
+                    assert!((w[0].parse::<f64>().unwrap() - v).abs() <= step / 2.0, "{v} as {}", w[0]);
+                }
+            }
+        }
     }
 
     #[test]
