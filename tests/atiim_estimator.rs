@@ -1,43 +1,24 @@
 //! The per-step estimator against the full patch model (on the 64 x 48 reference grid), its
 //! behaviour in the engine loop and its spec.
 
+mod common;
+
 use std::path::Path;
 use std::time::Instant;
 
-use vehsim::contact::estimator::{
-    node_ice_temp_c, roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID,
-};
-use vehsim::contact::model::{solve_patch, Operating, PatchParams};
-use vehsim::contact::patch::{synthesize, SynthInputs, TreadPattern};
+use vehsim::contact::estimator::{node_ice_temp_c, roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild};
+use vehsim::contact::model::PatchParams;
 use vehsim::contact::spec::ContactSpec;
 use vehsim::contact::TyreContact;
 
+use common::atiim::{full_rise, reference_grid, srtt_build};
+
 fn tyre() -> TyreBuild {
-    TyreBuild {
-        inflation_pa: 241.3e3,
-        tread_width_m: 0.18,
-        rated_load_n: 7000.0,
-        pattern: TreadPattern { ribs: 5, void_ratio: 0.3, block_pitch_m: 0.03 },
-        params: PatchParams { brush: false, ..PatchParams::srtt(-5.0) },
-    }
+    srtt_build(PatchParams { brush: false, ..PatchParams::srtt(-5.0) })
 }
 
 fn full(tb: &TyreBuild, fz: f64, vs: f64, vr: f64, t: f64, stat: Statistic) -> f64 {
-    let g = synthesize(
-        Path::new("t"),
-        &SynthInputs {
-            load_n: fz,
-            inflation_pa: tb.inflation_pa,
-            tread_width_m: tb.tread_width_m,
-            rated_load_n: tb.rated_load_n,
-            camber_deg: 0.0,
-            pattern: tb.pattern,
-            rows: REFERENCE_GRID.0,
-            cols: REFERENCE_GRID.1,
-        },
-    )
-    .unwrap();
-    stat.of(&solve_patch(&g, &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t }, &tb.params).summary)
+    full_rise(&reference_grid(tb, fz), tb, vs, vr, t, stat)
 }
 
 /// The default table (statistic `max`) against the full model's maximum pixel rise (SRTT

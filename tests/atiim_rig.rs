@@ -4,17 +4,20 @@
 //! heat, slip angle, grid independence of the reported averages, and the per-step flash table's
 //! error against the full model. Printed figures (`--nocapture`) feed the table in docs/atiim.md.
 
+mod common;
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild, REFERENCE_GRID};
+use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges};
 use vehsim::contact::model::{
-    drawbar_curve, slip_stiffness_per_fz, solve_patch, solve_patch_at, Kinematics, Operating, PatchParams, PatchResult,
-    PatchSummary,
+    drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchParams, PatchResult, PatchSummary,
 };
 use vehsim::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
 use vehsim::contact::spec::{Scenario, ScenarioSpec};
 use vehsim::contact::thermal::ICE;
+
+use common::atiim::{full_rise, reference_grid, srtt_build};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/atiim")
@@ -412,43 +415,18 @@ fn flash_table_error_against_the_new_patch_model() {
 }
 
 fn table_error(params: PatchParams, stat: Statistic) -> f64 {
-    let tb = TyreBuild {
-        inflation_pa: 241.3e3,
-        tread_width_m: 0.18,
-        rated_load_n: 7000.0,
-        pattern: TreadPattern { ribs: 5, void_ratio: 0.3, block_pitch_m: 0.03 },
-        params,
-    };
+    let tb = srtt_build(params);
     let table =
         FlashTable::build(Path::new("t"), &tb, &TableRanges { statistic: stat, ..TableRanges::default() }).unwrap();
     let mut worst: (f64, String) = (0.0, String::new());
     let mut n = 0;
     for &fz in &[2500.0, 4000.0, 5600.0, 7000.0, 9500.0] {
-        let g = synthesize(
-            Path::new("t"),
-            &SynthInputs {
-                load_n: fz,
-                inflation_pa: tb.inflation_pa,
-                tread_width_m: tb.tread_width_m,
-                rated_load_n: tb.rated_load_n,
-                camber_deg: 0.0,
-                pattern: tb.pattern,
-                rows: REFERENCE_GRID.0,
-                cols: REFERENCE_GRID.1,
-            },
-        )
-        .unwrap();
+        let g = reference_grid(&tb, fz);
         for &vs in &[0.03, 0.2, 1.3, 4.0, 12.0] {
             for &sigma in &[3e-4, 0.02, 0.15, 0.6, 1.0] {
                 for &t in &[-25.0, -8.0, -2.0] {
                     let vr = roll_speed_for(vs, sigma);
-                    let full = solve_patch(
-                        &g,
-                        &Operating { roll_speed_mps: vr, slide_speed_mps: vs, ice_temp_c: t },
-                        &tb.params,
-                    )
-                    .summary;
-                    let full = stat.of(&full);
+                    let full = full_rise(&g, &tb, vs, vr, t, stat);
                     let est = table.rise_k(fz, vs, vr, t);
                     let err = if full < 0.05 { (est - full).abs() / 0.05 } else { (est - full).abs() / full };
                     if err > worst.0 {

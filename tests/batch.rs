@@ -11,23 +11,8 @@ use common::vehsim;
 fn sweep_case(tag: &str, extra: &str) -> PathBuf {
     let dir = common::temp_dir(tag);
     let vehicle = common::root().join("vehicles/sedan.toml");
-    let spec = format!(
-        r#"name = "sweep"
-vehicle = "{}"
-tyre_model = "linear"
-duration_s = 2.0
-[surface]
-mu = 0.15
-[maneuver]
-kind = "sine_steer"
-speed_mps = 10.0
-steer_amplitude_deg = 3.0
-period_s = 2.0
-[output]
-interval_s = 0.05
-{extra}"#,
-        vehicle.display()
-    );
+    let head = common::sine_steer_spec("sweep", &vehicle.display().to_string(), 2.0);
+    let spec = format!("{head}[output]\ninterval_s = 0.05\n{extra}");
     std::fs::write(dir.join("sweep.toml"), spec).unwrap();
     dir
 }

@@ -14,26 +14,15 @@ use common::{vehsim, BIN};
 /// A sweep spec `name` over `mus` (a list of friction values) with 6 speeds; plots off.
 fn sweep_spec(name: &str, mus: &str, duration_s: f64) -> String {
     let vehicle = common::root().join("vehicles/sedan.toml");
+    let head = common::sine_steer_spec(name, &vehicle.display().to_string(), duration_s);
     format!(
-        r#"name = "{name}"
-vehicle = "{}"
-tyre_model = "linear"
-duration_s = {duration_s}
-[surface]
-mu = 0.15
-[maneuver]
-kind = "sine_steer"
-speed_mps = 10.0
-steer_amplitude_deg = 3.0
-period_s = 2.0
-[output]
+        r#"{head}[output]
 interval_s = 0.01
 plots = false
 [sweep]
 "maneuver.speed_mps" = [8.0, 9.0, 10.0, 11.0, 12.0, 13.0]
 "surface.mu" = {mus}
-"#,
-        vehicle.display()
+"#
     )
 }
 

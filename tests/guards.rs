@@ -84,23 +84,15 @@ fn a_closed_stdout_is_a_clean_exit() {
     assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
-const SPEC: &str = r#"name = "g"
-vehicle = "sedan.toml"
-tyre_model = "linear"
-duration_s = 3600.0
-[surface]
-mu = 0.15
-[maneuver]
-kind = "sine_steer"
-speed_mps = 10.0
-steer_amplitude_deg = 3.0
-period_s = 2.0
-"#;
+/// The guards' spec: an hour-long sine steer on the sedan next to it.
+fn spec() -> String {
+    common::sine_steer_spec("g", "sedan.toml", 3600.0)
+}
 
 /// Work above the limits is refused with its estimate and nothing is written; `--jobs` is capped.
 #[test]
 fn absurd_work_is_refused_with_the_estimate() {
-    let case = Case::new("guard_limits", "g.toml", &format!("{SPEC}[integrator]\nstep_s = 1e-8\n"));
+    let case = Case::new("guard_limits", "g.toml", &format!("{}[integrator]\nstep_s = 1e-8\n", spec()));
     let (c, _, e) = case.run(&["run", "g.toml"]);
     if c == 2 && e.contains("step_s") && !e.contains("estimated") {
         // The spec's own bounds on the step already refuse it; use a long sweep instead.
@@ -110,8 +102,11 @@ fn absurd_work_is_refused_with_the_estimate() {
     }
     // 300 runs of 3600 s each: about 1e9 steps at the default step and some 60 GB of output.
     let speeds: Vec<String> = (0..100).map(|i| format!("{}", 5.0 + 0.01 * i as f64)).collect();
-    let sweep =
-        format!("{SPEC}[sweep]\n\"maneuver.speed_mps\" = [{}]\n\"surface.mu\" = [0.1, 0.2, 0.3]\n", speeds.join(", "));
+    let sweep = format!(
+        "{}[sweep]\n\"maneuver.speed_mps\" = [{}]\n\"surface.mu\" = [0.1, 0.2, 0.3]\n",
+        spec(),
+        speeds.join(", ")
+    );
     std::fs::write(case.dir.join("g.toml"), sweep).unwrap();
     let (c, _, e) = case.run(&["run", "g.toml"]);
     assert_eq!(c, 2, "{e}");
@@ -126,7 +121,7 @@ fn absurd_work_is_refused_with_the_estimate() {
 /// file) is not echoed; a huge or endless one is refused; a missing key names its table.
 #[test]
 fn referenced_file_messages_name_the_referrer_and_echo_nothing() {
-    let case = Case::new("guard_messages", "g.toml", SPEC);
+    let case = Case::new("guard_messages", "g.toml", &spec());
     case.edit("g.toml", "vehicle = \"sedan.toml\"", "vehicle = \"nothere.toml\"");
     let (c, _, e) = case.run(&["validate", "g.toml"]);
     assert_eq!(c, 2, "{e}");

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests: load the shipped specs from the repository.
 #![allow(dead_code)]
 
+pub mod atiim;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -70,6 +72,26 @@ pub fn load(spec: &str) -> RunConfig {
         Ok(c) => c,
         Err(e) => panic!("{spec}: {e}"),
     }
+}
+
+/// A run spec `name`: vehicle file `vehicle` (as written in the spec), the linear tyre, a sine
+/// steer of 3 deg amplitude and 2 s period at 10 m/s on mu 0.15, `duration_s` long. Tables such
+/// as [output] or [sweep] can follow.
+pub fn sine_steer_spec(name: &str, vehicle: &str, duration_s: f64) -> String {
+    format!(
+        r#"name = "{name}"
+vehicle = "{vehicle}"
+tyre_model = "linear"
+duration_s = {duration_s:?}
+[surface]
+mu = 0.15
+[maneuver]
+kind = "sine_steer"
+speed_mps = 10.0
+steer_amplitude_deg = 3.0
+period_s = 2.0
+"#
+    )
 }
 
 /// A fresh, empty temporary folder for one test.
