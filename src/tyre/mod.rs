@@ -32,7 +32,7 @@ pub mod tir;
 pub use atiim::{AtiimPacejkaTyre, KShift};
 pub use dugoff::{DugoffThermalTyre, DugoffTyre};
 pub use linear::LinearTyre;
-pub use pacejka::PacejkaTyre;
+pub use pacejka::{PacejkaTyre, TyreSide};
 pub use polynomial::PolynomialTyre;
 pub use spec::{TyreFileSpec, TyreModelKind};
 pub use sweep::run_tyre_command;

@@ -4,8 +4,10 @@
 //! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios, front
 //! and rear relaxed axle lateral forces (N; used only with a lateral relaxation length) and the
 //! lagged road-wheel angle (rad; used only with a steering lag).
-//! Each axle carries two identical tyres at half the axle load; the axle force is twice the tyre
-//! force. Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
+//! Each axle carries two tyres at half the axle load, one mounted on the left and one on the
+//! right ([`crate::tyre::spec::Tyre::on`]), both at the axle's slip: the axle force is their sum,
+//! twice the tyre force for a tyre that is its own mirror image; for a `.tir` tyre with
+//! side-dependent coefficients the mirrored pair cancels conicity and ply steer (docs/tyres.md). Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
 //! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
 //! Lagrange form eq. 6.1–6.78 written in the inertial frame):
 //!
@@ -170,16 +172,18 @@ impl Bicycle {
                 contact_temp_c: u.contact_temp_c[i],
             };
             let dfz = self.load_transfer(x, i);
-            f[i] = if dfz == 0.0 {
-                let t = v.tyre.model.forces(&input);
+            let [left, right] = &v.tyre.mounted;
+            f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
+                let t = left.forces(&input);
                 TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
             } else {
-                // Each tyre at its own load (a lifted tyre carries nothing).
+                // Each tyre at its own load (a lifted tyre carries nothing); the right one
+                // (outer in a left turn) gains dz.
                 let dz = dfz.clamp(-self.fz_tyre[i], self.fz_tyre[i]);
                 let mut sum = TyreForces::default();
-                for fz in [self.fz_tyre[i] + dz, self.fz_tyre[i] - dz] {
+                for (tyre, fz) in [(right, self.fz_tyre[i] + dz), (left, self.fz_tyre[i] - dz)] {
                     if fz > 0.0 {
-                        let t = v.tyre.model.forces(&TyreInput { fz_n: fz, ..input });
+                        let t = tyre.forces(&TyreInput { fz_n: fz, ..input });
                         sum.fx_n += t.fx_n;
                         sum.fy_n += t.fy_n;
                         sum.mz_nm += t.mz_nm;

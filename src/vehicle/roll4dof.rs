@@ -44,6 +44,10 @@
 //!   axle's computed load F_i0 -+ dX negative (it is clamped to 0, both its wheels lift); the value
 //!   is that load before clamping, N.
 //!
+//! Tyres: the left wheels (FL, RL) carry the tyre mounted on the left, the right wheels its
+//! mounting on the right ([`crate::tyre::spec::Tyre::on`]: a `.tir` tyre is mirrored on the side
+//! opposite its TYRESIDE, so an axle's conicity and ply-steer offsets cancel; docs/tyres.md).
+//!
 //! Drive: the drive torque is split between the axles by the layout and within an axle equally
 //! between its wheels (open differential, gear inertia neglected); brakes by the brake balance,
 //! equally left and right. Front steering: the input is the mean road-wheel angle delta; with an
@@ -258,7 +262,7 @@ impl Roll4Dof {
                 surface_temp_c: env.surface_temp_c,
                 contact_temp_c: u.contact_temp_c[i],
             };
-            w.f[i] = v.tyre.model.forces(&input);
+            w.f[i] = v.tyre.mounted[i % 2].forces(&input); // FL, RL on the left, FR, RR on the right
             let roll_res = v.rolling_resistance * fz[i] * radius;
             let resist_max = self.brake_max[axle] + v.rolling_resistance * 0.5 * self.axle_load0[axle] * radius;
             let resist = resisting_torque(
