@@ -319,7 +319,7 @@ fn k_shift_families_are_the_published_quadratics() {
 /// (dT - 0.75 mu) S + 1.27 (eq. 5.6): 1 at small slip whatever the rise (1.27 clamped); at
 /// S = 0.5 (kappa = 1) the published 1.27 - (dT - 0.75 mu)/4 where that lies in [0, 1], and 0
 /// where it is negative (dT = 8 K: the published factor would reverse Fx); Fy untouched. A
-/// reversal is noted once, then forgotten.
+/// reversal is a departure (pure: asked again, the same answer).
 #[test]
 fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
     let plain = srtt(TyreModelKind::Dugoff);
@@ -335,20 +335,59 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
         assert!((ratio - want).abs() < 1e-12, "H at S = 0.5, dT = {dt}: {ratio} vs {want} (published {published})");
         assert_eq!(th.forces(&i).fy_n, plain.forces(&i).fy_n);
         assert!(th.forces(&i).fx_n.hypot(th.forces(&i).fy_n) <= th.peak_friction(&i) * 4000.0 * (1.0 + 1e-12));
-        let notes = th.take_run_notes();
+        let note = th.departure(&i);
         if published < 0.0 {
-            assert_eq!(notes.len(), 1, "{notes:?}");
-            assert_eq!(notes[0].0, "thermal_factor_clamped");
-            assert!(notes[0].1.contains("reverse"), "{notes:?}");
-            assert!(th.take_run_notes().is_empty(), "reported once");
+            let (kind, detail) = note.expect("a negative published H is a departure");
+            assert_eq!(kind, "thermal_factor_clamped");
+            assert!(detail.contains("reverse"), "{detail}");
+            assert_eq!(th.departure(&i).map(|n| n.0), Some(kind), "pure: the same answer again");
         } else {
-            assert!(notes.is_empty(), "dT = {dt}: {notes:?}");
+            assert!(note.is_none(), "dT = {dt}: {note:?}");
         }
+        assert!(plain.departure(&i).is_none() && !plain.reports_departures() && th.reports_departures());
     }
     assert_eq!(
         th.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)),
         plain.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0))
     );
+}
+
+/// The `thermal_factor_clamped` event carries the time of the first step at which a tyre's published
+/// H is negative, not the run's end. The sine steer on -10 degC ice with thermal Dugoff (bicycle,
+/// ATIIM contact, a row at every 5 ms step) is checked against H recomputed from the rows: the
+/// engine evaluates the state reached by a step with the inputs held over that step, i.e. row k's
+/// slip ratios with row k-1's contact temperatures; the event is at the first such row with
+/// H < 0 on either axle, and reported once.
+#[test]
+fn thermal_clamp_event_is_stamped_at_its_first_step() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/dissertation/bicycle_sine_steer_ice.toml");
+    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    file.tyre_model = "dugoff_thermal".into();
+    file.surface.temperature_c = -10.0;
+    file.sweep = None;
+    let mut cfg = file.build(&path).unwrap();
+    cfg.settings.output_interval_s = cfg.settings.step_s;
+    let out = vehsim::run::execute(&cfg);
+    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
+    let (mu, ice) = (cfg.env.mu, cfg.env.surface_temp_c); // mu_scale 1 in the SRTT file
+    let h = |kappa: f64, dt: f64| {
+        let s = if kappa >= 0.0 { kappa / (1.0 + kappa) } else { (-kappa).min(1.0) };
+        let a = dt - 0.75 * mu;
+        a * s * s - a * s + 1.27
+    };
+    let rows = &out.rows;
+    let first = (1..rows.len())
+        .find(|&k| {
+            (0..2).any(|i| {
+                let kappa = rows[k].obs.kappa[i];
+                kappa != 0.0 && h(kappa, rows[k - 1].inputs.contact_temp_c[i] - ice) < 0.0
+            })
+        })
+        .expect("the published H turns negative in this run");
+    assert_eq!(ev[0].t_s, rows[first].t_s, "{}", ev[0].detail);
+    assert!(ev[0].t_s < out.summary.end_time_s - 1.0, "stamped well before the end: {}", ev[0].t_s);
+    assert!(ev[0].detail.contains("tyre") && ev[0].detail.contains("reverse"), "{}", ev[0].detail);
 }
 
 // --------------------------------------------------------------------------------------- bad input
