@@ -89,6 +89,43 @@ fn pacejka_peak_equals_d_at_the_closed_form_slip() {
     assert!(f(kp * 0.97) < 4800.0 && f(kp * 1.03) < 4800.0);
 }
 
+/// A .tir without combined-slip coefficients (self-contained; the public file below is the same
+/// case but lives outside the project): PAC2002 reads RBX1, RCX1, RBY1, RCY1 as 0, so Gxa = Gyk = 1
+/// and each combined force is its pure-slip value exactly (Fx independent of alpha, Fy of kappa: a
+/// friction square), with a warning naming the absent coefficients; `combined = "ellipse"` asked
+/// for explicitly couples them instead.
+#[test]
+fn tir_without_combined_coefficients_is_a_warned_friction_square() {
+    let tir = "[UNITS]\nLENGTH = 'meter'\nFORCE = 'newton'\n[MODEL]\nPROPERTY_FILE_FORMAT = 'PAC2002'\n\
+               [DIMENSION]\nUNLOADED_RADIUS = 0.338\n[VERTICAL]\nFNOMIN = 4000\n[LONGITUDINAL_COEFFICIENTS]\n\
+               PCX1 = 1.5\nPDX1 = 1.2\nPEX1 = 0.3\nPKX1 = 22\n[LATERAL_COEFFICIENTS]\nPCY1 = 1.3\nPDY1 = 1.0\n\
+               PEY1 = -0.5\nPKY1 = -20\nPKY2 = 2\n";
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"t.tir\"\n");
+    let (m, warnings) = build_text("nor", &toml, Some(tir), TyreModelKind::Pacejka).unwrap();
+    let w = warnings.join("\n");
+    for n in ["RBX1", "RCX1", "RBY1", "RCY1", "PAC2002", "t.tir"] {
+        assert!(w.contains(n), "warning should name {n}: {w}");
+    }
+    let mut coupled = false;
+    for fz in [2000.0, 4000.0, 7000.0] {
+        for kappa in [-0.3, -0.05, 0.02, 0.1, 0.5] {
+            for alpha in [-0.2, -0.03, 0.01, 0.08, 0.4] {
+                let f = m.forces(&TyreInput::new(fz, kappa, alpha, 0.4));
+                assert_eq!(f.fx_n, m.forces(&TyreInput::new(fz, kappa, 0.0, 0.4)).fx_n, "Fx({kappa}, {alpha})");
+                assert_eq!(f.fy_n, m.forces(&TyreInput::new(fz, 0.0, alpha, 0.4)).fy_n, "Fy({kappa}, {alpha})");
+                coupled |= f.fx_n.abs() > 0.0 && f.fy_n.abs() > 0.0;
+            }
+        }
+    }
+    assert!(coupled, "combined rows with both forces non-zero were checked");
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"t.tir\"\ncombined = \"ellipse\"\n");
+    let (e, warnings) = build_text("nore", &toml, Some(tir), TyreModelKind::Pacejka).unwrap();
+    assert!(warnings.iter().all(|w| !w.contains("RBX1")), "{warnings:?}");
+    let (fc, fp) =
+        (e.forces(&TyreInput::new(4000.0, 0.1, 0.08, 0.4)), e.forces(&TyreInput::new(4000.0, 0.1, 0.0, 0.4)));
+    assert!(fc.fx_n < 0.9 * fp.fx_n, "the ellipse couples: {fc:?} vs pure {fp:?}");
+}
+
 /// Public PAC2002 file (Project Chrono's sedan tyre, ../shared/data/tir) against values computed
 /// independently by tests/data/pac2002_reference.py (pure-slip PAC2002 equations typed from the
 /// book; ISO file, so vehsim alpha = -alpha_file). mu_surface = mu_reference = 1. The file has no

@@ -271,3 +271,36 @@ fn conicity_cancels_on_an_axle_and_the_car_is_mirror_symmetric() {
         assert!(gap > 0.1, "{vm}: the unmirrored car should not be mirror-symmetric (gap {gap} m)");
     }
 }
+
+// ------------------------------------------------------------------------------- bad input, CLI
+
+/// Through the command line: a TYRESIDE that is neither LEFT nor RIGHT is exit code 2 with a
+/// message naming the .tir file, the key and the allowed values.
+#[test]
+fn bad_tyreside_exits_2_naming_file_and_key() {
+    let d = dir("cli");
+    std::fs::write(d.join("t.tir"), TIR.replace("SIDE_LINE", "TYRESIDE = 'BOTH'")).unwrap();
+    std::fs::write(
+        d.join("t.toml"),
+        "name = \"t\"\nunloaded_radius_m = 0.338\nrolling_radius_m = 0.328\nnominal_load_n = 4000.0\n\
+         [pacejka]\ntir_file = \"t.tir\"\n",
+    )
+    .unwrap();
+    let spec = d.join("curves.toml");
+    std::fs::write(
+        &spec,
+        "name = \"c\"\ntyre_file = \"t.toml\"\nproviders = [\"pacejka\"]\nloads_n = [4000.0]\n\
+         mu_surface = 0.15\nslip_ratio = { min = 0.0, max = 0.4, points = 11 }\n\
+         slip_angle_deg = { min = 0.0, max = 10.0, points = 11 }\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vehsim"))
+        .args(["tyre", spec.to_str().unwrap(), "--out", d.join("out").to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("t.tir") && err.contains("TYRESIDE") && err.contains("'LEFT', 'RIGHT'"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
