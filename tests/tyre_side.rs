@@ -19,9 +19,11 @@ fn dir(tag: &str) -> PathBuf {
     d
 }
 
-fn build(tag: &str, side_line: &str) -> vehsim::Result<PacejkaTyre> {
+/// A folder holding `t.tir` (text `tir`) and the tyre file `t.toml` whose `[pacejka]` reads it
+/// (with the aligning moment); returns (folder, t.toml).
+fn tyre_files(tag: &str, tir: &str) -> (PathBuf, PathBuf) {
     let d = dir(tag);
-    std::fs::write(d.join("t.tir"), TIR.replace("SIDE_LINE", side_line)).unwrap();
+    std::fs::write(d.join("t.tir"), tir).unwrap();
     let p = d.join("t.toml");
     std::fs::write(
         &p,
@@ -29,6 +31,11 @@ fn build(tag: &str, side_line: &str) -> vehsim::Result<PacejkaTyre> {
          [pacejka]\ntir_file = \"t.tir\"\naligning_moment = true\n",
     )
     .unwrap();
+    (d, p)
+}
+
+fn build(tag: &str, side_line: &str) -> vehsim::Result<PacejkaTyre> {
+    let (d, p) = tyre_files(tag, &TIR.replace("SIDE_LINE", side_line));
     let r = TyreFileSpec::load(&p).and_then(|s| s.build_pacejka(&p)).map(|(t, _)| t);
     std::fs::remove_dir_all(&d).unwrap();
     r
@@ -172,20 +179,12 @@ use vehsim::tyre::TyreModelKind;
 /// The SRTT-like test tyre of `TIR` with only the lateral offset PVY1 = `pvy1` (conicity /
 /// ply-steer: Fy = PVY1 mu_y Fz at zero slip), measured on `side`.
 fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::spec::Tyre {
-    let d = dir(tag);
     let tir = TIR
         .replace("SIDE_LINE", &format!("TYRESIDE = '{side}'"))
         .replace("PHX1 = 0.001\n", "")
         .replace("PHY1 = 0.003\nPVY1 = 0.02\nPVY3 = -0.1\n", &format!("PVY1 = {pvy1}\n"))
         .replace("QHZ1 = 0.002\nQDZ6 = 0.003\n", "");
-    std::fs::write(d.join("t.tir"), tir).unwrap();
-    let p = d.join("t.toml");
-    std::fs::write(
-        &p,
-        "name = \"t\"\nunloaded_radius_m = 0.338\nrolling_radius_m = 0.328\nnominal_load_n = 4000.0\n\
-         [pacejka]\ntir_file = \"t.tir\"\nmu_reference = 1.0\naligning_moment = true\n",
-    )
-    .unwrap();
+    let (d, p) = tyre_files(tag, &tir);
     let t = TyreFileSpec::load(&p).and_then(|s| s.build(&p, TyreModelKind::Pacejka)).unwrap();
     std::fs::remove_dir_all(&d).unwrap();
     t
@@ -278,14 +277,7 @@ fn conicity_cancels_on_an_axle_and_the_car_is_mirror_symmetric() {
 /// message naming the .tir file, the key and the allowed values.
 #[test]
 fn bad_tyreside_exits_2_naming_file_and_key() {
-    let d = dir("cli");
-    std::fs::write(d.join("t.tir"), TIR.replace("SIDE_LINE", "TYRESIDE = 'BOTH'")).unwrap();
-    std::fs::write(
-        d.join("t.toml"),
-        "name = \"t\"\nunloaded_radius_m = 0.338\nrolling_radius_m = 0.328\nnominal_load_n = 4000.0\n\
-         [pacejka]\ntir_file = \"t.tir\"\n",
-    )
-    .unwrap();
+    let (d, _) = tyre_files("cli", &TIR.replace("SIDE_LINE", "TYRESIDE = 'BOTH'"));
     let spec = d.join("curves.toml");
     std::fs::write(
         &spec,
