@@ -211,9 +211,10 @@ mf_coefficients! {
 }
 
 impl MfCoefficients {
-    /// (name, value) of the coefficients that make a tyre differ from its mirror image (y -> -y: alpha, camber, Fy
-    /// and Mz change sign, kappa and Fx do not). Each adds a term that is even in (alpha, camber)
-    /// to Fy or Mz, or odd to Fx, or makes a shape factor depend on the sign of alpha or camber:
+    /// (name, value) of the coefficients that make a tyre differ from its mirror image (y -> -y:
+    /// alpha, camber, Fy and Mz change sign, kappa and Fx do not). Each adds a term that is even in
+    /// (alpha, camber) to Fy or Mz, or odd to Fx, or makes a shape factor depend on the sign of
+    /// alpha or camber:
     /// the zero-slip shifts of Fy (PHY1, PHY2, PVY1, PVY2: conicity and ply steer), the Ey
     /// asymmetry PEY3, the Gxa shift RHX1, the Gyk slope shift RBY3, the kappa-induced side force
     /// at zero camber (RVY1, RVY2), the trail shift (QHZ1, QHZ2), the camber-linear trail terms
