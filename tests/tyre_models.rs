@@ -394,7 +394,8 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
 /// ATIIM contact, a row at every 5 ms step) is checked against H recomputed from the rows: the
 /// engine evaluates the state reached by a step with the inputs held over that step, i.e. row k's
 /// slip ratios with row k-1's contact temperatures; the event is at the first such row with
-/// H < 0 on either axle, and reported once.
+/// H < 0 on either axle, and reported once. The same run on the 4-DOF model reports it once too,
+/// naming the driven front wheel.
 #[test]
 fn thermal_clamp_event_is_stamped_at_its_first_step() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/dissertation/bicycle_sine_steer_ice.toml");
@@ -425,6 +426,14 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     assert_eq!(ev[0].t_s, rows[first].t_s, "{}", ev[0].detail);
     assert!(ev[0].t_s < out.summary.end_time_s - 1.0, "stamped well before the end: {}", ev[0].t_s);
     assert!(ev[0].detail.contains("tyre") && ev[0].detail.contains("reverse"), "{}", ev[0].detail);
+    // The 4-DOF model names the wheel; its rows hold axle means, so only the stamp's place in the
+    // run and its uniqueness are checked there.
+    file.vehicle_model = Some("roll4dof".into());
+    let out = vehsim::run::execute(&file.build(&path).unwrap());
+    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
+    assert!(ev[0].t_s > 0.0 && ev[0].t_s < out.summary.end_time_s - 1.0, "{}", ev[0].t_s);
+    assert!(["front-left", "front-right"].iter().any(|w| ev[0].detail.starts_with(w)), "{}", ev[0].detail);
 }
 
 // --------------------------------------------------------------------------------------- bad input

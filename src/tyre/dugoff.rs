@@ -202,7 +202,8 @@ impl TyreModel for DugoffThermalTyre {
     /// `thermal_factor_clamped` where the published H is negative and there is an Fx to reverse.
     fn departure(&self, i: &TyreInput) -> Option<(&'static str, String)> {
         let (_, h) = self.h_used(i);
-        if !(h < 0.0) || self.base.dugoff(i).0 == 0.0 {
+        let reverses = h < 0.0; // false for a NaN H
+        if !reverses || self.base.dugoff(i).0 == 0.0 {
             return None;
         }
         let (dt, kappa) = (i.delta_t_k(), i.kappa);

@@ -433,10 +433,10 @@ impl VehicleModel<N> for Roll4Dof {
             return;
         }
         let w = self.wheels(x, u, env);
-        for i in 0..4 {
+        for (i, wheel) in WHEELS.iter().enumerate() {
             let input = tyre_input(x, u, env, i, w.fz[i], w.alpha[i], w.vxw[i]);
             if let Some((kind, detail)) = tyre.mounted[i % 2].departure(&input) {
-                out.push((kind, format!("{} tyre: {detail}", WHEELS[i])));
+                out.push((kind, format!("{wheel} tyre: {detail}")));
             }
         }
     }
