@@ -134,8 +134,6 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
             Ok(c) => (c, None),
             Err(e) => (Box::new(Isothermal), Some(e.to_string())),
         };
-    let tyre = &cfg.vehicle.tyre.model;
-    tyre.take_run_notes(); // forget anything from an earlier run of the same provider
     let windows = maneuver.steady_state_windows();
     let mut plausibility = Plausibility::for_run(cfg);
     // Rows are kept only when someone reads them (the time series or the steady-state means); the
@@ -144,9 +142,6 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
         if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
     let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
-    for (kind, detail) in tyre.take_run_notes() {
-        summary.events.push(Event { t_s: summary.end_time_s, kind: kind.into(), detail });
-    }
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
     }

@@ -89,6 +89,43 @@ fn pacejka_peak_equals_d_at_the_closed_form_slip() {
     assert!(f(kp * 0.97) < 4800.0 && f(kp * 1.03) < 4800.0);
 }
 
+/// A .tir without combined-slip coefficients (self-contained; the public file below is the same
+/// case but lives outside the project): PAC2002 reads RBX1, RCX1, RBY1, RCY1 as 0, so Gxa = Gyk = 1
+/// and each combined force is its pure-slip value exactly (Fx independent of alpha, Fy of kappa: a
+/// friction square), with a warning naming the absent coefficients; `combined = "ellipse"` asked
+/// for explicitly couples them instead.
+#[test]
+fn tir_without_combined_coefficients_is_a_warned_friction_square() {
+    let tir = "[UNITS]\nLENGTH = 'meter'\nFORCE = 'newton'\n[MODEL]\nPROPERTY_FILE_FORMAT = 'PAC2002'\n\
+               [DIMENSION]\nUNLOADED_RADIUS = 0.338\n[VERTICAL]\nFNOMIN = 4000\n[LONGITUDINAL_COEFFICIENTS]\n\
+               PCX1 = 1.5\nPDX1 = 1.2\nPEX1 = 0.3\nPKX1 = 22\n[LATERAL_COEFFICIENTS]\nPCY1 = 1.3\nPDY1 = 1.0\n\
+               PEY1 = -0.5\nPKY1 = -20\nPKY2 = 2\n";
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"t.tir\"\n");
+    let (m, warnings) = build_text("nor", &toml, Some(tir), TyreModelKind::Pacejka).unwrap();
+    let w = warnings.join("\n");
+    for n in ["RBX1", "RCX1", "RBY1", "RCY1", "PAC2002", "t.tir"] {
+        assert!(w.contains(n), "warning should name {n}: {w}");
+    }
+    let mut coupled = false;
+    for fz in [2000.0, 4000.0, 7000.0] {
+        for kappa in [-0.3, -0.05, 0.02, 0.1, 0.5] {
+            for alpha in [-0.2, -0.03, 0.01, 0.08, 0.4] {
+                let f = m.forces(&TyreInput::new(fz, kappa, alpha, 0.4));
+                assert_eq!(f.fx_n, m.forces(&TyreInput::new(fz, kappa, 0.0, 0.4)).fx_n, "Fx({kappa}, {alpha})");
+                assert_eq!(f.fy_n, m.forces(&TyreInput::new(fz, 0.0, alpha, 0.4)).fy_n, "Fy({kappa}, {alpha})");
+                coupled |= f.fx_n.abs() > 0.0 && f.fy_n.abs() > 0.0;
+            }
+        }
+    }
+    assert!(coupled, "combined rows with both forces non-zero were checked");
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"t.tir\"\ncombined = \"ellipse\"\n");
+    let (e, warnings) = build_text("nore", &toml, Some(tir), TyreModelKind::Pacejka).unwrap();
+    assert!(warnings.iter().all(|w| !w.contains("RBX1")), "{warnings:?}");
+    let (fc, fp) =
+        (e.forces(&TyreInput::new(4000.0, 0.1, 0.08, 0.4)), e.forces(&TyreInput::new(4000.0, 0.1, 0.0, 0.4)));
+    assert!(fc.fx_n < 0.9 * fp.fx_n, "the ellipse couples: {fc:?} vs pure {fp:?}");
+}
+
 /// Public PAC2002 file (Project Chrono's sedan tyre, ../shared/data/tir) against values computed
 /// independently by tests/data/pac2002_reference.py (pure-slip PAC2002 equations typed from the
 /// book; ISO file, so vehsim alpha = -alpha_file). mu_surface = mu_reference = 1. The file has no
@@ -319,7 +356,7 @@ fn k_shift_families_are_the_published_quadratics() {
 /// (dT - 0.75 mu) S + 1.27 (eq. 5.6): 1 at small slip whatever the rise (1.27 clamped); at
 /// S = 0.5 (kappa = 1) the published 1.27 - (dT - 0.75 mu)/4 where that lies in [0, 1], and 0
 /// where it is negative (dT = 8 K: the published factor would reverse Fx); Fy untouched. A
-/// reversal is noted once, then forgotten.
+/// reversal is a departure (pure: asked again, the same answer).
 #[test]
 fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
     let plain = srtt(TyreModelKind::Dugoff);
@@ -335,20 +372,68 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
         assert!((ratio - want).abs() < 1e-12, "H at S = 0.5, dT = {dt}: {ratio} vs {want} (published {published})");
         assert_eq!(th.forces(&i).fy_n, plain.forces(&i).fy_n);
         assert!(th.forces(&i).fx_n.hypot(th.forces(&i).fy_n) <= th.peak_friction(&i) * 4000.0 * (1.0 + 1e-12));
-        let notes = th.take_run_notes();
+        let note = th.departure(&i);
         if published < 0.0 {
-            assert_eq!(notes.len(), 1, "{notes:?}");
-            assert_eq!(notes[0].0, "thermal_factor_clamped");
-            assert!(notes[0].1.contains("reverse"), "{notes:?}");
-            assert!(th.take_run_notes().is_empty(), "reported once");
+            let (kind, detail) = note.expect("a negative published H is a departure");
+            assert_eq!(kind, "thermal_factor_clamped");
+            assert!(detail.contains("reverse"), "{detail}");
+            assert_eq!(th.departure(&i).map(|n| n.0), Some(kind), "pure: the same answer again");
         } else {
-            assert!(notes.is_empty(), "dT = {dt}: {notes:?}");
+            assert!(note.is_none(), "dT = {dt}: {note:?}");
         }
+        assert!(plain.departure(&i).is_none() && !plain.reports_departures() && th.reports_departures());
     }
     assert_eq!(
         th.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0)),
         plain.longitudinal_stiffness(&heated(4000.0, 0.0, 0.0, 0.0))
     );
+}
+
+/// The `thermal_factor_clamped` event carries the time of the first step at which a tyre's published
+/// H is negative, not the run's end. The sine steer on -10 degC ice with thermal Dugoff (bicycle,
+/// ATIIM contact, a row at every 5 ms step) is checked against H recomputed from the rows: the
+/// engine evaluates the state reached by a step with the inputs held over that step, i.e. row k's
+/// slip ratios with row k-1's contact temperatures; the event is at the first such row with
+/// H < 0 on either axle, and reported once. The same run on the 4-DOF model reports it once too,
+/// naming the driven front wheel.
+#[test]
+fn thermal_clamp_event_is_stamped_at_its_first_step() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/dissertation/bicycle_sine_steer_ice.toml");
+    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    file.tyre_model = "dugoff_thermal".into();
+    file.surface.temperature_c = -10.0;
+    file.sweep = None;
+    let mut cfg = file.build(&path).unwrap();
+    cfg.settings.output_interval_s = cfg.settings.step_s;
+    let out = vehsim::run::execute(&cfg);
+    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
+    let (mu, ice) = (cfg.env.mu, cfg.env.surface_temp_c); // mu_scale 1 in the SRTT file
+    let h = |kappa: f64, dt: f64| {
+        let s = if kappa >= 0.0 { kappa / (1.0 + kappa) } else { (-kappa).min(1.0) };
+        let a = dt - 0.75 * mu;
+        a * s * s - a * s + 1.27
+    };
+    let rows = &out.rows;
+    let first = (1..rows.len())
+        .find(|&k| {
+            (0..2).any(|i| {
+                let kappa = rows[k].obs.kappa[i];
+                kappa != 0.0 && h(kappa, rows[k - 1].inputs.contact_temp_c[i] - ice) < 0.0
+            })
+        })
+        .expect("the published H turns negative in this run");
+    assert_eq!(ev[0].t_s, rows[first].t_s, "{}", ev[0].detail);
+    assert!(ev[0].t_s < out.summary.end_time_s - 1.0, "stamped well before the end: {}", ev[0].t_s);
+    assert!(ev[0].detail.contains("tyre") && ev[0].detail.contains("reverse"), "{}", ev[0].detail);
+    // The 4-DOF model names the wheel; its rows hold axle means, so only the stamp's place in the
+    // run and its uniqueness are checked there.
+    file.vehicle_model = Some("roll4dof".into());
+    let out = vehsim::run::execute(&file.build(&path).unwrap());
+    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
+    assert!(ev[0].t_s > 0.0 && ev[0].t_s < out.summary.end_time_s - 1.0, "{}", ev[0].t_s);
+    assert!(["front-left", "front-right"].iter().any(|w| ev[0].detail.starts_with(w)), "{}", ev[0].detail);
 }
 
 // --------------------------------------------------------------------------------------- bad input

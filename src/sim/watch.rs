@@ -7,6 +7,9 @@
 //! holds for many steps gives one onset, not one event per step. A condition that flaps (starts
 //! more than [`MAX_ONSETS`] times in a run) is then reported once more as `events_suppressed` and
 //! no longer, so a summary never floods.
+//!
+//! The model's one-off notes ([`VehicleModel::notes`], e.g. a tyre clamping its published law) are
+//! checked at the same instants; each kind is reported once per run, at the first state showing it.
 
 use nalgebra::SVector;
 
@@ -22,6 +25,9 @@ pub struct Watch {
     buf: Vec<Condition>,
     active: Vec<bool>,
     onsets: Vec<u32>,
+    notes: Vec<(&'static str, String)>,
+    /// Note kinds already reported.
+    noted: Vec<&'static str>,
 }
 
 impl Watch {
@@ -66,6 +72,13 @@ impl Watch {
             }
             let kind = if c.active { c.onset } else { c.recovery };
             events.push(Event { t_s, kind: kind.into(), detail: c.detail() });
+        }
+        model.notes(x, u, env, &mut self.notes);
+        for (kind, detail) in self.notes.drain(..) {
+            if !self.noted.contains(&kind) {
+                self.noted.push(kind);
+                events.push(Event { t_s, kind: kind.into(), detail });
+            }
         }
     }
 }

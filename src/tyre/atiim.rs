@@ -32,7 +32,7 @@
 //! (5/3 + 1/3 + 1/8)/3 = 17/24); none: a = 0, b = 1 (linear in the rise). Derivation, calibration
 //! and what the dissertation leaves out: docs/tyres.md.
 
-use super::pacejka::{PacejkaTyre, Scale};
+use super::pacejka::{PacejkaTyre, Scale, TyreSide};
 use super::{TyreForces, TyreInput, TyreModel};
 
 /// Smallest melting margin used in the law, K: ice at -0.1 degC or warmer (and a non-ice surface)
@@ -151,6 +151,14 @@ pub struct AtiimPacejkaTyre {
     pub base: PacejkaTyre,
     /// The temperature law applied on top.
     pub law: MeltLaw,
+}
+
+impl AtiimPacejkaTyre {
+    /// The same tyre mounted on `side`: the base curve mounted there ([`PacejkaTyre::mounted_on`]),
+    /// the same temperature law (it acts on the peak and stiffness scales, which are even in y).
+    pub fn mounted_on(&self, side: TyreSide) -> Self {
+        Self { base: self.base.mounted_on(side), law: self.law }
+    }
 }
 
 impl TyreModel for AtiimPacejkaTyre {

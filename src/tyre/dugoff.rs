@@ -33,10 +33,8 @@
 //! fitted at no heating, and the plain Dugoff force is already bounded by mu Fz) and at least 0
 //! (friction opposes the slip; it cannot turn into a driving force in the slip direction). So the
 //! longitudinal stiffness is C_k min(1, 1.27) = C_k and |F| <= mu Fz. An input at which the
-//! published H is negative is remembered by the provider and reported once per run as the event
-//! `thermal_factor_clamped` (see [`TyreModel::take_run_notes`]).
-
-use std::sync::Mutex;
+//! published H is negative is a departure ([`TyreModel::departure`]): the run reports it once as
+//! the event `thermal_factor_clamped`, at the first step where a tyre's state shows it.
 
 use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
@@ -148,38 +146,24 @@ impl TyreModel for DugoffTyre {
 
 /// Dugoff with the dissertation's temperature factor H on Fx (eq. 5.5–5.6), H clamped to [0, 1];
 /// see the module docs.
-#[derive(Debug)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DugoffThermalTyre {
     /// The underlying Dugoff tyre.
     pub base: DugoffTyre,
     /// The factor H.
     pub h: ThermalFactor,
-    /// The first input of the run at which the published H was negative: (dT in K, kappa, H).
-    reversal: Mutex<Option<(f64, f64, f64)>>,
 }
 
 impl DugoffThermalTyre {
-    /// A thermal Dugoff tyre with nothing to report yet.
+    /// A thermal Dugoff tyre.
     pub fn new(base: DugoffTyre, h: ThermalFactor) -> Self {
-        Self { base, h, reversal: Mutex::new(None) }
+        Self { base, h }
     }
 
     /// H as applied, clamp(H, 0, 1) (a NaN H gives 0), with the published value.
     fn h_used(&self, i: &TyreInput) -> (f64, f64) {
         let h = self.h.h(i.kappa, i.delta_t_k(), self.base.mu(i));
         (if h > 0.0 { h.min(1.0) } else { 0.0 }, h)
-    }
-}
-
-impl Clone for DugoffThermalTyre {
-    fn clone(&self) -> Self {
-        Self::new(self.base.clone(), self.h)
-    }
-}
-
-impl PartialEq for DugoffThermalTyre {
-    fn eq(&self, o: &Self) -> bool {
-        self.base == o.base && self.h == o.h
     }
 }
 
@@ -193,12 +177,7 @@ impl TyreModel for DugoffThermalTyre {
         if fx == 0.0 {
             return TyreForces { fx_n: 0.0, fy_n: fy, mz_nm: 0.0 };
         }
-        let (h, published) = self.h_used(i);
-        if published < 0.0 {
-            if let Ok(mut r) = self.reversal.lock() {
-                r.get_or_insert((i.delta_t_k(), i.kappa, published));
-            }
-        }
+        let (h, _) = self.h_used(i);
         TyreForces { fx_n: fx * h, fy_n: fy, mz_nm: 0.0 }
     }
 
@@ -216,16 +195,23 @@ impl TyreModel for DugoffThermalTyre {
         self.base.cornering_stiffness(i)
     }
 
-    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
-        let first = self.reversal.lock().ok().and_then(|mut r| r.take());
-        match first {
-            Some((dt, kappa, h)) => vec![(
-                "thermal_factor_clamped",
-                format!(
-                    "dugoff_thermal: the published H ({h:.3e}) would reverse Fx (first at Delta-T {dt:.2} K, kappa {kappa:.3}); H is clamped to [0, 1]"
-                ),
-            )],
-            None => Vec::new(),
+    fn reports_departures(&self) -> bool {
+        true
+    }
+
+    /// `thermal_factor_clamped` where the published H is negative and there is an Fx to reverse.
+    fn departure(&self, i: &TyreInput) -> Option<(&'static str, String)> {
+        let (_, h) = self.h_used(i);
+        let reverses = h < 0.0; // false for a NaN H
+        if !reverses || self.base.dugoff(i).0 == 0.0 {
+            return None;
         }
+        let (dt, kappa) = (i.delta_t_k(), i.kappa);
+        Some((
+            "thermal_factor_clamped",
+            format!(
+                "dugoff_thermal: the published H ({h:.3e}) would reverse Fx (Delta-T {dt:.2} K, kappa {kappa:.3}); H is clamped to [0, 1]"
+            ),
+        ))
     }
 }

@@ -32,7 +32,7 @@ pub mod tir;
 pub use atiim::{AtiimPacejkaTyre, KShift};
 pub use dugoff::{DugoffThermalTyre, DugoffTyre};
 pub use linear::LinearTyre;
-pub use pacejka::PacejkaTyre;
+pub use pacejka::{PacejkaTyre, TyreSide};
 pub use polynomial::PolynomialTyre;
 pub use spec::{TyreFileSpec, TyreModelKind};
 pub use sweep::run_tyre_command;
@@ -108,11 +108,18 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// dFy/dalpha at zero slip for this input's load and conditions, N/rad.
     fn cornering_stiffness(&self, input: &TyreInput) -> f64;
 
-    /// What the provider noticed since the last call, as (event kind, detail) pairs, and forget it.
-    /// The run calls it once before and once after simulating, so each note is reported once per
-    /// run (thermal Dugoff: a force the published H would reverse). The notes do not change any
-    /// force. Default: nothing.
-    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
-        Vec::new()
+    /// Whether [`Self::departure`] can report anything for this provider (false: the vehicle
+    /// models need not ask). Default: false.
+    fn reports_departures(&self) -> bool {
+        false
+    }
+
+    /// Where the provider departs from its published law at this input, as (event kind, detail):
+    /// thermal Dugoff where the published H would reverse Fx and is clamped. Pure, like
+    /// [`Self::forces`]; the vehicle models ask it per tyre at every step and the engine reports
+    /// each kind once per run, at the first step it holds ([`crate::vehicle::VehicleModel::notes`]).
+    /// It does not change any force. Default: none.
+    fn departure(&self, _i: &TyreInput) -> Option<(&'static str, String)> {
+        None
     }
 }

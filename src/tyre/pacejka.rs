@@ -43,6 +43,8 @@
 //! TYRESIDE = 'LEFT'` or `'RIGHT'`, LEFT when absent); the same tyre mounted on the other side is
 //! its mirror image (y -> -y): Fx(-alpha, -camber), -Fy(-alpha, -camber), -Mz(-alpha, -camber)
 //! ([`PacejkaTyre::mounted_on`]), so conicity and ply-steer do not act the same way on both sides.
+//! The vehicle models mount it per wheel (docs/tyres.md, "Tyre side"); a tyre without
+//! side-dependent coefficients ([`MfCoefficients::side_dependent`]) is its own mirror image.
 //!
 //! Combined slip without R-coefficients. PAC2002 implementations read an absent coefficient as 0,
 //! so a file without RBX1/RCX1 (RBY1/RCY1) has Gxa = cos(0) = 1 (Gyk = 1): no interaction, each
@@ -208,6 +210,41 @@ mf_coefficients! {
     rvy6 = "RVY6", Some(0.0), "Variation of SVyk with atan(kappa).";
 }
 
+impl MfCoefficients {
+    /// (name, value) of the coefficients that make a tyre differ from its mirror image (y -> -y:
+    /// alpha, camber, Fy and Mz change sign, kappa and Fx do not). Each adds a term that is even in
+    /// (alpha, camber) to Fy or Mz, or odd to Fx, or makes a shape factor depend on the sign of
+    /// alpha or camber:
+    /// the zero-slip shifts of Fy (PHY1, PHY2, PVY1, PVY2: conicity and ply steer), the Ey
+    /// asymmetry PEY3, the Gxa shift RHX1, the Gyk slope shift RBY3, the kappa-induced side force
+    /// at zero camber (RVY1, RVY2), the trail shift (QHZ1, QHZ2), the camber-linear trail terms
+    /// QBZ4, QDZ3, the trail-curvature asymmetry QEZ4, the residual moment at zero camber (QDZ6,
+    /// QDZ7) and the Fx moment arm at zero camber SSZ1. With all of them 0 the formulas are odd in
+    /// (alpha, camber) for Fy and Mz and even for Fx (tests/tyre_side.rs checks both the list and
+    /// that no other coefficient breaks the symmetry).
+    pub fn side_dependent(&self) -> [(&'static str, f64); 17] {
+        [
+            ("PHY1", self.phy1),
+            ("PHY2", self.phy2),
+            ("PVY1", self.pvy1),
+            ("PVY2", self.pvy2),
+            ("PEY3", self.pey3),
+            ("RHX1", self.rhx1),
+            ("RBY3", self.rby3),
+            ("RVY1", self.rvy1),
+            ("RVY2", self.rvy2),
+            ("QHZ1", self.qhz1),
+            ("QHZ2", self.qhz2),
+            ("QBZ4", self.qbz4),
+            ("QDZ3", self.qdz3),
+            ("QEZ4", self.qez4),
+            ("QDZ6", self.qdz6),
+            ("QDZ7", self.qdz7),
+            ("SSZ1", self.ssz1),
+        ]
+    }
+}
+
 /// How combined slip is formed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Combination {
@@ -237,13 +274,19 @@ impl Scale {
     pub const ONE: Scale = Scale { mu_x: 1.0, k_x: 1.0, mu_y: 1.0, k_y: 1.0 };
 }
 
-/// Side of the vehicle a tyre property file was measured for (`.tir` `[MODEL] TYRESIDE`).
+/// Side of the vehicle: the side a tyre property file was measured for (`.tir` `[MODEL]
+/// TYRESIDE`) or the side a wheel is on (left: +y).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TyreSide {
     /// `TYRESIDE = 'LEFT'` (the PAC2002 default when the key is absent).
-    Left,
+    Left = 0,
     /// `TYRESIDE = 'RIGHT'`.
-    Right,
+    Right = 1,
+}
+
+impl TyreSide {
+    /// Left, then right.
+    pub const BOTH: [TyreSide; 2] = [TyreSide::Left, TyreSide::Right];
 }
 
 /// A built Magic Formula tyre with per-file constants precomputed.
@@ -337,6 +380,13 @@ impl PacejkaTyre {
     /// Whether this instance evaluates the mirrored tyre.
     pub fn is_mirrored(&self) -> bool {
         self.mirror < 0.0
+    }
+
+    /// Whether the coefficients are mirror-symmetric: every coefficient of
+    /// [`MfCoefficients::side_dependent`] is 0, so the tyre equals its mirror image (the same
+    /// forces on either side of the car) and [`Self::mounted_on`] need not mirror it.
+    pub fn is_mirror_symmetric(&self) -> bool {
+        self.coeffs.side_dependent().iter().all(|&(_, v)| v == 0.0)
     }
 
     /// Scaled nominal load Fz0' = FNOMIN LFZO, N.

@@ -312,8 +312,25 @@ pub struct Tyre {
     pub nominal_load_n: f64,
     /// Longitudinal relaxation length, m.
     pub relaxation_length_x_m: f64,
-    /// The force provider.
+    /// The force provider, as measured (a `.tir` tyre on the side its TYRESIDE names).
     pub model: Arc<dyn TyreModel>,
+    /// The provider mounted on the vehicle's left and right wheels ([`Tyre::on`]): for a Magic
+    /// Formula tyre with side-dependent coefficients the measured tyre on its own side and its
+    /// mirror image on the other; for every other tyre `model` itself on both sides.
+    pub mounted: [Arc<dyn TyreModel>; 2],
+}
+
+impl Tyre {
+    /// The provider of a wheel on `side` of the vehicle.
+    #[inline]
+    pub fn on(&self, side: TyreSide) -> &Arc<dyn TyreModel> {
+        &self.mounted[side as usize]
+    }
+
+    /// Whether the left and right wheels carry the same provider (no side-dependent coefficients).
+    pub fn same_on_both_sides(&self) -> bool {
+        Arc::ptr_eq(&self.mounted[0], &self.mounted[1])
+    }
 }
 
 impl TyreFileSpec {
@@ -341,6 +358,8 @@ impl TyreFileSpec {
         )?;
         c.positive("nominal_load_n", self.nominal_load_n)?;
         c.range("relaxation_length_x_m", self.relaxation_length_x_m, 0.01, 2.0)?;
+        // Set by the Magic Formula providers when the tyre differs from its mirror image.
+        let mut sided: Option<[Arc<dyn TyreModel>; 2]> = None;
         let model: Arc<dyn TyreModel> = match kind {
             TyreModelKind::Linear => {
                 let s = self.linear.as_ref().ok_or_else(|| missing(path, "linear"))?;
@@ -364,6 +383,9 @@ impl TyreFileSpec {
             TyreModelKind::Pacejka => {
                 let (t, w) = self.build_pacejka(path)?;
                 warnings.extend(w);
+                if !t.is_mirror_symmetric() {
+                    sided = Some(TyreSide::BOTH.map(|s| Arc::new(t.mounted_on(s)) as Arc<dyn TyreModel>));
+                }
                 Arc::new(t)
             }
             TyreModelKind::Dugoff => Arc::new(self.build_dugoff(path)?),
@@ -371,9 +393,13 @@ impl TyreFileSpec {
             TyreModelKind::AtiimPacejka => {
                 let (t, w) = self.build_atiim(path)?;
                 warnings.extend(w);
+                if !t.base.is_mirror_symmetric() {
+                    sided = Some(TyreSide::BOTH.map(|s| Arc::new(t.mounted_on(s)) as Arc<dyn TyreModel>));
+                }
                 Arc::new(t)
             }
         };
+        let mounted = sided.unwrap_or_else(|| [model.clone(), model.clone()]);
         let tyre = Tyre {
             name: self.name.clone(),
             rolling_radius_m: self.rolling_radius_m,
@@ -381,6 +407,7 @@ impl TyreFileSpec {
             nominal_load_n: self.nominal_load_n,
             relaxation_length_x_m: self.relaxation_length_x_m,
             model,
+            mounted,
         };
         Ok((tyre, warnings))
     }

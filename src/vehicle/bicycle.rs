@@ -4,8 +4,10 @@
 //! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios, front
 //! and rear relaxed axle lateral forces (N; used only with a lateral relaxation length) and the
 //! lagged road-wheel angle (rad; used only with a steering lag).
-//! Each axle carries two identical tyres at half the axle load; the axle force is twice the tyre
-//! force. Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
+//! Each axle carries two tyres at half the axle load, one mounted on the left and one on the
+//! right ([`crate::tyre::spec::Tyre::on`]), both at the axle's slip: the axle force is their sum,
+//! twice the tyre force for a tyre that is its own mirror image; for a `.tir` tyre with
+//! side-dependent coefficients the mirrored pair cancels conicity and ply steer (docs/tyres.md). Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
 //! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
 //! Lagrange form eq. 6.1–6.78 written in the inertial frame):
 //!
@@ -145,7 +147,6 @@ impl Bicycle {
         let vr = (vx, vy - v.b_m * r);
         let vxw = [vf.0, vr.0];
         let alpha = [slip_angle(vf.0, vf.1), slip_angle(vr.0, vr.1)];
-        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
         let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
         let front_share = v.drive_front_share();
         let drive = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
@@ -154,32 +155,20 @@ impl Bicycle {
         let mut f = [TyreForces::default(); 2];
         let mut torque = [0.0; 2];
         for i in 0..2 {
-            let mut mu = env.mu * v.lateral.mu_scale;
-            if v.lateral.thermal_mu_per_k != 0.0 {
-                let rise = u.contact_temp_c[i] - env.surface_temp_c;
-                mu *= lateral::thermal_friction_factor(v.lateral.thermal_mu_per_k, rise);
-            }
-            let input = TyreInput {
-                fz_n: self.fz_tyre[i],
-                kappa: kappa[i],
-                alpha_rad: alpha[i],
-                camber_rad: 0.0,
-                vx_mps: vxw[i],
-                mu_surface: mu,
-                surface_temp_c: env.surface_temp_c,
-                contact_temp_c: u.contact_temp_c[i],
-            };
+            let input = self.tyre_input(x, u, env, i, alpha[i], vxw[i]);
             let dfz = self.load_transfer(x, i);
-            f[i] = if dfz == 0.0 {
-                let t = v.tyre.model.forces(&input);
+            let [left, right] = &v.tyre.mounted;
+            f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
+                let t = left.forces(&input);
                 TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
             } else {
-                // Each tyre at its own load (a lifted tyre carries nothing).
+                // Each tyre at its own load (a lifted tyre carries nothing); the right one
+                // (outer in a left turn) gains dz.
                 let dz = dfz.clamp(-self.fz_tyre[i], self.fz_tyre[i]);
                 let mut sum = TyreForces::default();
-                for fz in [self.fz_tyre[i] + dz, self.fz_tyre[i] - dz] {
+                for (tyre, fz) in [(right, self.fz_tyre[i] + dz), (left, self.fz_tyre[i] - dz)] {
                     if fz > 0.0 {
-                        let t = v.tyre.model.forces(&TyreInput { fz_n: fz, ..input });
+                        let t = tyre.forces(&TyreInput { fz_n: fz, ..input });
                         sum.fx_n += t.fx_n;
                         sum.fy_n += t.fy_n;
                         sum.mz_nm += t.mz_nm;
@@ -193,6 +182,35 @@ impl Bicycle {
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
         }
         Axles { vxw, alpha, f, torque, cos_d, sin_d }
+    }
+
+    /// The input of axle `i`'s tyres at its static load share, slip angle `alpha` (rad) and
+    /// wheel-axis forward speed `vxw` (m/s).
+    fn tyre_input(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        i: usize,
+        alpha: f64,
+        vxw: f64,
+    ) -> TyreInput {
+        let lat = &self.vehicle.lateral;
+        let mut mu = env.mu * lat.mu_scale;
+        if lat.thermal_mu_per_k != 0.0 {
+            let rise = u.contact_temp_c[i] - env.surface_temp_c;
+            mu *= lateral::thermal_friction_factor(lat.thermal_mu_per_k, rise);
+        }
+        TyreInput {
+            fz_n: self.fz_tyre[i],
+            kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
+            alpha_rad: alpha,
+            camber_rad: 0.0,
+            vx_mps: vxw,
+            mu_surface: mu,
+            surface_temp_c: env.surface_temp_c,
+            contact_temp_c: u.contact_temp_c[i],
+        }
     }
 
     /// Body-frame force (x, y) and yaw moment of the acting tyre forces `forces`, plus drag.
@@ -301,6 +319,26 @@ impl VehicleModel<N> for Bicycle {
             },
             roll_rad: 0.0,
             contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
+        }
+    }
+
+    /// The tyres' departures from their published laws, per axle and side.
+    fn notes(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut Vec<(&'static str, String)>) {
+        let tyre = &self.vehicle.tyre;
+        if !tyre.model.reports_departures() {
+            return;
+        }
+        let ax = self.axles(x, u, env);
+        for i in 0..2 {
+            let input = self.tyre_input(x, u, env, i, ax.alpha[i], ax.vxw[i]);
+            let dz = self.load_transfer(x, i).clamp(-self.fz_tyre[i], self.fz_tyre[i]);
+            for (side, t, fz) in
+                [("left", &tyre.mounted[0], self.fz_tyre[i] - dz), ("right", &tyre.mounted[1], self.fz_tyre[i] + dz)]
+            {
+                if let Some((kind, detail)) = t.departure(&TyreInput { fz_n: fz, ..input }) {
+                    out.push((kind, format!("{} {side} tyre: {detail}", ["front", "rear"][i])));
+                }
+            }
         }
     }
 

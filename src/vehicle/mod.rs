@@ -148,4 +148,10 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// one starts or stops holding). The default watches nothing: the bicycle's normal loads are
     /// static and positive, so it has nothing to report.
     fn conditions(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<Condition>) {}
+
+    /// Push the one-off notes of state `x` under inputs `u` as (event kind, detail): the tyres'
+    /// departures from their published laws ([`crate::tyre::TyreModel::departure`]), with the
+    /// tyre named in the detail. The engine reports each kind once per run, at the first state
+    /// that shows it (step resolution). Default: none.
+    fn notes(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<(&'static str, String)>) {}
 }

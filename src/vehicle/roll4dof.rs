@@ -34,7 +34,8 @@
 //! wheel load goes negative (a lifted wheel carries 0 and its partner the whole axle load), so the
 //! four loads sum to m g exactly at every evaluation.
 //!
-//! Watched conditions ([`VehicleModel::conditions`], reported by the engine at step resolution):
+//! Watched conditions ([`VehicleModel::conditions`], reported by the engine at step resolution;
+//! the tyres' departures from their published laws are notes, [`VehicleModel::notes`]):
 //! - `wheel_lift` / `wheel_contact`, per wheel: its load is 0 after clamping (the lateral transfer
 //!   reaches half its axle's load, or the axle itself is unloaded), and when it carries load again.
 //!   The value is the wheel's load before clamping, N: (F_i0 -+ dX)/2 -+ dY_i, negative when
@@ -43,6 +44,10 @@
 //! - `negative_normal_load` / `normal_load_restored`, per axle: the longitudinal transfer makes the
 //!   axle's computed load F_i0 -+ dX negative (it is clamped to 0, both its wheels lift); the value
 //!   is that load before clamping, N.
+//!
+//! Tyres: the left wheels (FL, RL) carry the tyre mounted on the left, the right wheels its
+//! mounting on the right ([`crate::tyre::spec::Tyre::on`]: a `.tir` tyre is mirrored on the side
+//! opposite its TYRESIDE, so an axle's conicity and ply-steer offsets cancel; docs/tyres.md).
 //!
 //! Drive: the drive torque is split between the axles by the layout and within an axle equally
 //! between its wheels (open differential, gear inertia neglected); brakes by the brake balance,
@@ -248,17 +253,8 @@ impl Roll4Dof {
             let (vxw, vyw) = (vxb * cd + vyb * sd, -vxb * sd + vyb * cd);
             w.vxw[i] = vxw;
             w.alpha[i] = slip_angle(vxw, vyw);
-            let input = TyreInput {
-                fz_n: fz[i],
-                kappa: x[ix::KAPPA + i],
-                alpha_rad: w.alpha[i],
-                camber_rad: 0.0,
-                vx_mps: vxw,
-                mu_surface: env.mu,
-                surface_temp_c: env.surface_temp_c,
-                contact_temp_c: u.contact_temp_c[i],
-            };
-            w.f[i] = v.tyre.model.forces(&input);
+            let input = tyre_input(x, u, env, i, fz[i], w.alpha[i], vxw);
+            w.f[i] = v.tyre.mounted[i % 2].forces(&input); // FL, RL on the left, FR, RR on the right
             let roll_res = v.rolling_resistance * fz[i] * radius;
             let resist_max = self.brake_max[axle] + v.rolling_resistance * 0.5 * self.axle_load0[axle] * radius;
             let resist = resisting_torque(
@@ -430,6 +426,21 @@ impl VehicleModel<N> for Roll4Dof {
         }
     }
 
+    /// The tyres' departures from their published laws, per wheel.
+    fn notes(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut Vec<(&'static str, String)>) {
+        let tyre = &self.vehicle.tyre;
+        if !tyre.model.reports_departures() {
+            return;
+        }
+        let w = self.wheels(x, u, env);
+        for (i, wheel) in WHEELS.iter().enumerate() {
+            let input = tyre_input(x, u, env, i, w.fz[i], w.alpha[i], w.vxw[i]);
+            if let Some((kind, detail)) = tyre.mounted[i % 2].departure(&input) {
+                out.push((kind, format!("{wheel} tyre: {detail}")));
+            }
+        }
+    }
+
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
         let w = self.wheels(x, u, env);
         let radius = self.vehicle.tyre.rolling_radius_m;
@@ -443,6 +454,29 @@ impl VehicleModel<N> for Roll4Dof {
                 surface_temp_c: env.surface_temp_c,
             };
         }
+    }
+}
+
+/// The tyre input of wheel `i` (FL, FR, RL, RR) at load `fz` (N), slip angle `alpha` (rad) and
+/// wheel-axis forward speed `vxw` (m/s).
+fn tyre_input(
+    x: &SVector<f64, N>,
+    u: &Inputs,
+    env: &Environment,
+    i: usize,
+    fz: f64,
+    alpha: f64,
+    vxw: f64,
+) -> TyreInput {
+    TyreInput {
+        fz_n: fz,
+        kappa: x[ix::KAPPA + i],
+        alpha_rad: alpha,
+        camber_rad: 0.0,
+        vx_mps: vxw,
+        mu_surface: env.mu,
+        surface_temp_c: env.surface_temp_c,
+        contact_temp_c: u.contact_temp_c[i],
     }
 }
 
