@@ -7,9 +7,16 @@
 //! 10 m/s); it grows with speed, so callers evaluate it over the manoeuvre's speed range.
 //!
 //! Classical RK4 is stable for h |lambda| up to [`RK4_REAL_BOUND`] on the negative real axis (the
-//! wheel-spin mode is real and negative). The default step keeps h |lambda| <= [`DEFAULT_H_LAMBDA`],
-//! where RK4 still damps the mode (amplification |R(-2)| = 1/3) and its error in the slow
-//! (vehicle) modes is far below the controller sampling's.
+//! wheel-spin mode is a lightly damped complex pair, |lambda| ~ sqrt(C_kappa R_e^2 / (I_w sigma)),
+//! near the imaginary axis, where RK4's bound is 2.83: the real-axis one is the smaller). The
+//! default step keeps h |lambda| <= [`DEFAULT_H_LAMBDA`], where RK4 still damps the mode and its
+//! error in the slow (vehicle) modes is far below the controller sampling's.
+//!
+//! Where that would make the step shorter than the control period (dry surfaces, higher speeds),
+//! the spec layer picks the exponential RK4 ([`super::integrator::Method::Rk4Exp`]) instead: it
+//! carries the wheel-spin / transient-slip pairs exactly, so the step is bounded by the fastest
+//! *remaining* mode, the largest |eigenvalue| of the Jacobian with the pairs' 2 x 2 blocks removed
+//! ([`fastest_rates_per_s`]).
 
 use nalgebra::{DMatrix, SVector};
 
@@ -26,8 +33,14 @@ pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// every provider within the 5e-4 rad/s guard of tests/accuracy.rs.
 pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.005;
 
-/// Largest |eigenvalue| (1/s) of the model's Jacobian at steady straight running at `speed_mps`.
-pub fn fastest_rate_per_s<const N: usize, M: VehicleModel<N>>(model: &M, env: &Environment, speed_mps: f64) -> f64 {
+/// Largest |eigenvalue| (1/s) of the model's Jacobian at steady straight running at `speed_mps`:
+/// (of the whole Jacobian, of the Jacobian without the wheel-spin / transient-slip pairs' 2 x 2
+/// blocks, [`VehicleModel::spin_slip_pairs`]: what the exponential RK4 leaves to its explicit part).
+pub fn fastest_rates_per_s<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: &Environment,
+    speed_mps: f64,
+) -> (f64, f64) {
     let x0: SVector<f64, N> = model.initial_state(0.0, 0.0, 0.0, speed_mps);
     let u = Inputs { contact_temp_c: [env.surface_temp_c; 4], ..Inputs::default() };
     let mut jac = DMatrix::<f64>::zeros(N, N);
@@ -39,7 +52,16 @@ pub fn fastest_rate_per_s<const N: usize, M: VehicleModel<N>>(model: &M, env: &E
         let col = (model.derivatives(&xp, &u, env) - model.derivatives(&xm, &u, env)) / (2.0 * d);
         jac.set_column(j, &col);
     }
-    jac.complex_eigenvalues().iter().map(|z| z.norm()).filter(|v| v.is_finite()).fold(0.0, f64::max)
+    let largest = |m: &DMatrix<f64>| {
+        m.clone().complex_eigenvalues().iter().map(|z| z.norm()).filter(|v| v.is_finite()).fold(0.0, f64::max)
+    };
+    let full = largest(&jac);
+    for &(w, k) in model.spin_slip_pairs().0 {
+        for (a, b) in [(w, w), (w, k), (k, w), (k, k)] {
+            jac[(a, b)] = 0.0;
+        }
+    }
+    (full, largest(&jac))
 }
 
 /// The default step for control period `control_period_s` and fastest rate `lambda`: the period
