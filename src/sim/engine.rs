@@ -15,8 +15,11 @@
 //!    the sampled loop converges to the continuous-time one at second order in T_c instead of first. The steering
 //!    rate and lock limits apply to the held steer. The contact-temperature estimate is updated at
 //!    the same instants from the tyres' operating conditions.
-//! 2. [`Simulation::advance`]: one step of the chosen integrator. Inputs that are known functions
-//!    of time (an open-loop steer profile, [`Maneuver::steer_at`]) are evaluated at every stage.
+//! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
+//!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
+//!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
+//!    profile, [`Maneuver::steer_at`]) are evaluated at every stage. An output row, when one is
+//!    due, is recorded from the first stage's model evaluation (no evaluation of its own).
 //! 3. [`Simulation::check_end`]: divergence (non-finite state), the onset and recovery of the
 //!    model's unphysical conditions (wheel lift, negative normal load; [`super::watch`]),
 //!    spin-out (|sideslip| > 60 deg above 1 m/s; its event carries the crossing time interpolated
