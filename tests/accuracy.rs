@@ -189,6 +189,49 @@ fn exponential_rk4_runs_long_steps_on_dry() {
     }
 }
 
+/// The refusal of a step is honest for the exponential RK4: the unsaturated linear tyre on ice
+/// (the stiffest pair, not scaled by friction) at 25 ms is refused with the bound in the message;
+/// 0.95 of that bound (rounded down to 2.5 ms) runs the lane change to its end within 5e-3 rad/s of a 0.25 ms step at the
+/// same period, and the refused 25 ms, given to the engine directly, leaves the course (spin-out
+/// or a yaw-rate error beyond 0.1 rad/s).
+#[test]
+fn exponential_rk4_bound_is_honest() {
+    let dlc = "kind = \"iso3888_2\"\nspeed_mps = 10.0\nspeed_mode = \"hold\"";
+    let dir = common::temp_dir("accuracy-bound");
+    let vehicle = common::root().join("vehicles/sedan.toml");
+    let spec = format!(
+        "name = \"bound\"\nvehicle = \"{}\"\ntyre_model = \"linear\"\n[integrator]\nstep_s = 0.025\n\
+         control_period_s = 0.025\n[surface]\nmu = 0.15\ntemperature_c = -3.0\n[maneuver]\n{dlc}\n",
+        vehicle.display()
+    );
+    let path = dir.join("spec.toml");
+    std::fs::write(&path, spec).unwrap();
+    let err = ManeuverFile::load(&path).and_then(|f| f.build(&path)).unwrap_err().to_string();
+    assert!(err.contains("integrator.step_s") && err.contains("stability bound"), "{err}");
+    let bound: f64 =
+        err.split("expected step_s <= ").nth(1).and_then(|t| t.split(' ').next()).unwrap().parse().unwrap();
+    assert!(bound > 0.005 && bound < 0.025, "{err}");
+    let base = config("bound-ok", "linear", "bicycle", 0.15, dlc, "");
+    let with = |h: f64, method| {
+        let mut c = base.clone();
+        (c.settings.method, c.settings.step_s, c.settings.control_period_s) = (method, h, h);
+        c
+    };
+    // 0.95 of the bound, rounded down to whole 2.5 ms (rows at common times with the reference).
+    let h = (0.95 * bound / 0.0025).floor() * 0.0025;
+    let d = run(&with(h, vehsim::sim::Method::Rk4Exp), None, None);
+    let r = run(&with(h, vehsim::sim::Method::Rk4), Some(0.00025), Some(h));
+    let (er, _, n) = diff(&d, &r);
+    println!("bound {bound} s; at {h:.4} s: {:?}, yaw rate {er:.2e} rad/s over {n} rows", d.summary.end_reason);
+    assert_eq!(d.summary.end_reason, "completed", "{:?}", d.summary.events);
+    assert!(n > 100 && er < 5e-3, "at {h} s: {er:.2e} rad/s over {n} rows");
+    let bad = run(&with(0.025, vehsim::sim::Method::Rk4Exp), None, None);
+    let r = run(&with(0.025, vehsim::sim::Method::Rk4), Some(0.00025), Some(0.025));
+    let (eb, _, _) = diff(&bad, &r);
+    println!("at 0.025 s: {:?}, yaw rate {eb:.2e} rad/s", bad.summary.end_reason);
+    assert!(bad.summary.end_reason != "completed" || !(eb <= 0.1), "{:?} {eb:.2e}", bad.summary.end_reason);
+}
+
 /// Exploration, not a check: errors of step / period pairs against the reference.
 #[test]
 #[ignore]

@@ -633,8 +633,8 @@ impl ManeuverFile {
 
     /// The integration step and control period (see [`IntegratorSection`]), and whether RK4 is to
     /// carry the wheel-spin / transient-slip pairs exponentially (`sim::stability`): where
-    /// h |lambda| of the fastest mode would exceed 2, over the manoeuvre's speed range. A step
-    /// beyond the bound of the mode that then remains fastest is refused.
+    /// h |lambda| of the fastest mode would exceed 2, over the manoeuvre's speed range. A step at
+    /// which that scheme is not stable for the linearised model is refused.
     fn step_and_period(
         &self,
         path: &Path,
@@ -643,36 +643,39 @@ impl ManeuverFile {
         maneuver: &ManeuverConfig,
         rk4: bool,
     ) -> Result<(f64, f64, bool)> {
-        use crate::sim::stability::{
-            default_step_s, fastest_rates_per_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_H_LAMBDA, RK4_REAL_BOUND,
-        };
+        use crate::sim::stability::{analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_H_LAMBDA, EXP_MARGIN};
         let i = &self.integrator;
         let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
-        let rates = |v: f64| match (model, &vehicle.roll) {
+        let at = |v: f64| match (model, &vehicle.roll) {
             (VehicleModelKind::Roll4Dof, Some(roll)) => {
-                fastest_rates_per_s(&crate::vehicle::Roll4Dof::new(vehicle.clone(), roll.clone()), &env, v)
+                analyse(&crate::vehicle::Roll4Dof::new(vehicle.clone(), roll.clone()), &env, v)
             }
-            _ => fastest_rates_per_s(&crate::vehicle::Bicycle::new(vehicle.clone()), &env, v),
+            _ => analyse(&crate::vehicle::Bicycle::new(vehicle.clone()), &env, v),
         };
-        let r: Vec<((f64, f64), f64)> = speeds.iter().map(|&v| (rates(v), v)).collect();
-        let lambda = r.iter().map(|x| x.0 .0).fold(0.0, f64::max);
-        // The fastest mode left to the explicit part of the exponential RK4, and where.
-        let (rest, at) = r.iter().map(|x| (x.0 .1, x.1)).fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+        let a = speeds.map(at);
+        let lambda = a.iter().map(|x| x.rate_per_s).fold(0.0, f64::max);
+        let stable = |h: f64| a.iter().all(|x| x.exp_stable(h));
         match i.step_s {
             Some(h) => {
                 let exp = rk4 && h * lambda > DEFAULT_H_LAMBDA;
-                if exp && h * rest > RK4_REAL_BOUND {
+                if exp && !stable(h) {
+                    let (k, bound) = a
+                        .iter()
+                        .map(|x| x.exp_max_step(0.05))
+                        .enumerate()
+                        .fold((0, f64::INFINITY), |m, (k, b)| if b < m.1 { (k, b) } else { m });
                     return Err(Error::key(
                         path,
                         "integrator.step_s",
                         format!(
                             "{h} s is beyond the stability bound of RK4 for this vehicle, even with the wheel-spin / \
-                             transient-slip pairs integrated exactly; expected step_s <= {:.4} s (the fastest remaining \
-                             mode has |lambda| = {rest:.0} 1/s at {at} m/s and RK4 needs step_s * |lambda| <= \
-                             {RK4_REAL_BOUND}), or leave step_s unset for the default",
-                            RK4_REAL_BOUND / rest
+                             transient-slip pairs integrated exactly (the fastest mode has |lambda| = {lambda:.0} 1/s); \
+                             expected step_s <= {bound:.4} s (the longest step at which one such step of the model \
+                             linearised at straight running at {} m/s has a spectral radius <= 1), or leave step_s \
+                             unset for the default",
+                            speeds[k]
                         ),
                     ));
                 }
@@ -685,14 +688,12 @@ impl ManeuverFile {
                     return Ok((cp, cp, false));
                 }
                 let h = default_step_s(cp, lambda);
-                if h < cp {
-                    // Plain RK4 would need several steps per period: the exponential one takes fewer.
-                    let h_exp = default_step_s(cp, rest);
-                    if h_exp > h {
-                        return Ok((h_exp, cp, true));
-                    }
-                }
-                Ok((h, cp, false))
+                // Plain RK4 would need several steps per period: the exponential one may take fewer.
+                let fewer = (1..(cp / h).round() as usize).map(|n| cp / n as f64).find(|&he| stable(EXP_MARGIN * he));
+                Ok(match fewer {
+                    Some(he) => (he, cp, true),
+                    None => (h, cp, false),
+                })
             }
         }
     }
