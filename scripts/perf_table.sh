@@ -35,8 +35,9 @@ ns_of() { awk -v n="$2" '$2 == n { gsub(",", "", $5); print $5 }' "$1"; }
 if [ "${REPORT_ONLY:-0}" != 1 ]; then
 rm -rf "${OUT:?}/sweep" "$OUT/synth" "$OUT/discover"
 
-cargo build --release --quiet
-VEHSIM=$PWD/target/release/vehsim
+# The simulation rows use the link-time-optimised build (Cargo.toml, profile release-lto).
+cargo build --profile release-lto --quiet
+VEHSIM=$PWD/target/release-lto/vehsim
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 
 TYRE_EXE=$(bench_exe tyre)

@@ -86,7 +86,7 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
 /// Simulate a validated run (no I/O), with the vehicle model the spec selects.
 pub fn execute(cfg: &RunConfig) -> RunOutput {
     match cfg.vehicle_model {
-        VehicleModelKind::Bicycle => execute_with(&Bicycle::new(cfg.vehicle.clone()), cfg),
+        VehicleModelKind::Bicycle => execute_with(&Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env), cfg),
         VehicleModelKind::Roll4Dof => match &cfg.vehicle.roll {
             Some(roll) => execute_with(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()), cfg),
             // Spec validation rejects this; a hand-built config gets a result that says why.

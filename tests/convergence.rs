@@ -140,7 +140,13 @@ fn friction_use(out: &RunOutput, mu_tyre: f64) -> f64 {
 
 /// RK4 errors against `reference` at every step of [`STEPS`] and the observed orders.
 fn rk4_errors(base: &RunConfig, reference: &RunOutput) -> (Vec<f64>, Vec<f64>) {
-    let errs: Vec<f64> = STEPS.iter().map(|&h| err(&run(base, Method::Rk4, h), reference)).collect();
+    method_errors(base, Method::Rk4, reference)
+}
+
+/// Errors of a fixed-step `method` against `reference` at every step of [`STEPS`] and the
+/// observed orders.
+fn method_errors(base: &RunConfig, method: Method, reference: &RunOutput) -> (Vec<f64>, Vec<f64>) {
+    let errs: Vec<f64> = STEPS.iter().map(|&h| err(&run(base, method, h), reference)).collect();
     let orders = errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
     (errs, orders)
 }
@@ -213,6 +219,44 @@ fn rk4_step_halving_is_fourth_order_for_every_model_and_provider() {
                 fmt_all(&orders, |p| format!("{p:.2}")),
                 friction_use(&r12, base.env.mu)
             );
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The exponential RK4 (`Method::Rk4Exp`: the wheel-spin / transient-slip pairs carried by their
+/// exact exponential, linearised at each step's start) keeps RK4's fourth order: the split
+/// f = L (x - x_k) + (f - L (x - x_k)) with any fixed L leaves a consistent fourth-order method.
+/// Same runs and bands as the RK4 test, for both vehicle models with the Magic Formula and the
+/// linear tyre.
+#[test]
+fn exponential_rk4_step_halving_is_fourth_order() {
+    let mut failures = Vec::new();
+    for model in MODELS {
+        for tyre in [TyreModelKind::Pacejka, TyreModelKind::Linear] {
+            let base = smooth_config(tyre, model);
+            let (r12, r13) = (dop853(&base, 1e-12), dop853(&base, 1e-13));
+            let floor = noise_floor(&r12, &r13);
+            let (errs, orders) = method_errors(&base, Method::Rk4Exp, &r12);
+            eprintln!(
+                "{model} / {}: errors {}, orders {}, floor {floor:.1e}",
+                tyre.as_str(),
+                fmt_all(&errs, |e| format!("{e:.2e}")),
+                fmt_all(&orders, |p| format!("{p:.2}"))
+            );
+            let mut asserted = 0;
+            for (k, p) in orders.iter().enumerate() {
+                if errs[k + 1] > ABOVE_FLOOR * floor {
+                    asserted += 1;
+                    let band = if k == 0 { FIRST_HALVING_ORDER } else { ORDER };
+                    if !(band.0..=band.1).contains(p) {
+                        failures.push(format!("{model}/{}: order {p:.2} at halving {k} ({errs:?})", tyre.as_str()));
+                    }
+                }
+            }
+            if asserted < 2 {
+                failures.push(format!("{model}/{}: only {asserted} halvings above the floor", tyre.as_str()));
+            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

@@ -15,8 +15,11 @@
 //!    the sampled loop converges to the continuous-time one at second order in T_c instead of first. The steering
 //!    rate and lock limits apply to the held steer. The contact-temperature estimate is updated at
 //!    the same instants from the tyres' operating conditions.
-//! 2. [`Simulation::advance`]: one step of the chosen integrator. Inputs that are known functions
-//!    of time (an open-loop steer profile, [`Maneuver::steer_at`]) are evaluated at every stage.
+//! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
+//!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
+//!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
+//!    profile, [`Maneuver::steer_at`]) are evaluated at every stage. An output row, when one is
+//!    due, is recorded from the first stage's model evaluation (no evaluation of its own).
 //! 3. [`Simulation::check_end`]: divergence (non-finite state), the onset and recovery of the
 //!    model's unphysical conditions (wheel lift, negative normal load; [`super::watch`]),
 //!    spin-out (|sideslip| > 60 deg above 1 m/s; its event carries the crossing time interpolated
@@ -30,7 +33,7 @@ use nalgebra::SVector;
 use serde::Serialize;
 use std::fmt;
 
-use super::integrator::{rk4_step_t, step_t, Method};
+use super::integrator::{rk4_exp_step_t, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
@@ -325,10 +328,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         if self.k % self.ctrl_every == 0 {
             self.sample_controls(t);
         }
-        if self.k % self.out_every == 0 {
-            self.record(t);
-        }
-        let next = self.advance(t, &kin);
+        let record = self.k % self.out_every == 0;
+        let next = self.advance(t, &kin, record);
         self.k += 1;
         self.end = self.check_end(next, &kin);
         self.end
@@ -381,39 +382,46 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         }
     }
 
-    /// Record the current state as an output row at time `t`.
-    fn record(&mut self, t: f64) {
-        let mut inputs = self.u;
-        if let Some(d) = self.maneuver.steer_at(t) {
-            inputs.steer_rad = d.clamp(-self.controls.steer_max_rad, self.controls.steer_max_rad);
-        }
-        let row = Row {
-            t_s: t,
-            obs: self.model.observe(&self.x, &inputs, &self.env),
-            inputs,
-            speed_target_mps: self.speed_target,
-            path_error_m: self.path_error.unwrap_or(f64::NAN),
-        };
-        self.observer.record(&row);
-        self.last_row = Some(row);
-    }
-
-    /// Phase 2: one integration step from time `t` (the state's kinematics `kin`); updates the
-    /// running figures of the step's start. Returns the new state or why the solver gave up.
-    fn advance(&mut self, t: f64, kin: &Kinematics) -> Result<SVector<f64, N>, String> {
+    /// Phase 2: one integration step from time `t` (the state's kinematics `kin`), recording the
+    /// step's start as an output row first when `record` (the row's observation comes from the
+    /// same model evaluation as the first stage, k1); updates the running figures of the step's
+    /// start. Returns the new state or why the solver gave up.
+    fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
         let (model, env, u, h) = (self.model, self.env, self.u, self.h);
         let lock = self.controls.steer_max_rad;
         let maneuver: &dyn Maneuver = &*self.maneuver;
+        // The held inputs, with an open-loop steer profile's value at the stage time.
         let f = |ts: f64, s: &SVector<f64, N>| match maneuver.steer_at(ts) {
             Some(d) => model.derivatives(s, &Inputs { steer_rad: d.clamp(-lock, lock), ..u }, &env),
             None => model.derivatives(s, &u, &env),
         };
-        let (next, k1) = match self.method {
-            Method::Rk4 => {
-                let (n, k1, _) = rk4_step_t(f, t, &self.x, h);
-                (Ok(n), k1)
+        let k1 = if record {
+            let inputs = match maneuver.steer_at(t) {
+                Some(d) => Inputs { steer_rad: d.clamp(-lock, lock), ..u },
+                None => u,
+            };
+            let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
+            let row = Row {
+                t_s: t,
+                obs,
+                inputs,
+                speed_target_mps: self.speed_target,
+                path_error_m: self.path_error.unwrap_or(f64::NAN),
+            };
+            self.observer.record(&row);
+            self.last_row = Some(row);
+            k1
+        } else {
+            f(t, &self.x)
+        };
+        let next = match self.method {
+            Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
+            Method::Rk4Exp => {
+                let mut pairs = [ExpPair::new(0, 0, [[0.0; 2]; 2], h); 4];
+                let n = spin_slip_linearisation(model.spin_slip_pairs(), &f, t, &self.x, &k1, h, &mut pairs);
+                Ok(rk4_exp_step_t(f, t, &self.x, h, k1, &pairs[..n]))
             }
-            m => (step_t(m, f, t, &self.x, h), f(t, &self.x)),
+            m => step_t(m, f, t, &self.x, h),
         };
         let st = &mut self.st;
         let (_, ay) = model.body_acceleration(&self.x, &k1);
@@ -519,6 +527,42 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             implausible: Vec::new(),
         }
     }
+}
+
+/// Relative-slip perturbation of the finite difference in [`spin_slip_linearisation`].
+const SLIP_DIFF: f64 = 1e-6;
+
+/// The linear parts of the wheel-spin / transient-slip pairs at state `x` (derivative `k1`) and
+/// their propagators over a step `h`, into `out`; returns how many. `pairs` = (omega index,
+/// kappa index) per wheel and d(dkappa/dt)/d(omega) = R_e / sigma (exact: the slip equation is
+/// linear in omega). The kappa column, d(domega/dt)/d(kappa) (the tyre's slip stiffness through
+/// R_e / I_w) and d(dkappa/dt)/d(kappa) = -max(|V_x|, V_low) / sigma, comes from one forward
+/// difference with every wheel's kappa moved at once (a wheel's spin and slip depend on no other
+/// wheel's slip). d(domega/dt)/d(omega) (the regularised brake and rolling-resistance torque,
+/// non-zero only near standstill and at most `TORQUE_RATE_MAX`) is left to the explicit part.
+fn spin_slip_linearisation<const N: usize>(
+    (pairs, kappa_per_omega): (&[(usize, usize)], f64),
+    f: &impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
+    t: f64,
+    x: &SVector<f64, N>,
+    k1: &SVector<f64, N>,
+    h: f64,
+    out: &mut [ExpPair; 4],
+) -> usize {
+    if pairs.is_empty() {
+        return 0;
+    }
+    let mut xp = *x;
+    for &(_, k) in pairs {
+        xp[k] += SLIP_DIFF;
+    }
+    let dp = f(t, &xp);
+    let n = pairs.len().min(out.len());
+    for (o, &(w, k)) in out.iter_mut().zip(pairs) {
+        let l = [[0.0, (dp[w] - k1[w]) / SLIP_DIFF], [kappa_per_omega, (dp[k] - k1[k]) / SLIP_DIFF]];
+        *o = ExpPair::new(w, k, l, h);
+    }
+    n
 }
 
 /// Run one simulation of `model` through `maneuver`: step until the run ends, then finish.

@@ -302,7 +302,9 @@ pub struct IntegratorSection {
     pub method: String,
     /// Integration step, s, in (0, 0.05] and within RK4's stability bound for the vehicle's
     /// fastest mode (default: the control period divided into the fewest whole steps with
-    /// h |lambda| <= 2; see `sim::stability`).
+    /// h |lambda| <= 2; see `sim::stability`). Where h |lambda| > 2, RK4 integrates the
+    /// wheel-spin / transient-slip pairs exactly (exponential RK4), and the bound and the default
+    /// are those of the fastest remaining mode.
     #[serde(default)]
     pub step_s: Option<f64>,
     /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.005 s, or
@@ -602,8 +604,9 @@ impl ManeuverFile {
                 ),
             ));
         }
-        let (step_s, control_period_s) =
+        let (step_s, control_period_s, exp) =
             self.step_and_period(path, &vehicle, vehicle_model, &maneuver, method == Method::Rk4)?;
+        let method = if exp { Method::Rk4Exp } else { method };
         Ok(RunConfig {
             spec_file: path.to_path_buf(),
             name: self.name.clone(),
@@ -628,9 +631,10 @@ impl ManeuverFile {
         })
     }
 
-    /// The integration step and control period (see [`IntegratorSection`]): the defaults, and the
-    /// refusal of an RK4 step beyond the stability bound of the vehicle's fastest mode over the
-    /// manoeuvre's speed range.
+    /// The integration step and control period (see [`IntegratorSection`]), and whether RK4 is to
+    /// carry the wheel-spin / transient-slip pairs exponentially (`sim::stability`): where
+    /// h |lambda| of the fastest mode would exceed 2, over the manoeuvre's speed range. A step at
+    /// which that scheme is not stable for the linearised model is refused.
     fn step_and_period(
         &self,
         path: &Path,
@@ -638,39 +642,58 @@ impl ManeuverFile {
         model: VehicleModelKind,
         maneuver: &ManeuverConfig,
         rk4: bool,
-    ) -> Result<(f64, f64)> {
-        use crate::sim::stability::{default_step_s, fastest_rate_per_s, DEFAULT_CONTROL_PERIOD_S, RK4_REAL_BOUND};
+    ) -> Result<(f64, f64, bool)> {
+        use crate::sim::stability::{analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_H_LAMBDA, EXP_MARGIN};
         let i = &self.integrator;
         let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
-        let rate = |v: f64| match (model, &vehicle.roll) {
+        let at = |v: f64| match (model, &vehicle.roll) {
             (VehicleModelKind::Roll4Dof, Some(roll)) => {
-                fastest_rate_per_s(&crate::vehicle::Roll4Dof::new(vehicle.clone(), roll.clone()), &env, v)
+                analyse(&crate::vehicle::Roll4Dof::new(vehicle.clone(), roll.clone()), &env, v)
             }
-            _ => fastest_rate_per_s(&crate::vehicle::Bicycle::new(vehicle.clone()), &env, v),
+            _ => analyse(&crate::vehicle::Bicycle::new(vehicle.clone()), &env, v),
         };
-        let (lambda, at) = speeds.iter().map(|&v| (rate(v), v)).fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+        let a = speeds.map(at);
+        let lambda = a.iter().map(|x| x.rate_per_s).fold(0.0, f64::max);
+        let stable = |h: f64| a.iter().all(|x| x.exp_stable(h));
         match i.step_s {
             Some(h) => {
-                if rk4 && h * lambda > RK4_REAL_BOUND {
+                let exp = rk4 && h * lambda > DEFAULT_H_LAMBDA;
+                if exp && !stable(h) {
+                    let (k, bound) = a
+                        .iter()
+                        .map(|x| x.exp_max_step(0.05))
+                        .enumerate()
+                        .fold((0, f64::INFINITY), |m, (k, b)| if b < m.1 { (k, b) } else { m });
                     return Err(Error::key(
                         path,
                         "integrator.step_s",
                         format!(
-                            "{h} s is beyond RK4's stability bound for this vehicle; expected step_s <= {:.4} s \
-                             (the fastest mode, wheel spin with transient slip, has |lambda| = {lambda:.0} 1/s at {at} m/s \
-                             and RK4 needs step_s * |lambda| <= {RK4_REAL_BOUND}), or leave step_s unset for the default",
-                            RK4_REAL_BOUND / lambda
+                            "{h} s is beyond the stability bound of RK4 for this vehicle, even with the wheel-spin / \
+                             transient-slip pairs integrated exactly (the fastest mode has |lambda| = {lambda:.0} 1/s); \
+                             expected step_s <= {bound:.4} s (the longest step at which one such step of the model \
+                             linearised at straight running at {} m/s has a spectral radius <= 1), or leave step_s \
+                             unset for the default",
+                            speeds[k]
                         ),
                     ));
                 }
                 let cp = i.control_period_s.unwrap_or(h * (DEFAULT_CONTROL_PERIOD_S / h).round().max(1.0));
-                Ok((h, cp))
+                Ok((h, cp, exp))
             }
             None => {
                 let cp = i.control_period_s.unwrap_or(DEFAULT_CONTROL_PERIOD_S);
-                Ok((if rk4 { default_step_s(cp, lambda) } else { cp }, cp))
+                if !rk4 {
+                    return Ok((cp, cp, false));
+                }
+                let h = default_step_s(cp, lambda);
+                // Plain RK4 would need several steps per period: the exponential one may take fewer.
+                let fewer = (1..(cp / h).round() as usize).map(|n| cp / n as f64).find(|&he| stable(EXP_MARGIN * he));
+                Ok(match fewer {
+                    Some(he) => (he, cp, true),
+                    None => (h, cp, false),
+                })
             }
         }
     }

@@ -90,6 +90,28 @@ pub struct TyreForces {
     pub mz_nm: f64,
 }
 
+/// Coefficients of a provider prepared for one load and set of conditions
+/// ([`TyreModel::prepare`]): what does not depend on the slips, computed once instead of at every
+/// evaluation (a vehicle model with static loads prepares each tyre once per run). Valid for
+/// inputs with the same load, friction, camber and temperatures as [`Prepared::input`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Prepared {
+    /// The input it was prepared for (its slips and speed are not used).
+    pub input: TyreInput,
+    /// The Magic Formula's pure-slip coefficients, for the providers built on it.
+    pub(crate) pacejka: Option<pacejka::Pure>,
+}
+
+impl Prepared {
+    /// Whether `i` has the load, friction, camber and temperatures this was prepared for.
+    #[inline]
+    pub fn matches(&self, i: &TyreInput) -> bool {
+        let p = &self.input;
+        (p.fz_n, p.mu_surface, p.camber_rad, p.surface_temp_c, p.contact_temp_c)
+            == (i.fz_n, i.mu_surface, i.camber_rad, i.surface_temp_c, i.contact_temp_c)
+    }
+}
+
 /// A tyre-force provider. Implementations are pure: the same input gives the same output.
 pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// Short name as used in spec files (`linear`, `pacejka`, ...).
@@ -107,6 +129,18 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
 
     /// dFy/dalpha at zero slip for this input's load and conditions, N/rad.
     fn cornering_stiffness(&self, input: &TyreInput) -> f64;
+
+    /// Prepare the coefficients that depend on `input`'s load and conditions but not on its slips.
+    /// Default: nothing to prepare.
+    fn prepare(&self, input: &TyreInput) -> Prepared {
+        Prepared { input: *input, pacejka: None }
+    }
+
+    /// [`Self::forces`] of an input that `prepared` [matches](Prepared::matches), the same values
+    /// bit for bit. Default: [`Self::forces`].
+    fn forces_prepared(&self, _prepared: &Prepared, input: &TyreInput) -> TyreForces {
+        self.forces(input)
+    }
 
     /// Whether [`Self::departure`] can report anything for this provider (false: the vehicle
     /// models need not ask). Default: false.

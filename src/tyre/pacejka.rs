@@ -315,9 +315,10 @@ pub struct PacejkaTyre {
     sign_iso: f64,
 }
 
-/// Per-input quantities of the pure-slip formulas.
-#[derive(Debug, Clone, Copy)]
-struct Pure {
+/// Per-input quantities of the pure-slip formulas (they depend on the load, friction and camber,
+/// not on the slips: [`super::Prepared`] keeps them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pure {
     dfz: f64,
     lmuy: f64,
     gy: f64,
@@ -464,20 +465,18 @@ impl PacejkaTyre {
         }
     }
 
-    /// (Fx, Fy, bound on |F|) in file axes at file slip angle `a` and camber `g`.
-    /// With `want_bound` false the returned bound is 0 (it is only needed by `peak_friction`).
-    #[allow(clippy::too_many_arguments)]
-    fn eval(&self, fz: f64, kappa: f64, a: f64, g: f64, mu: f64, m: &Scale, want_bound: bool) -> (f64, f64, f64, f64) {
-        let want_mz = !want_bound;
+    /// (Fx, Fy, Mz) in file axes at file slip angle `a` and camber `g`, with `p` the pure-slip
+    /// quantities of the load and conditions.
+    #[inline(always)]
+    fn eval(&self, p: &Pure, fz: f64, kappa: f64, a: f64, g: f64) -> (f64, f64, f64) {
         let c = &self.coeffs;
-        let p = self.pure(fz, mu, g, m);
-        let (fx, fy, bound, fy_prime);
+        let (fx, fy, fy_prime);
         match self.combination {
             Combination::MagicFormula => {
                 let kx = kappa + p.shx;
                 let ay = a + p.shy;
-                let fx0 = self.fx0_core(&p, kx) + p.svx;
-                let fy0 = Self::fy0_core(&p, ay) + p.svy;
+                let fx0 = self.fx0_core(p, kx) + p.svx;
+                let fy0 = Self::fy0_core(p, ay) + p.svy;
                 // Gxa. cos(atan(x)) = 1 / sqrt(1 + x^2).
                 let r2 = c.rbx2 * kappa;
                 let bxa = c.rbx1 / (1.0 + r2 * r2).sqrt() * c.lxal;
@@ -492,45 +491,74 @@ impl PacejkaTyre {
                 let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(byk, c.rcy1, eyk, shyk)) };
                 let gyk = mf_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0;
                 let rv = c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy;
-                let (dvyk, svyk) = if rv == 0.0 {
-                    (0.0, 0.0)
+                let svyk = if rv == 0.0 {
+                    0.0
                 } else {
-                    let r4 = c.rvy4 * a;
-                    let dvyk = p.muy * fz * rv / (1.0 + r4 * r4).sqrt();
-                    (dvyk, dvyk * (c.rvy5 * (c.rvy6 * kappa).atan()).sin() * c.lvyka)
+                    self.dvyk(p, fz, rv, a) * (c.rvy5 * (c.rvy6 * kappa).atan()).sin() * c.lvyka
                 };
                 fx = gxa * fx0;
                 fy = gyk * fy0 + svyk;
                 fy_prime = fy - svyk;
-                bound = if want_bound {
-                    let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
-                    let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
-                    xmax.hypot(ymax)
-                } else {
-                    0.0
-                };
             }
             Combination::Ellipse => {
                 // Pure values at zero slip (ply-steer / conicity offsets); 0 without shifts.
-                let fx00 = if p.shx == 0.0 { p.svx } else { self.fx0_core(&p, p.shx) + p.svx };
-                let fy00 = if p.shy == 0.0 { p.svy } else { Self::fy0_core(&p, p.shy) + p.svy };
+                let (fx00, fy00) = self.offsets(p);
                 let kref = safe_div(p.dx, p.kx).abs();
                 let aref = safe_div(p.dy, p.ky).abs();
                 let (s, wx, wy) = normalised(safe_div(kappa, kref), safe_div(a, aref));
-                let fxe = self.fx0_core(&p, equivalent(sgn(kappa), s, kref) + p.shx) + p.svx;
-                let fye = Self::fy0_core(&p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
+                let fxe = self.fx0_core(p, equivalent(sgn(kappa), s, kref) + p.shx) + p.svx;
+                let fye = Self::fy0_core(p, equivalent(sgn(a), s, aref) + p.shy) + p.svy;
                 fx = fx00 + wx * (fxe - fx00);
                 fy = fy00 + wy * (fye - fy00);
                 fy_prime = fy;
-                bound = if want_bound {
-                    p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
-                } else {
-                    0.0
-                };
             }
         }
-        let mz = if want_mz && self.has_mz { self.mz(&p, fz, kappa, a, g, (fy, fy_prime), fx) } else { 0.0 };
-        (fx, fy, mz, bound)
+        let mz = if self.has_mz { self.mz(p, fz, kappa, a, g, (fy, fy_prime), fx) } else { 0.0 };
+        (fx, fy, mz)
+    }
+
+    /// The zero-slip offsets Fx0(0), Fy0(0) of the ellipse combination (0 without shifts).
+    fn offsets(&self, p: &Pure) -> (f64, f64) {
+        let fx00 = if p.shx == 0.0 { p.svx } else { self.fx0_core(p, p.shx) + p.svx };
+        let fy00 = if p.shy == 0.0 { p.svy } else { Self::fy0_core(p, p.shy) + p.svy };
+        (fx00, fy00)
+    }
+
+    /// Peak of the kappa-induced side force, mu_y Fz (RVY1 + RVY2 dfz + RVY3 gy) cos(atan(RVY4 a)),
+    /// for `rv` = RVY1 + RVY2 dfz + RVY3 gy.
+    #[inline]
+    fn dvyk(&self, p: &Pure, fz: f64, rv: f64, a: f64) -> f64 {
+        let r4 = self.coeffs.rvy4 * a;
+        p.muy * fz * rv / (1.0 + r4 * r4).sqrt()
+    }
+
+    /// The bound on |F| (N) in file axes at file slip angle `a` (see
+    /// [`TyreModel::peak_friction`]): from the pure-slip peaks and the G functions' values at zero
+    /// slip, without evaluating the forces (their sines are not needed).
+    fn bound(&self, p: &Pure, fz: f64, kappa: f64, a: f64) -> f64 {
+        let c = &self.coeffs;
+        match self.combination {
+            Combination::MagicFormula => {
+                let r2 = c.rbx2 * kappa;
+                let bxa = c.rbx1 / (1.0 + r2 * r2).sqrt() * c.lxal;
+                let exa = (c.rex1 + c.rex2 * p.dfz).min(1.0);
+                let gxa0 = if c.rhx1 == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(bxa, c.rcx1, exa, c.rhx1)) };
+                let shyk = c.rhy1 + c.rhy2 * p.dfz;
+                let r2 = c.rby2 * (a - c.rby3);
+                let byk = c.rby1 / (1.0 + r2 * r2).sqrt() * c.lyka;
+                let eyk = (c.rey1 + c.rey2 * p.dfz).min(1.0);
+                let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(byk, c.rcy1, eyk, shyk)) };
+                let rv = c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy;
+                let dvyk = if rv == 0.0 { 0.0 } else { self.dvyk(p, fz, rv, a) };
+                let xmax = (p.dx.abs() + p.svx.abs()) / gxa0.abs();
+                let ymax = (p.dy.abs() + p.svy.abs()) / gyk0.abs() + dvyk.abs() * c.lvyka.abs();
+                xmax.hypot(ymax)
+            }
+            Combination::Ellipse => {
+                let (fx00, fy00) = self.offsets(p);
+                p.dx.abs().max(p.dy.abs()) + (fx00.abs() + p.svx.abs()).hypot(fy00.abs() + p.svy.abs())
+            }
+        }
     }
 
     /// Aligning moment in file axes (MF 5.2 / PAC2002 combined slip):
@@ -608,7 +636,13 @@ impl PacejkaTyre {
             return TyreForces::default();
         }
         let (a, g) = self.file_angles(i);
-        let (fx, fy, mz, _) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, false);
+        self.forces_from(&self.pure(i.fz_n, i.mu_surface, g, m), i, a, g)
+    }
+
+    /// Forces at file angles (`a`, `g`) with the pure-slip quantities `p` of the input's load.
+    #[inline]
+    fn forces_from(&self, p: &Pure, i: &TyreInput, a: f64, g: f64) -> TyreForces {
+        let (fx, fy, mz) = self.eval(p, i.fz_n, i.kappa, a, g);
         TyreForces { fx_n: fx, fy_n: self.mirror * fy, mz_nm: self.mirror * mz }
     }
 
@@ -618,8 +652,8 @@ impl PacejkaTyre {
             return 0.0;
         }
         let (a, g) = self.file_angles(i);
-        let (_, _, _, bound) = self.eval(i.fz_n, i.kappa, a, g, i.mu_surface, m, true);
-        bound / i.fz_n
+        let p = self.pure(i.fz_n, i.mu_surface, g, m);
+        self.bound(&p, i.fz_n, i.kappa, a) / i.fz_n
     }
 
     /// [`TyreModel::longitudinal_stiffness`] with the modifier `m` applied.
@@ -650,6 +684,21 @@ impl TyreModel for PacejkaTyre {
 
     fn forces(&self, i: &TyreInput) -> TyreForces {
         self.forces_scaled(i, &Scale::ONE)
+    }
+
+    fn prepare(&self, i: &TyreInput) -> super::Prepared {
+        let pacejka = (!inactive(i)).then(|| self.pure(i.fz_n, i.mu_surface, self.file_angles(i).1, &Scale::ONE));
+        super::Prepared { input: *i, pacejka }
+    }
+
+    fn forces_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> TyreForces {
+        match &prepared.pacejka {
+            Some(p) if prepared.matches(i) => {
+                let (a, g) = self.file_angles(i);
+                self.forces_from(p, i, a, g)
+            }
+            _ => self.forces(i),
+        }
     }
 
     /// A guaranteed bound on |F|/Fz at this input. With the MF combined-slip functions it is

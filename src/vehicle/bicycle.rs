@@ -38,7 +38,7 @@ use super::wheel::{
 use super::{lateral, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
-use crate::tyre::{TyreForces, TyreInput};
+use crate::tyre::{Prepared, TyreForces, TyreInput};
 
 /// State dimension of the bicycle model.
 pub const N: usize = 13;
@@ -69,6 +69,9 @@ pub struct Bicycle {
     axle_inertia: f64,
     /// Maximum brake torque per axle (front, rear), N m.
     brake_max: [f64; 2],
+    /// Tyre coefficients prepared for each axle's static load on a surface
+    /// ([`Bicycle::prepared_for`]); used for the inputs they match, `None` until prepared.
+    prepared: [Option<Prepared>; 2],
 }
 
 /// Per-axle intermediate quantities of one evaluation.
@@ -90,7 +93,28 @@ impl Bicycle {
         let axle_inertia = 2.0 * vehicle.wheel_inertia_kgm2;
         let bmax = vehicle.brake_torque_max_nm;
         let brake_max = [bmax * vehicle.brake_front_share, bmax * (1.0 - vehicle.brake_front_share)];
-        Self { vehicle, fz_tyre, axle_inertia, brake_max }
+        Self { vehicle, fz_tyre, axle_inertia, brake_max, prepared: [None; 2] }
+    }
+
+    /// The model with its tyres' coefficients prepared for the static loads on `env` at the
+    /// surface temperature (the explicit prepare step of [`crate::tyre::TyreModel::prepare`]):
+    /// evaluations at those conditions skip the load-dependent part; any other (a contact-heated
+    /// tyre, load transfer) is evaluated in full. The forces are the same bit for bit.
+    pub fn prepared_for(mut self, env: &Environment) -> Self {
+        for i in 0..2 {
+            let input = TyreInput {
+                fz_n: self.fz_tyre[i],
+                kappa: 0.0,
+                alpha_rad: 0.0,
+                camber_rad: 0.0,
+                vx_mps: 0.0,
+                mu_surface: env.mu * self.vehicle.lateral.mu_scale,
+                surface_temp_c: env.surface_temp_c,
+                contact_temp_c: env.surface_temp_c,
+            };
+            self.prepared[i] = Some(self.vehicle.tyre.mounted[0].prepare(&input));
+        }
+        self
     }
 
     fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
@@ -159,7 +183,10 @@ impl Bicycle {
             let dfz = self.load_transfer(x, i);
             let [left, right] = &v.tyre.mounted;
             f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
-                let t = left.forces(&input);
+                let t = match &self.prepared[i] {
+                    Some(p) => left.forces_prepared(p, &input),
+                    None => left.forces(&input),
+                };
                 TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
             } else {
                 // Each tyre at its own load (a lifted tyre carries nothing); the right one
@@ -213,6 +240,72 @@ impl Bicycle {
         }
     }
 
+    /// The derivative from the axle quantities `ax` and the body loads (x, y force, yaw moment).
+    fn derivative_of(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        ax: &Axles,
+        (fx, fy, mz): (f64, f64, f64),
+    ) -> SVector<f64, N> {
+        let v = &self.vehicle;
+        let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
+        let (s, c) = yaw.sin_cos();
+        let radius = v.tyre.rolling_radius_m;
+        let sigma = v.tyre.relaxation_length_x_m;
+        let mut d = SVector::<f64, N>::zeros();
+        d[ix::X] = vx * c - vy * s;
+        d[ix::Y] = vx * s + vy * c;
+        d[ix::YAW] = r;
+        d[ix::VX] = fx / v.mass_kg + r * vy;
+        d[ix::VY] = fy / v.mass_kg - r * vx;
+        d[ix::R] = mz / v.yaw_inertia_kgm2;
+        d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
+        d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
+        d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
+        d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
+        let lat = &v.lateral;
+        if lat.relaxation_length_y_m > 0.0 {
+            let rate = lateral::relaxation_rate(vx, lat.relaxation_length_y_m);
+            d[ix::FY_F] = rate * (ax.f[0].fy_n - x[ix::FY_F]);
+            d[ix::FY_R] = rate * (ax.f[1].fy_n - x[ix::FY_R]);
+        }
+        if lat.steer_lag_s > 0.0 {
+            d[ix::DELTA_L] = (u.steer_rad - x[ix::DELTA_L]) / lat.steer_lag_s;
+        }
+        d
+    }
+
+    /// The observation from the axle quantities `ax`, the acting forces and the body loads.
+    fn observation_of(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        ax: &Axles,
+        acting: &[TyreForces; 2],
+        (fx, fy, _): (f64, f64, f64),
+    ) -> Observation {
+        let kin = super::rigid_body(x.as_slice());
+        Observation {
+            kin,
+            ax_mps2: fx / self.vehicle.mass_kg,
+            ay_mps2: fy / self.vehicle.mass_kg,
+            alpha_rad: ax.alpha,
+            kappa: [x[ix::KAPPA_F], x[ix::KAPPA_R]],
+            fx_n: [acting[0].fx_n, acting[1].fx_n],
+            fy_n: [acting[0].fy_n, acting[1].fy_n],
+            omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
+            fz_n: {
+                // vx r > 0 (turning left) moves load to the right (outer) tyres.
+                let d = [self.load_transfer(x, 0), self.load_transfer(x, 1)];
+                let l = |i: usize, s: f64| (self.fz_tyre[i] + s * d[i]).clamp(0.0, 2.0 * self.fz_tyre[i]);
+                [l(0, -1.0), l(0, 1.0), l(1, -1.0), l(1, 1.0)]
+            },
+            roll_rad: 0.0,
+            contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
+        }
+    }
+
     /// Body-frame force (x, y) and yaw moment of the acting tyre forces `forces`, plus drag.
     fn body_loads(&self, ax: &Axles, forces: &[TyreForces; 2], vx: f64) -> (f64, f64, f64) {
         let v = &self.vehicle;
@@ -249,35 +342,9 @@ impl VehicleModel<N> for Bicycle {
     }
 
     fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
-        let v = &self.vehicle;
-        let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
         let ax = self.axles(x, u, env);
         let acting = self.acting(x, &ax);
-        let (fx, fy, mz) = self.body_loads(&ax, &acting, vx);
-        let (s, c) = yaw.sin_cos();
-        let radius = v.tyre.rolling_radius_m;
-        let sigma = v.tyre.relaxation_length_x_m;
-        let mut d = SVector::<f64, N>::zeros();
-        d[ix::X] = vx * c - vy * s;
-        d[ix::Y] = vx * s + vy * c;
-        d[ix::YAW] = r;
-        d[ix::VX] = fx / v.mass_kg + r * vy;
-        d[ix::VY] = fy / v.mass_kg - r * vx;
-        d[ix::R] = mz / v.yaw_inertia_kgm2;
-        d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
-        d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
-        d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
-        d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
-        let lat = &v.lateral;
-        if lat.relaxation_length_y_m > 0.0 {
-            let rate = lateral::relaxation_rate(vx, lat.relaxation_length_y_m);
-            d[ix::FY_F] = rate * (ax.f[0].fy_n - x[ix::FY_F]);
-            d[ix::FY_R] = rate * (ax.f[1].fy_n - x[ix::FY_R]);
-        }
-        if lat.steer_lag_s > 0.0 {
-            d[ix::DELTA_L] = (u.steer_rad - x[ix::DELTA_L]) / lat.steer_lag_s;
-        }
-        d
+        self.derivative_of(x, u, &ax, self.body_loads(&ax, &acting, x[ix::VX]))
     }
 
     fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
@@ -298,28 +365,21 @@ impl VehicleModel<N> for Bicycle {
     }
 
     fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
-        let kin = self.kinematics(x);
         let ax = self.axles(x, u, env);
         let acting = self.acting(x, &ax);
-        let (fx, fy, _) = self.body_loads(&ax, &acting, kin.vx_mps);
-        Observation {
-            kin,
-            ax_mps2: fx / self.vehicle.mass_kg,
-            ay_mps2: fy / self.vehicle.mass_kg,
-            alpha_rad: ax.alpha,
-            kappa: [x[ix::KAPPA_F], x[ix::KAPPA_R]],
-            fx_n: [acting[0].fx_n, acting[1].fx_n],
-            fy_n: [acting[0].fy_n, acting[1].fy_n],
-            omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
-            fz_n: {
-                // vx r > 0 (turning left) moves load to the right (outer) tyres.
-                let d = [self.load_transfer(x, 0), self.load_transfer(x, 1)];
-                let l = |i: usize, s: f64| (self.fz_tyre[i] + s * d[i]).clamp(0.0, 2.0 * self.fz_tyre[i]);
-                [l(0, -1.0), l(0, 1.0), l(1, -1.0), l(1, 1.0)]
-            },
-            roll_rad: 0.0,
-            contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
-        }
+        self.observation_of(x, u, &ax, &acting, self.body_loads(&ax, &acting, x[ix::VX]))
+    }
+
+    fn derivatives_observed(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+    ) -> (SVector<f64, N>, Observation) {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
+        (self.derivative_of(x, u, &ax, loads), self.observation_of(x, u, &ax, &acting, loads))
     }
 
     /// The tyres' departures from their published laws, per axle and side.
@@ -358,6 +418,11 @@ impl VehicleModel<N> for Bicycle {
             };
         }
     }
+
+    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
+        let t = &self.vehicle.tyre;
+        (&[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)], t.rolling_radius_m / t.relaxation_length_x_m)
+    }
 }
 
 /// Kinematic slip ratio of an axle for a state (diagnostics and tests).
@@ -367,4 +432,39 @@ pub fn kinematic_slip_of(model: &Bicycle, x: &SVector<f64, N>, steer_rad: f64, a
     let (vxw, _) = if axle == 0 { to_wheel_axes(vx, vy + v.a_m * r, steer_rad) } else { (vx, vy - v.b_m * r) };
     let omega = if axle == 0 { x[ix::OMEGA_F] } else { x[ix::OMEGA_R] };
     kinematic_slip(omega, v.tyre.rolling_radius_m, vxw)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::VehicleFile;
+    use crate::tyre::TyreModelKind;
+
+    /// The prepared model (Magic Formula coefficients of the static loads) gives the same
+    /// derivative and observation bit for bit as the unprepared one, on the prepared path
+    /// (isothermal) and on the fallback (a heated contact, a thermal friction law).
+    #[test]
+    fn prepared_tyres_change_no_bit() {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
+        let mut v = VehicleFile::load(&p).unwrap().build(&p, TyreModelKind::Pacejka).unwrap();
+        for thermal in [0.0, -0.05] {
+            v.lateral.thermal_mu_per_k = thermal;
+            let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+            let (plain, prepared) = (Bicycle::new(v.clone()), Bicycle::new(v.clone()).prepared_for(&env));
+            assert!(prepared.prepared.iter().all(|p| p.is_some_and(|p| p.pacejka.is_some())));
+            let mut x = plain.initial_state(0.0, 0.0, 0.2, 10.0);
+            (x[ix::VY], x[ix::R], x[ix::KAPPA_F], x[ix::KAPPA_R]) = (0.3, 0.2, 0.02, -0.01);
+            for temp in [-3.0, 1.5] {
+                let u = Inputs {
+                    steer_rad: 0.05,
+                    drive_torque_nm: 300.0,
+                    contact_temp_c: [temp, -3.0, temp, temp],
+                    ..Inputs::default()
+                };
+                assert_eq!(plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
+                assert_eq!(plain.derivatives(&x, &u, &env), prepared.derivatives(&x, &u, &env));
+                assert_eq!(plain.observe(&x, &u, &env), plain.derivatives_observed(&x, &u, &env).1);
+            }
+        }
+    }
 }

@@ -140,6 +140,18 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// Full observation (forces, slips, accelerations) of a state under inputs.
     fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation;
 
+    /// [`Self::derivatives`] and [`Self::observe`] of the same state and inputs together, the same
+    /// values bit for bit; models override it to evaluate their tyres once for both (the engine
+    /// takes its output rows from the first RK4 stage). Default: the two calls.
+    fn derivatives_observed(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+    ) -> (SVector<f64, N>, Observation) {
+        (self.derivatives(x, u, env), self.observe(x, u, env))
+    }
+
     /// Operating conditions of every tyre (for the contact-temperature estimator), in `out[..TYRES]`.
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]);
 
@@ -154,4 +166,11 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// tyre named in the detail. The engine reports each kind once per run, at the first state
     /// that shows it (step resolution). Default: none.
     fn notes(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<(&'static str, String)>) {}
+
+    /// The stiff wheel-spin / transient-slip pairs, (omega index, relaxed-slip index) per wheel or
+    /// axle, and d(dkappa/dt)/d(omega) = R_e / sigma (see [`wheel`]); the engine's exponential RK4
+    /// integrates them exactly. Default: none (plain RK4).
+    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
+        (&[], 0.0)
+    }
 }

@@ -323,6 +323,28 @@ impl Roll4Dof {
         }
         (d, w)
     }
+
+    /// The observation from the derivative `d` and the per-wheel quantities `w` of one evaluation.
+    fn observation_of(&self, x: &SVector<f64, N>, u: &Inputs, d: &SVector<f64, N>, w: &Wheels) -> Observation {
+        let kin = super::rigid_body(x.as_slice());
+        let (ax, ay) = self.body_acceleration(x, d);
+        let mean = |a: [f64; 4], axle: usize| 0.5 * (a[2 * axle] + a[2 * axle + 1]);
+        let kappa = [x[ix::KAPPA], x[ix::KAPPA + 1], x[ix::KAPPA + 2], x[ix::KAPPA + 3]];
+        let omega = [x[ix::OMEGA], x[ix::OMEGA + 1], x[ix::OMEGA + 2], x[ix::OMEGA + 3]];
+        Observation {
+            kin,
+            ax_mps2: ax,
+            ay_mps2: ay,
+            alpha_rad: [mean(w.alpha, 0), mean(w.alpha, 1)],
+            kappa: [mean(kappa, 0), mean(kappa, 1)],
+            fx_n: [w.f[0].fx_n + w.f[1].fx_n, w.f[2].fx_n + w.f[3].fx_n],
+            fy_n: [w.f[0].fy_n + w.f[1].fy_n, w.f[2].fy_n + w.f[3].fy_n],
+            omega_radps: [mean(omega, 0), mean(omega, 1)],
+            fz_n: w.fz,
+            roll_rad: x[ix::PHI],
+            contact_temp_axle_c: [mean(u.contact_temp_c, 0), mean(u.contact_temp_c, 1)],
+        }
+    }
 }
 
 impl VehicleModel<N> for Roll4Dof {
@@ -377,25 +399,19 @@ impl VehicleModel<N> for Roll4Dof {
     }
 
     fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
-        let kin = self.kinematics(x);
         let (d, w) = self.eval(x, u, env);
-        let (ax, ay) = self.body_acceleration(x, &d);
-        let mean = |a: [f64; 4], axle: usize| 0.5 * (a[2 * axle] + a[2 * axle + 1]);
-        let kappa = [x[ix::KAPPA], x[ix::KAPPA + 1], x[ix::KAPPA + 2], x[ix::KAPPA + 3]];
-        let omega = [x[ix::OMEGA], x[ix::OMEGA + 1], x[ix::OMEGA + 2], x[ix::OMEGA + 3]];
-        Observation {
-            kin,
-            ax_mps2: ax,
-            ay_mps2: ay,
-            alpha_rad: [mean(w.alpha, 0), mean(w.alpha, 1)],
-            kappa: [mean(kappa, 0), mean(kappa, 1)],
-            fx_n: [w.f[0].fx_n + w.f[1].fx_n, w.f[2].fx_n + w.f[3].fx_n],
-            fy_n: [w.f[0].fy_n + w.f[1].fy_n, w.f[2].fy_n + w.f[3].fy_n],
-            omega_radps: [mean(omega, 0), mean(omega, 1)],
-            fz_n: w.fz,
-            roll_rad: x[ix::PHI],
-            contact_temp_axle_c: [mean(u.contact_temp_c, 0), mean(u.contact_temp_c, 1)],
-        }
+        self.observation_of(x, u, &d, &w)
+    }
+
+    fn derivatives_observed(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+    ) -> (SVector<f64, N>, Observation) {
+        let (d, w) = self.eval(x, u, env);
+        let o = self.observation_of(x, u, &d, &w);
+        (d, o)
     }
 
     /// Wheel lift per wheel and negative axle load per axle (see the module docs).
@@ -454,6 +470,17 @@ impl VehicleModel<N> for Roll4Dof {
                 surface_temp_c: env.surface_temp_c,
             };
         }
+    }
+
+    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
+        const PAIRS: [(usize, usize); 4] = [
+            (ix::OMEGA, ix::KAPPA),
+            (ix::OMEGA + 1, ix::KAPPA + 1),
+            (ix::OMEGA + 2, ix::KAPPA + 2),
+            (ix::OMEGA + 3, ix::KAPPA + 3),
+        ];
+        let t = &self.vehicle.tyre;
+        (&PAIRS, t.rolling_radius_m / t.relaxation_length_x_m)
     }
 }
 
