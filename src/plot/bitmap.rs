@@ -19,13 +19,13 @@
 //!   no system font is needed).
 //! - **Wide paths.** plotters fills one polygon around a whole path by the even-odd rule, so
 //!   where a path runs over itself (the second lap of a constant-radius trajectory) the overlap
-//!   cancels and the line falls apart into fragments. Here a path `w` pixels wide is `w`
-//!   one-pixel polylines side by side, offset across each segment's minor axis, with a w x w
-//!   block at every vertex (plotters' one-pixel line can leave out its end pixel).
+//!   cancels and the line falls apart into fragments. Here a path `w` pixels wide is `w` solid
+//!   one-pixel polylines side by side, offset across each segment's minor axis.
 //! - **Horizontal lines.** plotters-bitmap draws a one-pixel horizontal line given right to left
 //!   as only the pixels strictly between its ends (a 1 px step vanishes); such lines are drawn
-//!   left to right here. Wide single lines, polygons and circles go through plotters'
-//!   rasterisers with this backend, so their spans are drawn here too.
+//!   left to right here. One-pixel paths, wide single lines, polygons and circles are drawn
+//!   through this backend's lines (plotters' rasterisers with this backend), so their spans get
+//!   the same treatment.
 
 use std::sync::OnceLock;
 
@@ -111,6 +111,24 @@ pub fn rasterise(text: &str, size: f64, box_height: i32) -> Raster {
     Raster { left, top, width, height, coverage }
 }
 
+/// The pixels of the segment from `a` to `b`, both ends included: one per step along the major
+/// axis, the minor coordinate rounded from the exact line (Bresenham's choice).
+fn solid_line(a: BackendCoord, b: BackendCoord) -> impl Iterator<Item = BackendCoord> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let n = dx.abs().max(dy.abs());
+    (0..=n).map(move |i| {
+        if n == 0 {
+            return a;
+        }
+        // Integer rounding of a + d * i / n, halves away from zero.
+        let step = |d: i32| {
+            let num = 2 * d * i + d.signum() * n;
+            num / (2 * n)
+        };
+        (a.0 + step(dx), a.1 + step(dy))
+    })
+}
+
 /// A pixel backend with the text, wide paths and horizontal lines of the module header; the rest
 /// goes to the inner backend unchanged.
 pub struct PngBackend<B>(pub B);
@@ -155,28 +173,27 @@ impl<B: DrawingBackend> DrawingBackend for PngBackend<B> {
         style: &S,
     ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
         let w = style.stroke_width();
-        if w <= 1 || style.color().alpha == 0.0 {
-            return self.0.draw_path(path, style);
+        if style.color().alpha == 0.0 || w == 0 {
+            return Ok(());
+        }
+        let points: Vec<BackendCoord> = path.into_iter().collect();
+        if w == 1 {
+            for seg in points.windows(2) {
+                self.draw_line(seg[0], seg[1], style)?;
+            }
+            return Ok(());
         }
         // `w` one-pixel polylines side by side, offset across each segment's minor axis (rows
-        // for a flat segment, columns for a steep one); see the module header.
+        // for a flat segment, columns for a steep one), each pixel solid; see the module header.
         let colour = style.color();
-        let points: Vec<BackendCoord> = path.into_iter().collect();
         let first = -((w as i32 - 1) / 2);
         for seg in points.windows(2) {
             let (a, b) = (seg[0], seg[1]);
             let flat = (b.0 - a.0).abs() >= (b.1 - a.1).abs();
-            for k in first..first + w as i32 {
-                let (dx, dy) = if flat { (0, k) } else { (k, 0) };
-                self.draw_line((a.0 + dx, a.1 + dy), (b.0 + dx, b.1 + dy), &colour)?;
-            }
-        }
-        // plotters' one-pixel line leaves out the end pixel of a line rising to the right, so on
-        // a polyline of 1-2 px steps joints would open: a w x w block at every vertex closes them.
-        for p in &points {
-            for dy in first..first + w as i32 {
-                for dx in first..first + w as i32 {
-                    self.0.draw_pixel((p.0 + dx, p.1 + dy), colour)?;
+            for p in solid_line(a, b) {
+                for k in first..first + w as i32 {
+                    let q = if flat { (p.0, p.1 + k) } else { (p.0 + k, p.1) };
+                    self.0.draw_pixel(q, colour)?;
                 }
             }
         }
@@ -410,6 +427,38 @@ mod tests {
         // plotters has fixed it and PngBackend::draw_path can go.
         let (bare, _) = stroke_laps(true);
         assert!(bare > 50, "plotters' own wide path now unbroken ({bare} bare vertices)");
+    }
+
+    /// Pixels inked by a one-pixel horizontal line from x = 50 to x = `to_x` at y = 5.
+    fn horizontal_line_pixels(to_x: i32, plain: bool) -> usize {
+        let (w, h) = (100u32, 10u32);
+        let mut buf = vec![255u8; (w * h * 3) as usize];
+        {
+            let line = PathElement::new(
+                vec![(50, 5), (to_x, 5)],
+                ShapeStyle { color: BLACK.to_rgba(), filled: false, stroke_width: 1 },
+            );
+            let bitmap = BitMapBackend::with_buffer(&mut buf, (w, h));
+            if plain {
+                let area = bitmap.into_drawing_area();
+                area.draw(&line).unwrap();
+                area.present().unwrap();
+            } else {
+                let area = PngBackend(bitmap).into_drawing_area();
+                area.draw(&line).unwrap();
+                area.present().unwrap();
+            }
+        }
+        buf.chunks(3).filter(|p| p[0] < 128).count()
+    }
+
+    #[test]
+    fn horizontal_lines_cover_both_ends_either_way() {
+        for to_x in [40, 60, 49, 51] {
+            assert_eq!(horizontal_line_pixels(to_x, false), (to_x - 50).unsigned_abs() as usize + 1, "to {to_x}");
+        }
+        // plotters alone: right to left loses both ends, and a 1 px step vanishes.
+        assert_eq!((horizontal_line_pixels(40, true), horizontal_line_pixels(49, true)), (9, 0));
     }
 
     #[test]
