@@ -376,6 +376,22 @@ mod tests {
         }
     }
 
+    /// Stroke `path` `width` px wide in black into the RGB buffer `buf` of `size`, through
+    /// [`PngBackend`] or plotters alone (`plain`).
+    fn stroke(buf: &mut [u8], size: (u32, u32), path: Vec<(i32, i32)>, width: u32, plain: bool) {
+        let line = PathElement::new(path, ShapeStyle { color: BLACK.to_rgba(), filled: false, stroke_width: width });
+        let bitmap = BitMapBackend::with_buffer(buf, size);
+        if plain {
+            let area = bitmap.into_drawing_area();
+            area.draw(&line).unwrap();
+            area.present().unwrap();
+        } else {
+            let area = PngBackend(bitmap).into_drawing_area();
+            area.draw(&line).unwrap();
+            area.present().unwrap();
+        }
+    }
+
     /// One and a half laps of a circle of radius 200 px (a constant-radius trajectory), as
     /// rounded points about 1.5 px apart, counter-clockwise on screen, stroked 2 px wide in black on
     /// white through [`PngBackend`] or plotters alone: how many of its vertices are not inked, and
@@ -391,20 +407,7 @@ mod tests {
             .collect();
         pts.dedup();
         let mut buf = vec![255u8; (w * h * 3) as usize];
-        {
-            let style = ShapeStyle { color: BLACK.to_rgba(), filled: false, stroke_width: 2 };
-            let line = PathElement::new(pts.clone(), style);
-            let bitmap = BitMapBackend::with_buffer(&mut buf, (w, h));
-            if plain {
-                let area = bitmap.into_drawing_area();
-                area.draw(&line).unwrap();
-                area.present().unwrap();
-            } else {
-                let area = PngBackend(bitmap).into_drawing_area();
-                area.draw(&line).unwrap();
-                area.present().unwrap();
-            }
-        }
+        stroke(&mut buf, (w, h), pts.clone(), 2, plain);
         let ink = |x: i32, y: i32| buf[((y as u32 * w + x as u32) * 3) as usize] < 128;
         let bare = pts.iter().filter(|p| !ink(p.0, p.1)).count();
         let mut stray: f64 = 0.0;
@@ -433,22 +436,7 @@ mod tests {
     fn horizontal_line_pixels(to_x: i32, plain: bool) -> usize {
         let (w, h) = (100u32, 10u32);
         let mut buf = vec![255u8; (w * h * 3) as usize];
-        {
-            let line = PathElement::new(
-                vec![(50, 5), (to_x, 5)],
-                ShapeStyle { color: BLACK.to_rgba(), filled: false, stroke_width: 1 },
-            );
-            let bitmap = BitMapBackend::with_buffer(&mut buf, (w, h));
-            if plain {
-                let area = bitmap.into_drawing_area();
-                area.draw(&line).unwrap();
-                area.present().unwrap();
-            } else {
-                let area = PngBackend(bitmap).into_drawing_area();
-                area.draw(&line).unwrap();
-                area.present().unwrap();
-            }
-        }
+        stroke(&mut buf, (w, h), vec![(50, 5), (to_x, 5)], 1, plain);
         buf.chunks(3).filter(|p| p[0] < 128).count()
     }
 
