@@ -7,12 +7,13 @@
 //! column right of the data, never over it; tick labels never read `-0.0`; trajectories can be
 //! drawn at equal scale on both axes; a note under the chart says what was left out or why curves
 //! coincide. The font (DejaVu Sans) comes from the `dejavu` crate as bytes, so no system font
-//! library is needed; PNG text is laid out by [`text`] (plotters' own bitmap text drops glyph side
-//! bearings). Files are written under a temporary name and renamed (see [`crate::output`]).
+//! library is needed; PNG text and wide lines are drawn by [`bitmap`] (plotters' own drop glyph
+//! side bearings and break lines that run over themselves). Files are written under a temporary name and renamed
+//! (see [`crate::output`]).
 
+pub mod bitmap;
 pub mod envelope;
 pub mod runs;
-pub mod text;
 
 use std::path::Path;
 use std::sync::Once;
@@ -23,7 +24,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::output::{rename, temp_path, write_atomic};
-use text::GlyphText;
+use bitmap::PngBackend;
 
 static FONT: Once = Once::new();
 
@@ -31,7 +32,7 @@ fn register_font() {
     FONT.call_once(|| {
         // The bytes are a valid TTF shipped by the dejavu crate; registration cannot fail on them,
         // and if it did the charts would only lack text.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, text::sans_bytes());
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bitmap::sans_bytes());
     });
 }
 
@@ -834,7 +835,7 @@ pub fn xy_chart(stem: &Path, chart: &XyChart) -> Result<()> {
     let size = chart_size(chart);
     write_both(
         stem,
-        |p| draw_lines(GlyphText(BitMapBackend::new(p, size)).into_drawing_area(), chart),
+        |p| draw_lines(PngBackend(BitMapBackend::new(p, size)).into_drawing_area(), chart),
         |s| draw_lines(SVGBackend::with_string(s, size).into_drawing_area(), chart),
     )
 }
@@ -844,7 +845,7 @@ pub fn figure(stem: &Path, fig: &Figure) -> Result<()> {
     let size = figure_size(fig.panels.len());
     write_both(
         stem,
-        |p| draw_figure(GlyphText(BitMapBackend::new(p, size)).into_drawing_area(), fig),
+        |p| draw_figure(PngBackend(BitMapBackend::new(p, size)).into_drawing_area(), fig),
         |s| draw_figure(SVGBackend::with_string(s, size).into_drawing_area(), fig),
     )
 }
@@ -853,7 +854,7 @@ pub fn figure(stem: &Path, fig: &Figure) -> Result<()> {
 pub fn heat_map(stem: &Path, map: &HeatMap) -> Result<()> {
     write_both(
         stem,
-        |p| draw_heat(GlyphText(BitMapBackend::new(p, SIZE)).into_drawing_area(), map),
+        |p| draw_heat(PngBackend(BitMapBackend::new(p, SIZE)).into_drawing_area(), map),
         |s| draw_heat(SVGBackend::with_string(s, SIZE).into_drawing_area(), map),
     )
 }

@@ -1,28 +1,36 @@
-//! Text on bitmap (PNG) charts, laid out from the font's own metrics.
+//! The pixel (PNG) side of the charts: text laid out from the font's own metrics, and lines
+//! that stay whole, where plotters 0.3.7 (the newest release) gets both wrong on bitmaps. SVG
+//! charts are unaffected: the viewer lays out their text and strokes their paths.
 //!
-//! plotters 0.3.7 (the newest release) rasterises each glyph of a bitmap chart at the pen
-//! position, dropping the glyph's left side bearing and rounding the pen to whole pixels, so
-//! letters drift into each other ("class_a" reads "dass_a"). SVG charts are unaffected: the viewer
-//! lays their text out. [`GlyphText`] wraps any pixel backend, passes every drawing call through
-//! unchanged and draws text itself with ab_glyph:
+//! [`PngBackend`] wraps any pixel backend and passes every drawing call through unchanged except
+//! these:
 //!
-//! - horizontally, glyph k sits at pen x_k = sum over earlier glyphs of (advance + kerning with
-//!   its successor), at sub-pixel precision; its outline is placed relative to that pen, so the
-//!   side bearings come out as the font defines them;
-//! - vertically, the baseline is the whole pixel nearest to centring the font's ascent–descent
-//!   range in the layout box plotters reserves for the text (height = size / 1.24 px), so digits
-//!   centre on their tick marks;
-//! - coverage of overlapping glyphs (a kerned pair) adds up before blending, capped at 1.
-//!
-//! The layout box (width = advance + kerning sum, height as above) is plotters' own, so text
-//! anchoring, legends and label areas computed by plotters stay as they are. Sizes are in pixels:
-//! `size` is the font's ascent-to-descent height, as plotters uses it. Every text is drawn in
-//! DejaVu Sans, the one face the charts register (bytes from the `dejavu` crate, so no system
-//! font is needed).
+//! - **Text.** plotters rasterises each glyph at the pen position, dropping the glyph's left side
+//!   bearing and rounding the pen to whole pixels, so letters drift into each other ("class_a"
+//!   reads "dass_a"). Here glyph k sits at pen x_k = sum over earlier glyphs of (advance + kerning
+//!   with its successor), at sub-pixel precision, and its outline is placed relative to that pen,
+//!   so the side bearings come out as the font defines them. The baseline is the whole pixel
+//!   nearest to centring the font's ascent–descent range in the layout box plotters reserves
+//!   (height = size / 1.24 px), so digits centre on their tick marks. Coverage of overlapping
+//!   glyphs adds up before blending, capped at 1. The layout box (width = advance + kerning sum)
+//!   is plotters' own, so anchoring, legends and label areas stay as plotters computed them.
+//!   `size` is the font's ascent-to-descent height in pixels, as plotters uses it. Every text is
+//!   drawn in DejaVu Sans, the one face the charts register (bytes from the `dejavu` crate, so
+//!   no system font is needed).
+//! - **Wide paths.** plotters fills one polygon around a whole path by the even-odd rule, so
+//!   where a path runs over itself (the second lap of a constant-radius trajectory) the overlap
+//!   cancels and the line falls apart into fragments. Here a path `w` pixels wide is `w` solid
+//!   one-pixel polylines side by side, offset across each segment's minor axis.
+//! - **Horizontal lines.** plotters-bitmap draws a one-pixel horizontal line given right to left
+//!   as only the pixels strictly between its ends (a 1 px step vanishes); such lines are drawn
+//!   left to right here. One-pixel paths, wide single lines, polygons and circles are drawn
+//!   through this backend's lines (plotters' rasterisers with this backend), so their spans get
+//!   the same treatment.
 
 use std::sync::OnceLock;
 
 use ab_glyph::{point, Font, FontRef, PxScale, ScaleFont};
+use plotters_backend::rasterizer;
 use plotters_backend::text_anchor::{HPos, VPos};
 use plotters_backend::{BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingBackend, DrawingErrorKind};
 
@@ -103,11 +111,29 @@ pub fn rasterise(text: &str, size: f64, box_height: i32) -> Raster {
     Raster { left, top, width, height, coverage }
 }
 
-/// A pixel backend whose text is laid out by [`rasterise`]; everything else goes to the inner
-/// backend unchanged.
-pub struct GlyphText<B>(pub B);
+/// The pixels of the segment from `a` to `b`, both ends included: one per step along the major
+/// axis, the minor coordinate rounded from the exact line (Bresenham's choice).
+fn solid_line(a: BackendCoord, b: BackendCoord) -> impl Iterator<Item = BackendCoord> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let n = dx.abs().max(dy.abs());
+    (0..=n).map(move |i| {
+        if n == 0 {
+            return a;
+        }
+        // Integer rounding of a + d * i / n, halves away from zero.
+        let step = |d: i32| {
+            let num = 2 * d * i + d.signum() * n;
+            num / (2 * n)
+        };
+        (a.0 + step(dx), a.1 + step(dy))
+    })
+}
 
-impl<B: DrawingBackend> DrawingBackend for GlyphText<B> {
+/// A pixel backend with the text, wide paths and horizontal lines of the module header; the rest
+/// goes to the inner backend unchanged.
+pub struct PngBackend<B>(pub B);
+
+impl<B: DrawingBackend> DrawingBackend for PngBackend<B> {
     type ErrorType = B::ErrorType;
 
     fn get_size(&self) -> (u32, u32) {
@@ -132,7 +158,46 @@ impl<B: DrawingBackend> DrawingBackend for GlyphText<B> {
         to: BackendCoord,
         style: &S,
     ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        if style.stroke_width() != 1 {
+            return rasterizer::draw_line(self, from, to, style);
+        }
+        // plotters-bitmap fills a horizontal line drawn right to left as the pixels strictly
+        // between its ends, so a polygon's one- and two-pixel spans vanish.
+        let (from, to) = if from.1 == to.1 && from.0 > to.0 { (to, from) } else { (from, to) };
         self.0.draw_line(from, to, style)
+    }
+
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        let w = style.stroke_width();
+        if style.color().alpha == 0.0 || w == 0 {
+            return Ok(());
+        }
+        let points: Vec<BackendCoord> = path.into_iter().collect();
+        if w == 1 {
+            for seg in points.windows(2) {
+                self.draw_line(seg[0], seg[1], style)?;
+            }
+            return Ok(());
+        }
+        // `w` one-pixel polylines side by side, offset across each segment's minor axis (rows
+        // for a flat segment, columns for a steep one), each pixel solid; see the module header.
+        let colour = style.color();
+        let first = -((w as i32 - 1) / 2);
+        for seg in points.windows(2) {
+            let (a, b) = (seg[0], seg[1]);
+            let flat = (b.0 - a.0).abs() >= (b.1 - a.1).abs();
+            for p in solid_line(a, b) {
+                for k in first..first + w as i32 {
+                    let q = if flat { (p.0, p.1 + k) } else { (p.0 + k, p.1) };
+                    self.0.draw_pixel(q, colour)?;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn draw_rect<S: BackendStyle>(
@@ -145,30 +210,13 @@ impl<B: DrawingBackend> DrawingBackend for GlyphText<B> {
         self.0.draw_rect(upper_left, bottom_right, style, fill)
     }
 
-    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
-        &mut self,
-        path: I,
-        style: &S,
-    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
-        self.0.draw_path(path, style)
-    }
-
-    fn draw_circle<S: BackendStyle>(
-        &mut self,
-        center: BackendCoord,
-        radius: u32,
-        style: &S,
-        fill: bool,
-    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
-        self.0.draw_circle(center, radius, style, fill)
-    }
-
     fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
         &mut self,
         vert: I,
         style: &S,
     ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
-        self.0.fill_polygon(vert, style)
+        let vert: Vec<BackendCoord> = vert.into_iter().collect();
+        rasterizer::fill_polygon(self, &vert, style)
     }
 
     fn estimate_text_size<S: BackendTextStyle>(
@@ -256,7 +304,7 @@ mod tests {
     }
 
     /// Draw `text` black on white at `size` px with its layout box's top-left at (`x0`, 10), through
-    /// [`GlyphText`] (or plotters' own text when `plain`); return the runs of inked columns.
+    /// [`PngBackend`] (or plotters' own text when `plain`); return the runs of inked columns.
     fn ink_runs(text: &str, size: u32, x0: i32, plain: bool) -> Vec<(i32, i32)> {
         super::super::register_font();
         let (w, h) = (800u32, 120u32);
@@ -269,7 +317,7 @@ mod tests {
                 area.draw_text(text, &font, (x0, 10)).unwrap();
                 area.present().unwrap();
             } else {
-                let area = GlyphText(bitmap).into_drawing_area();
+                let area = PngBackend(bitmap).into_drawing_area();
                 area.draw_text(text, &font, (x0, 10)).unwrap();
                 area.present().unwrap();
             }
@@ -322,10 +370,83 @@ mod tests {
     #[test]
     fn plotters_own_bitmap_text_fails_the_same_check() {
         // The check above can fail: plotters 0.3.7 drops side bearings. Should a newer plotters
-        // pass, its bitmap text is fixed and GlyphText can be retired.
+        // pass, its bitmap text is fixed and PngBackend's text can be retired.
         for (text, size, gap) in [("classic", 40, 2.0), ("rate", 40, 2.0), ("ice", 40, 2.0), ("cl", 14, 1.5)] {
             assert!(check_glyph_boxes(text, size, gap, true).is_err(), "{text:?} at {size} px");
         }
+    }
+
+    /// Stroke `path` `width` px wide in black into the RGB buffer `buf` of `size`, through
+    /// [`PngBackend`] or plotters alone (`plain`).
+    fn stroke(buf: &mut [u8], size: (u32, u32), path: Vec<(i32, i32)>, width: u32, plain: bool) {
+        let line = PathElement::new(path, ShapeStyle { color: BLACK.to_rgba(), filled: false, stroke_width: width });
+        let bitmap = BitMapBackend::with_buffer(buf, size);
+        if plain {
+            let area = bitmap.into_drawing_area();
+            area.draw(&line).unwrap();
+            area.present().unwrap();
+        } else {
+            let area = PngBackend(bitmap).into_drawing_area();
+            area.draw(&line).unwrap();
+            area.present().unwrap();
+        }
+    }
+
+    /// One and a half laps of a circle of radius 200 px (a constant-radius trajectory), as
+    /// rounded points about 1.5 px apart, counter-clockwise on screen, stroked 2 px wide in black on
+    /// white through [`PngBackend`] or plotters alone: how many of its vertices are not inked, and
+    /// the largest distance of any ink from the circle (px).
+    fn stroke_laps(plain: bool) -> (usize, f64) {
+        let (w, h, c, r) = (460u32, 460u32, 230.0, 200.0);
+        let n = 840;
+        let mut pts: Vec<(i32, i32)> = (0..=n * 3 / 2)
+            .map(|k| {
+                let a = -std::f64::consts::TAU * k as f64 / n as f64;
+                ((c + r * a.cos()).round() as i32, (c + r * a.sin()).round() as i32)
+            })
+            .collect();
+        pts.dedup();
+        let mut buf = vec![255u8; (w * h * 3) as usize];
+        stroke(&mut buf, (w, h), pts.clone(), 2, plain);
+        let ink = |x: i32, y: i32| buf[((y as u32 * w + x as u32) * 3) as usize] < 128;
+        let bare = pts.iter().filter(|p| !ink(p.0, p.1)).count();
+        let mut stray: f64 = 0.0;
+        for y in 0..h as i32 {
+            for x in 0..w as i32 {
+                if ink(x, y) {
+                    stray = stray.max(((f64::from(x) - c).hypot(f64::from(y) - c) - r).abs());
+                }
+            }
+        }
+        (bare, stray)
+    }
+
+    #[test]
+    fn a_wide_line_over_itself_stays_inked() {
+        let (bare, stray) = stroke_laps(false);
+        assert_eq!(bare, 0, "vertices without ink");
+        assert!(stray <= 2.5, "ink {stray} px off the circle");
+        // plotters alone: the second lap cancels the first (even-odd fill). Should this pass,
+        // plotters has fixed it and PngBackend::draw_path can go.
+        let (bare, _) = stroke_laps(true);
+        assert!(bare > 50, "plotters' own wide path now unbroken ({bare} bare vertices)");
+    }
+
+    /// Pixels inked by a one-pixel horizontal line from x = 50 to x = `to_x` at y = 5.
+    fn horizontal_line_pixels(to_x: i32, plain: bool) -> usize {
+        let (w, h) = (100u32, 10u32);
+        let mut buf = vec![255u8; (w * h * 3) as usize];
+        stroke(&mut buf, (w, h), vec![(50, 5), (to_x, 5)], 1, plain);
+        buf.chunks(3).filter(|p| p[0] < 128).count()
+    }
+
+    #[test]
+    fn horizontal_lines_cover_both_ends_either_way() {
+        for to_x in [40, 60, 49, 51] {
+            assert_eq!(horizontal_line_pixels(to_x, false), (to_x - 50).unsigned_abs() as usize + 1, "to {to_x}");
+        }
+        // plotters alone: right to left loses both ends, and a 1 px step vanishes.
+        assert_eq!((horizontal_line_pixels(40, true), horizontal_line_pixels(49, true)), (9, 0));
     }
 
     #[test]
