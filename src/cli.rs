@@ -123,6 +123,9 @@ pub enum Command {
         /// Measured runs (RUN.csv, each with an optional RUN.toml sidecar).
         #[arg(required = true)]
         runs: Vec<PathBuf>,
+        /// No progress and no summary (progress is shown only on a terminal anyway).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
     /// effect switched on (or `none`).
@@ -382,8 +385,8 @@ pub fn main() -> ExitCode {
                 Err(e) => report(&e),
             }
         }
-        Command::Discover { vehicle, tyre, tyre_model, model, out, runs } => {
-            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs)
+        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet } => {
+            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet)
         }
         Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
             crate::discover::cli_synth(&effect, &params, &vehicle, &tyre_model, seed, &out)

@@ -47,12 +47,30 @@ fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
     assert!(after <= 0.5 * before, "held-out yaw-rate RMS {before} -> {after}: not cut in half");
 }
 
+/// Every generating value of `e` lies inside the 95 % interval that the discovery reports for it
+/// (final values, after the polish).
+fn check_intervals(d: &Discovery, e: Effect, truth: &[f64]) {
+    let fe = d.final_effects.iter().find(|f| f.effect == e.name() && f.form == e.form()).unwrap();
+    assert!(fe.significant);
+    for ((def, t), ((_, v, _), iv)) in e.params().iter().zip(truth).zip(fe.params.iter().zip(&fe.intervals)) {
+        eprintln!("  {}: {v:.5} (95 %: {:.5} to {:.5}), generated {t}", def.name, iv.lo, iv.hi);
+        assert!(iv.contains(*t), "{}: generated {t} outside the 95 % interval [{}, {}] around {v}", def.name, iv.lo, iv.hi);
+        assert!(iv.std_error > 0.0 && iv.std_error.is_finite());
+    }
+}
+
 fn blind(e: Effect) -> Discovery {
     let v = synth::default_params(e);
     let d = run_blind(Some((e, &v)), 11);
     check_named(&d, e.name(), e.params()[0].name, v[0]);
     // The right form of a two-form effect, too.
     assert_eq!(d.steps[0].form, e.form(), "{}: wrong form", e.name());
+    check_intervals(&d, e, &v);
+    // Two folds, each fitted on one side of the split and scored on the other, both at the noise.
+    assert_eq!(d.folds.len(), 2);
+    for f in &d.folds {
+        assert!(f.final_noise_ratio.iter().all(|r| *r <= 1.5), "fold {:?}", f);
+    }
     d
 }
 
@@ -73,7 +91,8 @@ fn blind_steering_lag_is_named_as_steer_compliance_in_its_lag_form() {
 
 #[test]
 fn blind_tyre_relaxation_is_named_and_recovered() {
-    let _ = blind(Effect::TyreRelaxation);
+    let d = blind(Effect::TyreRelaxation);
+    check_split(&d);
 }
 
 #[test]
@@ -91,6 +110,13 @@ fn blind_friction_change_over_a_stretch_is_named_and_located() {
     assert!((get("stretch_length_m") - v[2]).abs() < 5.0, "length {}", get("stretch_length_m"));
 }
 
+/// A friction patch on the ground (a disc crossed by each axle at its own time) is told apart
+/// from a stretch of distance travelled, and located.
+#[test]
+fn blind_friction_patch_is_named_and_located() {
+    let _ = blind(Effect::FrictionPatch);
+}
+
 #[test]
 fn blind_thermal_friction_is_named_and_recovered() {
     let _ = blind(Effect::ThermalFriction);
@@ -102,10 +128,64 @@ fn blind_load_transfer_is_named_and_recovered() {
 }
 
 #[test]
+fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
+    let _ = blind(Effect::AxleStiffness);
+}
+
+#[test]
+fn blind_per_axle_peak_friction_is_named_and_recovered() {
+    let _ = blind(Effect::AxleFriction);
+}
+
+#[test]
+fn blind_transient_slip_is_named_as_tyre_relaxation_in_its_slip_form() {
+    let _ = blind(Effect::TransientSlip);
+}
+
+#[test]
+fn blind_yaw_inertia_is_named_and_recovered() {
+    let _ = blind(Effect::YawInertia);
+}
+
+#[test]
 fn null_data_reports_nothing_missing() {
     let d = run_blind(None, 12);
     assert!(d.named.is_empty(), "false effect named: {:?}", d.steps);
     assert_eq!(d.verdict, "nothing_missing");
+    // Both folds sit at the noise with the baseline itself.
+    for f in &d.folds {
+        assert!(f.baseline_noise_ratio.iter().all(|r| *r <= 1.5) && f.final_noise_ratio == f.baseline_noise_ratio);
+    }
+}
+
+/// The stratified split puts each surface and each manoeuvre of the synthetic set on both sides
+/// (its runs are named NN_kind_surface), and the second fold holds out the first fold's fitted runs.
+fn check_split(d: &Discovery) {
+    let held: Vec<String> = d.folds[0].heldout_runs.clone();
+    assert_eq!(held.len(), 4, "{held:?}");
+    for key in ["ice", "dry", "sine", "step", "ramp", "lane"] {
+        let n = held.iter().filter(|r| r.contains(key)).count();
+        let total = if key == "ice" || key == "dry" { 4 } else { 2 };
+        assert!(n > 0 && n < total, "{key}: {n} of {total} held out ({held:?})");
+    }
+    assert_eq!(d.folds[1].heldout_runs.len(), 4);
+    assert!(d.folds[1].heldout_runs.iter().all(|r| !held.contains(r)));
+}
+
+/// Data with an effect that no offered candidate can express: the verdict must not be
+/// `explained`; when something is named it is `partly_explained`, with remaining windows.
+#[test]
+fn a_missing_form_leaves_the_data_partly_explained_or_unexplained() {
+    let m = model();
+    let mut p = EffectParams::default();
+    Effect::AxleStiffness.apply(&mut p, &[1.0, 0.7]);
+    let runs = synth::generate(&m, &p, 21);
+    let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
+    let d = discover(&m, &data, &[Effect::SensorBias, Effect::SteerLag]);
+    eprintln!("named {:?}, verdict {}, folds {:?}", d.named, d.verdict, d.folds);
+    let expected = if d.named.is_empty() { "unexplained" } else { "partly_explained" };
+    assert_eq!(d.verdict, expected);
+    assert!(d.folds.iter().any(|f| f.final_noise_ratio.iter().any(|r| *r > 1.5)));
 }
 
 #[test]
@@ -153,9 +233,16 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
     for key in ["rmse_before", "rmse_after", "heldout_rmse_before", "heldout_rmse_after", "evidence"] {
         assert!(!step[key].is_null(), "steps[0].{key} missing");
     }
-    for key in ["baseline_rmse", "final_rmse", "rejected"] {
+    for key in ["baseline_rmse", "final_rmse", "rejected", "folds", "largest_remaining_windows"] {
         assert!(!report[key].is_null(), "{key} missing");
     }
+    // Intervals beside every accepted parameter; the generating value inside.
+    let p0 = &step["params"][0];
+    let (lo, hi) = (p0["ci95_lo"].as_f64().unwrap(), p0["ci95_hi"].as_f64().unwrap());
+    assert!(lo <= 0.03 && 0.03 <= hi && p0["std_error"].as_f64().unwrap() > 0.0, "{p0}");
+    assert_eq!(report["final_effects"][0]["significant"], true);
+    assert_eq!(report["folds"].as_array().unwrap().len(), 2);
+    assert!(report["folds"][1]["final_noise_ratio"][0].as_f64().unwrap() <= 1.5);
     assert!(report["baseline_rmse"]["heldout"]["yaw_rate_radps"].as_f64().unwrap() > 0.02);
     assert!(out.join("report.md").exists() && out.join("effects.toml").exists());
     assert!(out.join("plots/01_sine_ice_yaw_rate.png").exists());
@@ -193,11 +280,13 @@ fn two_hidden_effects_are_both_named_and_recovered() {
     named.sort();
     assert_eq!(named, vec!["sensor_bias".to_string(), "tyre_relaxation".to_string()], "{:?}", d.rejected);
     let get = |effect: &str, k: &str| {
-        let (_, _, ps) = d.final_effects.iter().find(|(e, _, _)| e == effect).unwrap();
-        ps.iter().find(|(n, _, _)| n == k).map(|(_, v, _)| *v).unwrap()
+        let fe = d.final_effects.iter().find(|f| f.effect == effect).unwrap();
+        fe.params.iter().find(|(n, _, _)| n == k).map(|(_, v, _)| *v).unwrap()
     };
     let (sigma, bias) = (get("tyre_relaxation", "relaxation_length_y_m"), get("sensor_bias", "bias_yaw_rate_radps"));
     eprintln!("two effects: sigma_y {sigma} m (1.2), yaw-rate bias {bias} rad/s (0.02)");
+    check_intervals(&d, Effect::TyreRelaxation, &[1.2]);
+    check_intervals(&d, Effect::SensorBias, &[0.02, 0.25]);
     assert!((sigma - 1.2).abs() <= 0.25 * 1.2, "sigma_y {sigma}");
     assert!((bias - 0.02).abs() <= 0.25 * 0.02, "bias {bias}");
     let (before, after) = (d.baseline.rmse(true).yaw_rate_radps, d.final_scores.rmse(true).yaw_rate_radps);
