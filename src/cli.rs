@@ -131,8 +131,9 @@ pub enum Command {
     /// effect switched on (or `none`).
     Synth {
         /// tyre_relaxation, load_transfer, thermal_friction, friction_change, steer_compliance,
-        /// sensor_bias or none; the --params names pick the form (steer_lag_s: steering lag;
-        /// stretch_start_m / stretch_length_m: friction over a stretch).
+        /// sensor_bias, axle_cornering_stiffness, axle_peak_friction, yaw_inertia or none; the
+        /// --params names pick the form (steer_lag_s: steering lag; stretch_*: a stretch; patch_*:
+        /// a ground patch; relaxation_length_front_m: transient slip; load_sensitivity_*).
         #[arg(long)]
         effect: String,
         /// Effect parameters, name=value (repeatable); defaults per effect.

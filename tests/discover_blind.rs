@@ -128,6 +128,11 @@ fn blind_load_transfer_is_named_and_recovered() {
 }
 
 #[test]
+fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
+    let _ = blind(Effect::LoadTransferSensitive);
+}
+
+#[test]
 fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
     let _ = blind(Effect::AxleStiffness);
 }
@@ -291,4 +296,38 @@ fn two_hidden_effects_are_both_named_and_recovered() {
     assert!((bias - 0.02).abs() <= 0.25 * 0.02, "bias {bias}");
     let (before, after) = (d.baseline.rmse(true).yaw_rate_radps, d.final_scores.rmse(true).yaw_rate_radps);
     assert!(after <= 0.5 * before, "held-out yaw-rate RMS {before} -> {after}");
+}
+
+/// The patch's friction factor against its closed form: 1 + (s - 1) / (1 + exp((r - R) / 1 m)).
+#[test]
+fn patch_factor_follows_its_closed_form() {
+    let p = EffectParams { patch: [0.5, 10.0, -2.0, 5.0], ..Default::default() };
+    let expect = |r: f64| 1.0 - 0.5 / (1.0 + (r - 5.0f64).exp());
+    for (x, y, r) in [(10.0, -2.0, 0.0), (13.0, 2.0, 5.0), (10.0, 4.0, 6.0), (60.0, -2.0, 50.0)] {
+        assert!((p.patch_factor(x, y) - expect(r)).abs() < 1e-12, "r = {r}");
+    }
+    // Rim value halfway; far away no change; off when the radius is 0.
+    assert!((p.patch_factor(15.0, -2.0) - 0.75).abs() < 1e-12);
+    assert!((p.patch_factor(60.0, -2.0) - 1.0).abs() < 1e-12);
+    assert_eq!(EffectParams::default().patch_factor(10.0, -2.0), 1.0);
+}
+
+/// With a linear tyre, lagging the slip angle and lagging the force are the same filter: transient
+/// slip with one length on both axles must replay like the force relaxation of that length.
+#[test]
+fn transient_slip_equals_force_relaxation_for_a_linear_tyre() {
+    let v = load_vehicle(&common::root().join("vehicles/sedan.toml"), None, tyre_kind("linear").unwrap()).unwrap();
+    let m = ReplayModel::new(v);
+    let runs = synth::generate(&m, &EffectParams::default(), 3);
+    let (mut force, mut slip) = (EffectParams::default(), EffectParams::default());
+    Effect::TyreRelaxation.apply(&mut force, &[0.9]);
+    Effect::TransientSlip.apply(&mut slip, &[0.9, 0.9]);
+    // The dry sine (02_sine_dry) stays far below the friction limit, where the tyre is linear.
+    let run = &runs[1].0;
+    let none = m.simulate(run, &EffectParams::default());
+    let (a, b) = (m.simulate(run, &force), m.simulate(run, &slip));
+    let diff = a.yaw_rate.iter().zip(&b.yaw_rate).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    let effect = a.yaw_rate.iter().zip(&none.yaw_rate).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    eprintln!("max |r_force - r_slip| = {diff:e} rad/s; the relaxation itself moves r by up to {effect:e}");
+    assert!(effect > 1e-3 && diff < 1e-6 * effect.max(1.0), "{diff} vs {effect}");
 }

@@ -70,11 +70,12 @@ pub enum Effect {
     TransientSlip,
     TransientSlipSaturating,
     FrictionPatch,
+    LoadTransferSensitive,
 }
 
 impl Effect {
     /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 14] = [
+    pub const TRIED: [Effect; 15] = [
         Effect::SensorBias,
         Effect::SteerCompliance,
         Effect::SteerLag,
@@ -86,13 +87,14 @@ impl Effect {
         Effect::FrictionPatch,
         Effect::ThermalFriction,
         Effect::LoadTransfer,
+        Effect::LoadTransferSensitive,
         Effect::AxleStiffness,
         Effect::AxleFriction,
         Effect::YawInertia,
     ];
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 14] = Self::TRIED;
+    pub const ALL: [Effect; 15] = Self::TRIED;
 
     /// Every name accepted on the command line.
     pub const NAMES: [&'static str; 9] = [
@@ -110,7 +112,7 @@ impl Effect {
     pub fn name(self) -> &'static str {
         match self {
             Effect::TyreRelaxation | Effect::TransientSlip | Effect::TransientSlipSaturating => "tyre_relaxation",
-            Effect::LoadTransfer => "load_transfer",
+            Effect::LoadTransfer | Effect::LoadTransferSensitive => "load_transfer",
             Effect::ThermalFriction => "thermal_friction",
             Effect::FrictionChange | Effect::FrictionStretch | Effect::FrictionPatch => "friction_change",
             Effect::SteerCompliance | Effect::SteerLag => "steer_compliance",
@@ -130,6 +132,7 @@ impl Effect {
             Effect::FrictionStretch => "stretch",
             Effect::TransientSlip => "slip",
             Effect::FrictionPatch => "patch",
+            Effect::LoadTransferSensitive => "sensitive",
             Effect::TransientSlipSaturating => "slip_saturating",
             _ => "",
         }
@@ -176,6 +179,9 @@ impl Effect {
                 "each axle's cornering stiffness differs from the tyre's by its own factor (peak force unchanged)"
             }
             Effect::AxleFriction => "each axle's peak friction differs from the nominal by its own factor",
+            Effect::LoadTransferSensitive => {
+                "lateral load transfer with fitted load sensitivities of each tyre's friction and cornering stiffness"
+            }
             Effect::FrictionPatch => "surface friction differs over a disc on the ground, crossed by each axle at its own time",
             Effect::TransientSlip => "each axle's slip angle lags the kinematic one over its own relaxation length",
             Effect::TransientSlipSaturating => {
@@ -273,6 +279,13 @@ impl Effect {
                 }
             }
             Effect::YawInertia => const { &[pd("yaw_inertia_scale", "1", 1.0, 0.2, 0.3, 3.0, ONE)] },
+            Effect::LoadTransferSensitive => const {
+                &[
+                    pd("load_transfer_height_m", "m", 0.5, 0.3, 0.0, 2.0, ZERO),
+                    pd("load_sensitivity_mu", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
+                    pd("load_sensitivity_stiffness", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
+                ]
+            },
             Effect::FrictionPatch => const {
                 &[
                     pd("mu_scale", "1", 0.7, 0.2, 0.05, 3.0, ONE),
@@ -312,6 +325,10 @@ impl Effect {
             Effect::AxleFriction => p.mu_axle_scale = [v[0], v[1]],
             Effect::YawInertia => p.yaw_inertia_scale = v[0],
             Effect::FrictionPatch => p.patch = [v[0], v[1], v[2], v[3]],
+            Effect::LoadTransferSensitive => {
+                p.load_transfer_height_m = v[0];
+                p.load_sensitivity = [v[1], v[2]];
+            }
             Effect::TransientSlip | Effect::TransientSlipSaturating => {
                 p.slip_relaxation_m = [v[0], v[1]];
                 p.slip_relaxation_saturating = self == Effect::TransientSlipSaturating;

@@ -72,7 +72,7 @@ pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectPara
         // The 4-DOF baseline: quasi-static lateral load transfer at the vehicle's CG height.
         "roll4dof" => {
             let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
-            Ok((p, Effect::TRIED.iter().copied().filter(|e| *e != Effect::LoadTransfer).collect()))
+            Ok((p, Effect::TRIED.iter().copied().filter(|e| e.name() != "load_transfer").collect()))
         }
         other => {
             Err(Error::input(Path::new("--model"), format!("'{other}' is not a model; allowed: bicycle, roll4dof")))

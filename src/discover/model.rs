@@ -40,6 +40,10 @@
 //! - `load_transfer`: lateral load transfer dFz = m ay_ss h_lt / track per axle in proportion to its
 //!   static load, with ay_ss = vx r; each tyre of an axle is evaluated at its own load, so the tyre's
 //!   load sensitivity lowers the axle force. h_lt is the effective transfer height (m).
+//!   Sensitive form: besides, each tyre's friction and cornering stiffness change with its
+//!   relative load z = Fz / Fz0 - 1 (Fz0 the static tyre load): mu x max(1 - k_mu z, 0.05) and
+//!   alpha x max(1 - k_c z, 0.05), so that the fit does not rest on the tyre file's own load
+//!   sensitivity alone.
 //! - `axle_cornering_stiffness`: each axle's tyres are evaluated at slip angle c_i alpha_i
 //!   (i = front, rear), which scales the cornering stiffness dFy/dalpha at alpha = 0 by c_i and
 //!   leaves the peak force unchanged (it is reached at a slip angle 1/c_i times the tyre's).
@@ -100,6 +104,9 @@ pub struct EffectParams {
     pub slip_relaxation_m: [f64; 2],
     /// Whether the transient-slip relaxation length shortens with the tyre's local slope.
     pub slip_relaxation_saturating: bool,
+    /// Load sensitivity of each tyre's friction and cornering stiffness under load transfer,
+    /// [k_mu, k_c], per unit of relative load change (Fz - Fz0) / Fz0 (0 = only the tyre's own).
+    pub load_sensitivity: [f64; 2],
     /// Friction patch on the ground: [friction scale, centre X (m), centre Y (m), radius (m)]
     /// in the run's ground frame (radius 0 = off).
     pub patch: [f64; 4],
@@ -124,6 +131,7 @@ impl Default for EffectParams {
             slip_relaxation_m: [0.0; 2],
             slip_relaxation_saturating: false,
             patch: [1.0, 0.0, 0.0, 0.0],
+            load_sensitivity: [0.0; 2],
         }
     }
 }
@@ -239,13 +247,16 @@ impl ReplayModel {
             lateral::thermal_friction_factor(p.thermal_mu_per_k, d.contact_c[axle] - d.ice_c)
         };
         let eval = |fz: f64| {
+            // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
+            let z = fz / half - 1.0;
+            let [k_mu, k_c] = p.load_sensitivity;
             let input = TyreInput {
                 fz_n: fz.max(0.0),
                 kappa: 0.0,
-                alpha_rad: alpha * p.stiffness_scale[axle],
+                alpha_rad: alpha * p.stiffness_scale[axle] * (1.0 - k_c * z).max(0.05),
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
-                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle],
+                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle] * (1.0 - k_mu * z).max(0.05),
                 surface_temp_c: d.ice_c,
                 contact_temp_c: d.contact_c[axle],
             };

@@ -102,7 +102,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
             ("steer_compliance", "lag") => put("steer_lag_s", p.steer_lag_s),
             ("friction_change", "global") => put("mu_scale", p.mu_scale),
             ("tyre_relaxation", "") => put("relaxation_length_y_m", p.sigma_y_m),
-            ("load_transfer", _) => put("load_transfer_height_m", p.load_transfer_height_m),
+            ("load_transfer", "") => put("load_transfer_height_m", p.load_transfer_height_m),
             ("thermal_friction", _) => put("thermal_mu_per_k", p.thermal_mu_per_k),
             ("yaw_inertia", _) => inertia = Some(p.yaw_inertia_scale),
             // A friction stretch belongs to the road, sensor offsets to the instruments: neither

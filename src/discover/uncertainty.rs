@@ -11,7 +11,10 @@
 //! error (both widen the interval); rho is the lag-1 autocorrelation of the residuals (pooled over
 //! runs and channels, clamped to [0, 0.99]), and the AR(1) factor (1 + rho) / (1 - rho) accounts
 //! for correlated residuals carrying fewer independent samples than they count. The 95 % interval
-//! of parameter i is theta_i +- 1.96 sqrt(C_ii). A singular J^T J (a parameter the data do not
+//! of parameter i is theta_i +- 1.96 sqrt(C_ii), with C_ii the larger of the above and of the
+//! block sandwich estimate (J^T J)^-1 (sum_b g_b g_b^T) (J^T J)^-1, g_b = J_b^T r_b summed over
+//! blocks of 1 s of residuals: correlation within a block that the lag-1 coefficient misses
+//! (a slow error in the inputs or the model) then widens the interval. A singular J^T J (a parameter the data do not
 //! determine) gives an infinite interval. Before the interval is built, the fitted value is
 //! polished by a few Gauss–Newton steps with the same J (see [`refine`]).
 //!
@@ -36,6 +39,9 @@ pub const Z95: f64 = 1.959_964;
 
 /// Relative finite-difference step (fraction of a parameter's typical scale).
 const STEP: f64 = 0.01;
+
+/// Residuals per block of the sandwich estimate (1 s of both channels at 100 Hz).
+const BLOCK: usize = 200;
 
 /// Largest number of Gauss–Newton polishing steps.
 pub const GN_STEPS: usize = 3;
@@ -178,6 +184,16 @@ pub fn refine(
     let rho = if sq > 0.0 { (lag / sq).clamp(0.0, 0.99) } else { 0.0 };
     let factor = s2 * (1.0 + rho) / (1.0 - rho);
     let Some(inv) = (jac.transpose() * &jac).try_inverse() else { return unknown(&x) };
+    // Block sandwich: the scores J^T r summed over blocks of BLOCK residuals (1 s of two channels
+    // at 100 Hz), so that residuals correlated within a block (a slow model or input error the
+    // lag-1 correlation misses) count once per block.
+    let mut meat = DMatrix::<f64>::zeros(np, np);
+    for start in (0..n).step_by(BLOCK) {
+        let end = (start + BLOCK).min(n);
+        let g = jac.rows(start, end - start).transpose() * nalgebra::DVector::from_column_slice(&r[start..end]);
+        meat += &g * g.transpose();
+    }
+    let sandwich = &inv * meat * &inv;
     // Errors in the inputs: one SIMEX step. Doubling the input noise variance moves the optimum
     // by about the bias the input noise already causes; one Gauss-Newton step with the same J
     // estimates that move, and the interval is widened to cover the corrected value.
@@ -191,7 +207,7 @@ pub fn refine(
     };
     let ivs: Vec<Interval> = (0..np)
         .map(|i| {
-            let var = inv[(i, i)] * factor;
+            let var = (inv[(i, i)] * factor).max(sandwich[(i, i)]);
             let corrected = x[i] - shift[i];
             if var.is_finite() && var >= 0.0 && corrected.is_finite() {
                 let se = var.sqrt();
