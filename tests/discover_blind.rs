@@ -151,8 +151,11 @@ fn blind_load_transfer_is_named_and_recovered() {
     let _ = blind(Effect::LoadTransfer);
 }
 
+// Known gap (seed 11), as for the plain form: named in its sensitive form with h = 0.6009 m,
+// k_mu = 0.315, k_c = 0.228 (generated 0.6, 0.3, 0.2), held-out yaw-rate RMS 0.00262 -> 0.00151
+// rad/s (to the noise), x0.58: the baseline's held-out error is only 1.7x the noise.
 #[test]
-#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
+#[ignore = "slow, and a known gap: held-out RMS falls to the noise but by x0.58, not x0.5"]
 fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
     let _ = blind(Effect::LoadTransferSensitive);
 }
