@@ -183,10 +183,15 @@ pub struct Simulated {
 
 /// Floor on |vx| in slip denominators, m/s.
 const V_FLOOR: f64 = 1.0;
-/// Largest integration step, s: one RK4 step per sample at 100 Hz. The lateral modes decay at
+/// Largest integration step, s: one step per sample at 100 Hz. The lateral modes decay at
 /// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
-/// far below sensor noise; relaxation and steering lag shorten the step when they need it.
+/// far below sensor noise. The first-order lags (force relaxation, steering lag, transient slip)
+/// are integrated exactly over the step ([`relax`]), so however fast they are they do not shorten
+/// it.
 const H_MAX: f64 = 0.01;
+/// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
+/// lagged slip angles alpha_f, alpha_r.
+const LAGS: [usize; 5] = [2, 3, 4, 8, 9];
 /// State dimension.
 const NS: usize = 10;
 type State = SVector<f64, NS>;
@@ -196,12 +201,32 @@ type State = SVector<f64, NS>;
 pub struct ReplayModel {
     pub vehicle: Vehicle,
     fz_axle: [f64; 2],
+    /// When set, the replay integrates every state, lags included, by plain RK4 with steps no
+    /// longer than this (s) and no longer than a twentieth of any lag's time constant: the
+    /// fine-step reference the exponential lag update is checked against.
+    pub reference_step_s: Option<f64>,
+}
+
+/// Response after a time t of the first-order lag dy/dt = k (u - y), from y0, when its input u moves
+/// linearly from u0 to u1 over t; z = k t >= 0. Exact for that input:
+/// y = u1 + (y0 - u0) e^-z - (u1 - u0) (1 - e^-z) / z. It gives y0 at z = 0 and u1 as z -> inf
+/// (an infinitely fast lag), and the trapezoidal rule y0 + z ((u0 + u1) / 2 - y0) for small z.
+pub fn relax(y0: f64, u0: f64, u1: f64, z: f64) -> f64 {
+    if !(z > 0.0) {
+        return y0;
+    }
+    let e = (-z).exp();
+    let phi = if z < 1e-8 { 1.0 - 0.5 * z } else { -(-z).exp_m1() / z };
+    u1 + (y0 - u0) * e - (u1 - u0) * phi
 }
 
 /// Inputs held over one integration step.
 #[derive(Debug, Clone, Copy)]
 struct Drive {
     steer: f64,
+    /// Rate of the measured steer over the sample interval (it is linear in between), rad/s: the
+    /// steering lag follows the steer's ramp over a step, not its held value.
+    steer_rate: f64,
     vx: f64,
     /// Surface friction with the friction_change factor applied.
     mu: f64,
@@ -223,8 +248,6 @@ struct Forces {
     alpha: [f64; 2],
     /// Kinematic slip angles (what the lagged ones relax towards), rad.
     alpha_kin: [f64; 2],
-    /// Load transfer per axle, N.
-    dfz: [f64; 2],
 }
 
 /// Floor on the ratio of the local to the initial tyre slope in the saturating transient-slip
@@ -234,7 +257,7 @@ pub const SLIP_SLOPE_FLOOR: f64 = 0.25;
 impl ReplayModel {
     pub fn new(vehicle: Vehicle) -> Self {
         let (ff, fr) = vehicle.static_axle_loads_n();
-        Self { vehicle, fz_axle: [ff, fr] }
+        Self { vehicle, fz_axle: [ff, fr], reference_step_s: None }
     }
 
     /// Steady-state axle lateral force (two tyres) at slip angle `alpha`, with load transfer `dfz`
@@ -311,7 +334,7 @@ impl ReplayModel {
             // The forces follow the lagged slip angles; the compliance acts through them.
             let fy = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
             let delta_e = steer - c * fy[0];
-            return Forces { fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r], dfz };
+            return Forces { fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
         }
         let mut delta_e = steer;
         let fyf = if c == 0.0 {
@@ -331,7 +354,7 @@ impl ReplayModel {
             f
         };
         let alpha = [delta_e - beta_f, alpha_r];
-        Forces { fy: [fyf, fyr], delta_e, alpha, alpha_kin: alpha, dfz }
+        Forces { fy: [fyf, fyr], delta_e, alpha, alpha_kin: alpha }
     }
 
     /// Transient-slip relaxation length of an axle at slip angle `alpha`, m: the nominal one, or
@@ -362,7 +385,9 @@ impl ReplayModel {
         }
     }
 
-    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
+    /// Derivatives of the body states (the lag states' entries left 0) and the inputs the lag
+    /// states relax towards ([`LAGS`] order: steady-state forces, the steer, kinematic slip angles).
+    fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; 5]) {
         let v = &self.vehicle;
         let f = self.forces(x, d, p);
         let [fyf, fyr] = Self::acting(x, &f, p);
@@ -370,25 +395,79 @@ impl ReplayModel {
         let mut dx = State::zeros();
         dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
         dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / (v.yaw_inertia_kgm2 * p.yaw_inertia_scale);
-        if p.sigma_y_m > 0.0 {
-            let rate = lateral::relaxation_rate(d.vx, p.sigma_y_m);
-            dx[2] = rate * (f.fy[0] - x[2]);
-            dx[3] = rate * (f.fy[1] - x[3]);
-        }
-        if p.steer_lag_s > 0.0 {
-            dx[4] = (d.steer - x[4]) / p.steer_lag_s;
-        }
-        if p.transient_slip() {
-            for i in 0..2 {
-                let sigma = self.slip_sigma(i, x[8 + i], f.dfz[i], d, p);
-                dx[8 + i] = lateral::relaxation_rate(d.vx, sigma) * (f.alpha_kin[i] - x[8 + i]);
-            }
-        }
         let (sp, cp) = x[7].sin_cos();
         dx[5] = d.vx * cp - x[0] * sp;
         dx[6] = d.vx * sp + x[0] * cp;
         dx[7] = x[1];
+        (dx, [f.fy[0], f.fy[1], d.steer, f.alpha_kin[0], f.alpha_kin[1]])
+    }
+
+    /// Rates k (1/s) of the lag states ([`LAGS`] order; 0 = the state is unused) at state `x`:
+    /// |vx| / sigma_y, 1 / tau_s and |vx| / sigma_i (the saturating form's sigma_i at x's lagged
+    /// slip angle).
+    fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; 5] {
+        let mut k = [0.0; 5];
+        if p.sigma_y_m > 0.0 {
+            k[0] = lateral::relaxation_rate(d.vx, p.sigma_y_m);
+            k[1] = k[0];
+        }
+        if p.steer_lag_s > 0.0 {
+            k[2] = 1.0 / p.steer_lag_s;
+        }
+        if p.transient_slip() {
+            let dfz = [self.load_transfer(0, d.vx, x[1], p), self.load_transfer(1, d.vx, x[1], p)];
+            for i in 0..2 {
+                let sigma = self.slip_sigma(i, x[8 + i], dfz[i], d, p);
+                k[3 + i] = lateral::relaxation_rate(d.vx, sigma);
+            }
+        }
+        k
+    }
+
+    /// All derivatives, lags included (the plain-RK4 reference).
+    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
+        let (mut dx, target) = self.body(x, d, p);
+        for ((i, k), u) in LAGS.into_iter().zip(self.lag_rates(x, d, p)).zip(target) {
+            if k > 0.0 {
+                dx[i] = k * (u - x[i]);
+            }
+        }
         dx
+    }
+
+    /// One step of length h with the input `d` held: RK4 on the body states; each lag state
+    /// relaxes exactly ([`relax`]) at the rate of the step's start towards an input taken as linear
+    /// between its value at the start and at each stage's body state (for inputs that depend on a
+    /// lag state through the steer compliance, the stage input is first taken from the lag
+    /// relaxed towards the start's input). The step is stable for any lag rate.
+    fn step(&self, x0: &State, d: &Drive, p: &EffectParams, h: f64) -> State {
+        let k = self.lag_rates(x0, d, p);
+        if k.iter().all(|&k| k == 0.0) {
+            return rk4_step(|s: &State| self.body(s, d, p).0, x0, h).0;
+        }
+        let (k1, mut u0) = self.body(x0, d, p);
+        // The steer ramps over the step (d holds its midpoint value).
+        let steer_at = |c: f64| d.steer + (c - 0.5) * h * d.steer_rate;
+        u0[2] = steer_at(0.0);
+        let lags = |y: &mut State, u: &[f64; 5], c: f64| {
+            for (j, i) in LAGS.into_iter().enumerate() {
+                if k[j] > 0.0 {
+                    y[i] = relax(x0[i], u0[j], u[j], k[j] * c * h);
+                }
+            }
+        };
+        // The body state at fraction c of the step with its lags relaxed.
+        let stage = |mut y: State, c: f64| {
+            lags(&mut y, &u0, c);
+            let mut u = self.body(&y, d, p).1;
+            u[2] = steer_at(c);
+            lags(&mut y, &u, c);
+            y
+        };
+        let k2 = self.body(&stage(x0 + k1 * (0.5 * h), 0.5), d, p).0;
+        let k3 = self.body(&stage(x0 + k2 * (0.5 * h), 0.5), d, p).0;
+        let k4 = self.body(&stage(x0 + k3 * h, 1.0), d, p).0;
+        stage(x0 + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0), 1.0)
     }
 
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
@@ -490,6 +569,7 @@ impl ReplayModel {
             let k1 = (k + 1).min(n - 1);
             Drive {
                 steer: steer[k] + frac * (steer[k1] - steer[k]),
+                steer_rate: if k1 > k { (steer[k1] - steer[k]) / (run.t[k1] - run.t[k]) } else { 0.0 },
                 vx: run.vx[k] + frac * (run.vx[k1] - run.vx[k]),
                 mu: run.mu * p.mu_factor(dist[k] + frac * (dist[k1] - dist[k])),
                 mu_axle: [1.0; 2],
@@ -532,20 +612,26 @@ impl ReplayModel {
             }
             steer[k + 1] = next_steer(k, &x, steer[k]);
             let dt = run.t[k + 1] - run.t[k];
-            // Keep h below the relaxation time sigma / vx and the steering lag (RK4 stability).
-            let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
-            let mut hmax = H_MAX;
-            if p.sigma_y_m > 0.0 {
-                hmax = hmax.min(p.sigma_y_m / vmax);
-            }
-            if p.transient_slip() {
-                let floor = if p.slip_relaxation_saturating { SLIP_SLOPE_FLOOR } else { 1.0 };
-                hmax = hmax.min(floor * p.slip_relaxation_m[0].min(p.slip_relaxation_m[1]) / vmax);
-            }
-            if p.steer_lag_s > 0.0 {
-                hmax = hmax.min(p.steer_lag_s);
-            }
-            let m = ((dt / hmax).ceil() as usize).clamp(1, 10_000);
+            let hmax = match self.reference_step_s {
+                None => H_MAX,
+                Some(h_ref) => {
+                    // Plain RK4 on the lags too: a twentieth of the fastest lag's time constant.
+                    let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
+                    let mut hmax = h_ref;
+                    if p.sigma_y_m > 0.0 {
+                        hmax = hmax.min(0.05 * p.sigma_y_m / vmax);
+                    }
+                    if p.transient_slip() {
+                        let floor = if p.slip_relaxation_saturating { SLIP_SLOPE_FLOOR } else { 1.0 };
+                        hmax = hmax.min(0.05 * floor * p.slip_relaxation_m[0].min(p.slip_relaxation_m[1]) / vmax);
+                    }
+                    if p.steer_lag_s > 0.0 {
+                        hmax = hmax.min(0.05 * p.steer_lag_s);
+                    }
+                    hmax
+                }
+            };
+            let m = ((dt / hmax).ceil() as usize).clamp(1, 1_000_000);
             let h = dt / m as f64;
             for j in 0..m {
                 if let Some(e) = est.as_mut() {
@@ -553,8 +639,11 @@ impl ReplayModel {
                     e.update(h, &self.contacts(&x, &d0, p), &mut contact_c);
                 }
                 let dj = drive_at(k, (j as f64 + 0.5) / m as f64, contact_c, &steer);
-                let (next, _) = rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h);
-                x = next;
+                x = if self.reference_step_s.is_some() {
+                    rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h).0
+                } else {
+                    self.step(&x, &dj, p, h)
+                };
             }
             if !x.iter().all(|v| v.is_finite()) || x[0].abs() > 1e3 || x[1].abs() > 1e2 {
                 out.ok = false;
