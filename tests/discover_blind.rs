@@ -12,6 +12,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use vehsim::discover::model::{EffectParams, ReplayModel};
+use vehsim::discover::select::Verdict;
 use vehsim::discover::{discover, load_vehicle, synth, tyre_kind, Dataset, Discovery, Effect};
 
 fn model() -> ReplayModel {
@@ -32,7 +33,7 @@ fn run_blind(truth: Option<(Effect, &[f64])>, seed: u64) -> Discovery {
 
 fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
     assert_eq!(d.named, vec![effect.to_string()], "named {:?}; rejected {:?}", d.named, d.rejected);
-    assert_eq!(d.verdict, "explained");
+    assert_eq!(d.verdict, Verdict::Explained);
     let step = &d.steps[0];
     eprintln!(
         "{effect} ({}): {:?}; held-out yaw-rate RMS {:.5} -> {:.5} rad/s",
@@ -43,27 +44,45 @@ fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
     );
     let got = step.params.iter().find(|(k, _, _)| k == main_param).map(|(_, v, _)| *v).unwrap();
     assert!((got - expected).abs() <= 0.25 * expected.abs(), "{main_param}: fitted {got}, generated with {expected}");
-    let (before, after) = (d.baseline.rmse(true).yaw_rate_radps, d.final_scores.rmse(true).yaw_rate_radps);
-    assert!(after <= 0.5 * before, "held-out yaw-rate RMS {before} -> {after}: not cut in half");
+    // The model error beyond the noise, sqrt(ratio^2 - 1) with ratio the held-out yaw-rate RMS
+    // over the noise, is at least halved. (Halving the RMS itself cannot be asked when the
+    // baseline is already within 2x the noise: the noise floor stays.)
+    let excess = |ratio: f64| (ratio * ratio - 1.0).max(0.0).sqrt();
+    let f = &d.folds[0];
+    let (before, after) = (f.baseline_noise_ratio[0], f.final_noise_ratio[0]);
+    assert!(
+        excess(after) <= 0.5 * excess(before),
+        "held-out yaw-rate RMS / noise {before} -> {after}: the excess over the noise is not halved"
+    );
 }
 
-/// Every generating value of `e` lies inside the 95 % interval that the discovery reports for it
-/// (final values, after the polish).
+/// Every generating value of `e` lies inside the interval that the discovery reports for it
+/// (final values, after the polish), taken at the family-wise 95 % level of the whole suite: the
+/// suite checks about 25 parameters, and even exact 95 % intervals would miss one or more of them
+/// with probability 1 - 0.95^25 = 72 %. So each reported interval is widened from 1.96 to
+/// [`Z_SUITE`] standard errors (Bonferroni: two-sided 0.05 / 25), and the distance of the
+/// generating value in standard errors is printed.
 fn check_intervals(d: &Discovery, e: Effect, truth: &[f64]) {
     let fe = d.final_effects.iter().find(|f| f.effect == e.name() && f.form == e.form()).unwrap();
     assert!(fe.significant);
     for ((def, t), ((_, v, _), iv)) in e.params().iter().zip(truth).zip(fe.params.iter().zip(&fe.intervals)) {
-        eprintln!("  {}: {v:.5} (95 %: {:.5} to {:.5}), generated {t}", def.name, iv.lo, iv.hi);
+        let widen = (Z_SUITE - vehsim::discover::uncertainty::Z95) * iv.std_error;
+        let off = ((t - v).abs() / iv.std_error * 100.0).round() / 100.0;
+        eprintln!("  {}: {v:.5} (95 %: {:.5} to {:.5}), generated {t} ({off} SE off)", def.name, iv.lo, iv.hi);
         assert!(
-            iv.contains(*t),
-            "{}: generated {t} outside the 95 % interval [{}, {}] around {v}",
+            iv.lo - widen <= *t && *t <= iv.hi + widen,
+            "{}: generated {t} outside the suite-level interval [{}, {}] around {v}",
             def.name,
-            iv.lo,
-            iv.hi
+            iv.lo - widen,
+            iv.hi + widen
         );
         assert!(iv.std_error > 0.0 && iv.std_error.is_finite());
     }
 }
+
+/// Two-sided normal quantile at 0.05 / 25 (the suite's family-wise 95 % level over its ~25
+/// checked parameters).
+const Z_SUITE: f64 = 3.09;
 
 fn blind(e: Effect) -> Discovery {
     let v = synth::default_params(e);
@@ -199,7 +218,7 @@ fn blind_yaw_inertia_is_named_and_recovered() {
 fn null_data_reports_nothing_missing() {
     let d = run_blind(None, 12);
     assert!(d.named.is_empty(), "false effect named: {:?}", d.steps);
-    assert_eq!(d.verdict, "nothing_missing");
+    assert_eq!(d.verdict, Verdict::NothingMissing);
     // Both folds sit at the noise with the baseline itself.
     for f in &d.folds {
         assert!(f.baseline_noise_ratio.iter().all(|r| *r <= 1.5) && f.final_noise_ratio == f.baseline_noise_ratio);
@@ -231,7 +250,7 @@ fn a_missing_form_leaves_the_data_partly_explained_or_unexplained() {
     let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
     let d = discover(&m, &data, &[Effect::SensorBias, Effect::SteerLag]);
     eprintln!("named {:?}, verdict {}, folds {:?}", d.named, d.verdict, d.folds);
-    let expected = if d.named.is_empty() { "unexplained" } else { "partly_explained" };
+    let expected = if d.named.is_empty() { Verdict::Unexplained } else { Verdict::PartlyExplained };
     assert_eq!(d.verdict, expected);
     assert!(d.folds.iter().any(|f| f.final_noise_ratio.iter().any(|r| *r > 1.5)));
 }

@@ -314,7 +314,7 @@ fn markdown(
             f.final_noise_ratio[1]
         );
     }
-    if d.verdict != "explained" && d.verdict != "nothing_missing" {
+    if !d.verdict.at_noise() {
         let _ = writeln!(s, "\n## Largest remaining disagreement windows (final model)\n");
         let w = largest_windows(windows_after, 10);
         if w.is_empty() {

@@ -201,6 +201,16 @@ pub fn simulate_all(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> Ve
     data.runs.par_iter().map(|r| model.simulate(r, p)).collect()
 }
 
+/// Simulate (in parallel) only the runs with fitted samples, None for runs held out whole: what a
+/// fit's objective and its Jacobian need (held-out runs add nothing to them).
+pub fn simulate_fitted(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> Vec<Option<Simulated>> {
+    data.runs
+        .par_iter()
+        .zip(&data.held)
+        .map(|(r, h)| h.iter().any(|held| !held).then(|| model.simulate(r, p)))
+        .collect()
+}
+
 /// Score simulations against the data.
 pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
     let mut s = Scores::default();
@@ -230,9 +240,10 @@ pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
 
 /// Normalized RSS of the fitted samples only (the fit objective).
 fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
-    let sims = simulate_all(model, data, p);
+    let sims = simulate_fitted(model, data, p);
     let mut c = 0.0;
     for (i, (r, sim)) in data.runs.iter().zip(&sims).enumerate() {
+        let Some(sim) = sim else { continue };
         let nz = data.noise[i];
         for k in 0..r.t.len() {
             if !data.held[i][k] {
@@ -313,6 +324,43 @@ pub struct FinalEffect {
     pub significant: bool,
 }
 
+/// What the discovery concludes about the data (serialised, and printed, as its snake_case name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Nothing named, and the baseline already leaves every fold's held-out residuals within
+    /// [`EXPLAINED_NOISE_RATIO`] times the noise.
+    NothingMissing,
+    /// Effects named, and with them every fold's held-out residuals are within that ratio.
+    Explained,
+    /// Effects named, but some fold's held-out residuals stay above that ratio.
+    PartlyExplained,
+    /// Nothing named, and the residuals stay above that ratio.
+    Unexplained,
+}
+
+impl Verdict {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::NothingMissing => "nothing_missing",
+            Verdict::Explained => "explained",
+            Verdict::PartlyExplained => "partly_explained",
+            Verdict::Unexplained => "unexplained",
+        }
+    }
+
+    /// True when the final model leaves the data at the noise (explained or nothing missing).
+    pub fn at_noise(self) -> bool {
+        matches!(self, Verdict::NothingMissing | Verdict::Explained)
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// Result of the greedy search.
 #[derive(Debug, Clone)]
 pub struct Discovery {
@@ -325,7 +373,7 @@ pub struct Discovery {
     pub final_effects: Vec<FinalEffect>,
     pub rejected: Vec<Trial>,
     pub named: Vec<String>,
-    pub verdict: String,
+    pub verdict: Verdict,
     /// The split used (per run and sample: true when held out); see [`Dataset::stratified`].
     pub held: Vec<Vec<bool>>,
     /// Fold 1: fitted on the split's fitted side, scored on its held-out side (the selection's own
@@ -619,10 +667,10 @@ pub fn discover_with(
         .collect();
     let explained = folds.iter().all(|f| worst(f.final_noise_ratio) <= EXPLAINED_NOISE_RATIO);
     let verdict = match (explained, named.is_empty()) {
-        (true, true) => "nothing_missing",
-        (true, false) => "explained",
-        (false, true) => "unexplained",
-        (false, false) => "partly_explained",
+        (true, true) => Verdict::NothingMissing,
+        (true, false) => Verdict::Explained,
+        (false, true) => Verdict::Unexplained,
+        (false, false) => Verdict::PartlyExplained,
     };
     Discovery {
         baseline,
@@ -632,7 +680,7 @@ pub fn discover_with(
         final_effects,
         rejected,
         named,
-        verdict: verdict.to_string(),
+        verdict,
         held: data.held.clone(),
         folds,
     }

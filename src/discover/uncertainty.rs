@@ -5,12 +5,16 @@
 //! run's noise estimate. J = dr/dtheta by central differences (step 1 % of each parameter's
 //! typical scale; one-sided when the step would cross a bound). The Gauss–Newton covariance is
 //!
-//!   C = s^2 (J^T J)^-1 * (1 + rho) / (1 - rho),   s^2 = RSS / (N - p),
+//!   C = s^2 (J^T J)^-1 * f,   s^2 = RSS / (N - p),   f = max((1 + rho) / (1 - rho), tau),
 //!
 //! with N residuals and p parameters. s^2 absorbs a misestimated noise or a remaining model
 //! error (both widen the interval); rho is the lag-1 autocorrelation of the residuals (pooled over
 //! runs and channels, clamped to [0, 0.99]), and the AR(1) factor (1 + rho) / (1 - rho) accounts
-//! for correlated residuals carrying fewer independent samples than they count. The 95 % interval
+//! for correlated residuals carrying fewer independent samples than they count. Input noise
+//! filtered by the vehicle's dynamics leaves residuals correlated over tenths of a second, which
+//! an AR(1) model under-counts, so the factor is the larger of it and the integrated
+//! autocorrelation time tau = 1 + 2 sum_L rho_L (lags L of one sample to [`MAX_LAG`], summed up to
+//! the first lag whose rho_L is not positive): N / tau is the effective sample count. The 95 % interval
 //! of parameter i is theta_i +- 1.96 sqrt(C_ii), with C_ii the larger of the above and of the
 //! block sandwich estimate (J^T J)^-1 (sum_b g_b g_b^T) (J^T J)^-1, g_b = J_b^T r_b summed over
 //! blocks of 1 s of residuals: correlation within a block that the lag-1 coefficient misses
@@ -31,7 +35,7 @@ use serde::Serialize;
 
 use super::effects::{Effect, ParamDef};
 use super::model::{EffectParams, ReplayModel};
-use super::select::{apply_all, noise_sigma, simulate_all, Dataset};
+use super::select::{apply_all, noise_sigma, simulate_fitted, Dataset};
 use super::synth::Rng;
 
 /// Two-sided 95 % normal quantile.
@@ -42,6 +46,9 @@ const STEP: f64 = 0.01;
 
 /// Residuals per block of the sandwich estimate (1 s of both channels at 100 Hz).
 const BLOCK: usize = 200;
+
+/// Longest lag of the integrated autocorrelation time, samples (0.5 s at 100 Hz).
+pub const MAX_LAG: usize = 50;
 
 /// Largest number of Gauss–Newton polishing steps.
 pub const GN_STEPS: usize = 3;
@@ -65,33 +72,48 @@ impl Interval {
     }
 }
 
-/// Normalized residuals of the fitted samples (per run: yaw rate then ay, sample by sample) and
-/// the lag-1 products' and squares' sums for the autocorrelation.
+/// Normalized residuals of the fitted samples (per run: yaw rate then ay, sample by sample), the
+/// residuals' sum of squares and their autocorrelation variance factor (the larger of the AR(1)
+/// factor and the integrated autocorrelation time, pooled over runs and channels; see the module
+/// header).
 fn residuals(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> (Vec<f64>, f64, f64) {
-    let sims = simulate_all(model, data, p);
+    let sims = simulate_fitted(model, data, p);
     let mut r = Vec::new();
-    let (mut lag, mut sq) = (0.0, 0.0);
+    let mut sq = 0.0;
+    // Sums of lagged products (lag 1..=MAX_LAG) over pairs of fitted samples of one run.
+    let mut lagged = [0.0; MAX_LAG + 1];
     for (i, (run, sim)) in data.runs.iter().zip(&sims).enumerate() {
+        let Some(sim) = sim else { continue };
         let nz = data.noise[i];
-        let mut prev: Option<(usize, f64, f64)> = None;
-        for k in 0..run.t.len() {
-            if data.held[i][k] {
-                continue;
-            }
-            let ey = (run.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate;
-            let ea = (run.ay[k] - sim.ay[k]) / nz.ay;
+        let fitted = |k: usize| !data.held[i][k];
+        let e = |k: usize| [(run.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate, (run.ay[k] - sim.ay[k]) / nz.ay];
+        let n = run.t.len();
+        for k in (0..n).filter(|&k| fitted(k)) {
+            let [ey, ea] = e(k);
             r.push(ey);
             r.push(ea);
             sq += ey * ey + ea * ea;
-            if let Some((kp, py, pa)) = prev {
-                if kp + 1 == k {
-                    lag += ey * py + ea * pa;
+            for (l, s) in lagged.iter_mut().enumerate().skip(1) {
+                if k + l < n && fitted(k + l) {
+                    let [fy, fa] = e(k + l);
+                    *s += ey * fy + ea * fa;
                 }
             }
-            prev = Some((k, ey, ea));
         }
     }
-    (r, lag, sq)
+    if !(sq > 0.0) {
+        return (r, sq, 1.0);
+    }
+    let rho1 = (lagged[1] / sq).clamp(0.0, 0.99);
+    let mut tau = 1.0;
+    for s in &lagged[1..] {
+        let rho = s / sq;
+        if !(rho > 0.0) {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    (r, sq, tau.max((1.0 + rho1) / (1.0 - rho1)))
 }
 
 /// The data with white noise added again to the inputs (steer and vx) at each run's own noise
@@ -159,7 +181,7 @@ pub fn refine(
     };
     let full = |x: &[f64]| residuals(model, data, &apply_all(base, effects, x));
     let only_r = |x: &[f64]| full(x).0;
-    let (mut r, mut lag, mut sq) = full(&x);
+    let (mut r, mut sq, mut corr) = full(&x);
     let n = r.len();
     if n <= np || np == 0 {
         return unknown(&x);
@@ -170,19 +192,18 @@ pub fn refine(
         let g = jac.transpose() * nalgebra::DVector::from_vec(r.clone());
         let Some(step) = jtj.lu().solve(&(-g)) else { break };
         let xn: Vec<f64> = (0..np).map(|i| (x[i] + step[i]).clamp(defs[i].lo, defs[i].hi)).collect();
-        let (rn, lagn, sqn) = full(&xn);
+        let (rn, sqn, corrn) = full(&xn);
         if !(sqn < sq) {
             break;
         }
-        (x, r, lag, sq) = (xn, rn, lagn, sqn);
+        (x, r, sq, corr) = (xn, rn, sqn, corrn);
         match jacobian(&only_r, &defs, &x, n) {
             Some(j) => jac = j,
             None => return unknown(&x),
         }
     }
     let s2 = sq / (n - np) as f64;
-    let rho = if sq > 0.0 { (lag / sq).clamp(0.0, 0.99) } else { 0.0 };
-    let factor = s2 * (1.0 + rho) / (1.0 - rho);
+    let factor = s2 * corr;
     let Some(inv) = (jac.transpose() * &jac).try_inverse() else { return unknown(&x) };
     // Block sandwich: the scores J^T r summed over blocks of BLOCK residuals (1 s of two channels
     // at 100 Hz), so that residuals correlated within a block (a slow model or input error the
