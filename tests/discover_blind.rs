@@ -124,22 +124,10 @@ fn blind_tyre_relaxation_is_named_and_recovered() {
     check_split(&d);
 }
 
-/// Known gap: on this data set (seed 11) the global friction scale is fitted at 0.69897 with a
-/// 95 % interval of 0.69814 to 0.69970, which misses the generating 0.7 by 0.0003 (about 2.8
-/// standard errors); neither the block sandwich nor the SIMEX input-noise step widens it, and the
-/// cause is not found yet. The test holds the value within 0.3 % and reports the interval.
 #[test]
 #[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_friction_change_is_named_and_recovered() {
-    let e = Effect::FrictionChange;
-    let v = synth::default_params(e);
-    let d = run_blind(Some((e, &v)), 11);
-    check_named(&d, e.name(), e.params()[0].name, v[0]);
-    assert_eq!(d.steps[0].form, e.form());
-    let fe = &d.final_effects[0];
-    let (got, iv) = (fe.params[0].1, fe.intervals[0]);
-    eprintln!("mu_scale {got} (95 %: {} to {}), generated {}", iv.lo, iv.hi, v[0]);
-    assert!(fe.significant && (got - v[0]).abs() <= 0.003 * v[0], "mu_scale {got}");
+    let _ = blind(Effect::FrictionChange);
 }
 
 #[test]
@@ -156,7 +144,6 @@ fn blind_friction_change_over_a_stretch_is_named_and_located() {
 /// A friction patch on the ground (a disc crossed by each axle at its own time) is told apart
 /// from a stretch of distance travelled, and located.
 #[test]
-#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_friction_patch_is_named_and_located() {
     let _ = blind(Effect::FrictionPatch);
 }
@@ -167,28 +154,19 @@ fn blind_thermal_friction_is_named_and_recovered() {
     let _ = blind(Effect::ThermalFriction);
 }
 
-// Known gap since the stratified split (seed 11): h = 0.6013 m (generated 0.6) is named, but the
-// held-out yaw-rate RMS falls 0.00290 -> 0.00151 rad/s (to the noise), x0.52, short of halved,
-// because the baseline's held-out error is only 1.9x the noise on this split.
 #[test]
-#[ignore = "held-out RMS falls to the noise but by x0.52, not x0.5, on the stratified split (known gap)"]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_load_transfer_is_named_and_recovered() {
     let _ = blind(Effect::LoadTransfer);
 }
 
-// Known gap (seed 11), as for the plain form: named in its sensitive form with h = 0.6009 m,
-// k_mu = 0.315, k_c = 0.228 (generated 0.6, 0.3, 0.2), held-out yaw-rate RMS 0.00262 -> 0.00151
-// rad/s (to the noise), x0.58: the baseline's held-out error is only 1.7x the noise.
 #[test]
-#[ignore = "slow, and a known gap: held-out RMS falls to the noise but by x0.58, not x0.5"]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
     let _ = blind(Effect::LoadTransferSensitive);
 }
 
-// Known gap (seed 11): named and recovered (front 0.9978, rear within its interval), but the
-// front interval 0.99515 to 0.99995 misses the generating 1.0 by 5e-5; cause not found.
 #[test]
-#[ignore = "interval misses the generating front scale by 5e-5 (known gap, see docs/discover.md)"]
 fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
     let _ = blind(Effect::AxleStiffness);
 }
@@ -200,16 +178,11 @@ fn blind_per_axle_peak_friction_is_named_and_recovered() {
 }
 
 #[test]
-#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_transient_slip_is_named_as_tyre_relaxation_in_its_slip_form() {
     let _ = blind(Effect::TransientSlip);
 }
 
-// Known gap (seed 11), like the per-axle stiffness: named with s_I = 1.40239 (generated 1.4,
-// held-out yaw-rate RMS 0.00530 -> 0.00150 rad/s), but the interval 1.40046 to 1.40467 misses
-// 1.4 by 5e-4 (about 2.4 standard errors); cause not found.
 #[test]
-#[ignore = "slow, and a known gap: interval misses the generating 1.4 by 5e-4 (see docs/discover.md)"]
 fn blind_yaw_inertia_is_named_and_recovered() {
     let _ = blind(Effect::YawInertia);
 }
@@ -268,11 +241,28 @@ fn roll4dof_data_is_explained_by_load_transfer_from_the_bicycle_baseline() {
     let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
     let d = discover(&m, &data, &Effect::TRIED);
     // The 4-DOF model transfers m ay h / track in steady state, h the CG height of the sedan (0.55 m).
-    check_named(&d, "load_transfer", "load_transfer_height_m", 0.55);
+    // Its load transfer goes through the roll mode and so lags the quasi-static one; a lag form
+    // (transient slip, force relaxation, steering lag) may follow as the second effect, with a
+    // smaller gain than the first. Nothing else may be named.
+    eprintln!("named {:?}: {:?}", d.named, d.steps.iter().map(|s| (&s.form, &s.params)).collect::<Vec<_>>());
+    assert_eq!(d.named[0], "load_transfer");
+    let h = d.steps[0].params[0].1;
+    assert!((h - 0.55).abs() <= 0.25 * 0.55, "h = {h}");
+    assert!(d.named.len() <= 2, "{:?}", d.named);
+    if let Some(s) = d.steps.get(1) {
+        let lag = s.effect == "tyre_relaxation" || (s.effect == "steer_compliance" && s.form == "lag");
+        assert!(lag, "second effect {} ({}) is not a lag", s.effect, s.form);
+        let gain = |s: &vehsim::discover::select::Step| {
+            s.heldout_rmse_after.yaw_rate_radps / s.heldout_rmse_before.yaw_rate_radps
+        };
+        assert!(gain(s) > gain(&d.steps[0]), "the lag gains more than the load transfer");
+    }
+    let excess = |ratio: f64| (ratio * ratio - 1.0).max(0.0).sqrt();
+    let f = &d.folds[0];
+    assert!(excess(f.final_noise_ratio[0]) <= 0.5 * excess(f.baseline_noise_ratio[0]), "{f:?}");
 }
 
 #[test]
-#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn synth_and_discover_from_the_command_line_write_the_report() {
     let dir = common::temp_dir("discover-cli");
     let bin = env!("CARGO_BIN_EXE_vehsim");
@@ -337,7 +327,6 @@ fn single_run_uses_held_out_blocks_and_still_names_the_effect() {
 /// names both and nothing else, the joint refit recovers both main parameters within 25 %, and
 /// the held-out yaw-rate RMS is at least halved.
 #[test]
-#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn two_hidden_effects_are_both_named_and_recovered() {
     let m = model();
     let mut p = EffectParams::default();
