@@ -166,13 +166,17 @@ pub enum Command {
         /// Measured runs (RUN.csv, each with an optional RUN.toml sidecar).
         #[arg(required = true)]
         runs: Vec<PathBuf>,
+        /// No progress and no summary (progress is shown only on a terminal anyway).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
     /// effect switched on (or `none`).
     Synth {
         /// tyre_relaxation, load_transfer, thermal_friction, friction_change, steer_compliance,
-        /// sensor_bias or none; the --params names pick the form (steer_lag_s: steering lag;
-        /// stretch_start_m / stretch_length_m: friction over a stretch).
+        /// sensor_bias, axle_cornering_stiffness, axle_peak_friction, yaw_inertia or none; the
+        /// --params names pick the form (steer_lag_s: steering lag; stretch_*: a stretch; patch_*:
+        /// a ground patch; relaxation_length_front_m: transient slip; load_sensitivity_*).
         #[arg(long)]
         effect: String,
         /// Effect parameters, name=value (repeatable); defaults per effect.
@@ -463,8 +467,8 @@ pub fn main() -> ExitCode {
                 Err(e) => report(&e),
             }
         }
-        Command::Discover { vehicle, tyre, tyre_model, model, out, runs } => {
-            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs)
+        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet } => {
+            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet)
         }
         Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
             crate::discover::cli_synth(&effect, &params, &vehicle, &tyre_model, seed, &out)

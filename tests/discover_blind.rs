@@ -12,6 +12,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use vehsim::discover::model::{EffectParams, ReplayModel};
+use vehsim::discover::select::Verdict;
 use vehsim::discover::{discover, load_vehicle, synth, tyre_kind, Dataset, Discovery, Effect};
 
 fn model() -> ReplayModel {
@@ -32,7 +33,7 @@ fn run_blind(truth: Option<(Effect, &[f64])>, seed: u64) -> Discovery {
 
 fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
     assert_eq!(d.named, vec![effect.to_string()], "named {:?}; rejected {:?}", d.named, d.rejected);
-    assert_eq!(d.verdict, "explained");
+    assert_eq!(d.verdict, Verdict::Explained);
     let step = &d.steps[0];
     eprintln!(
         "{effect} ({}): {:?}; held-out yaw-rate RMS {:.5} -> {:.5} rad/s",
@@ -43,9 +44,45 @@ fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
     );
     let got = step.params.iter().find(|(k, _, _)| k == main_param).map(|(_, v, _)| *v).unwrap();
     assert!((got - expected).abs() <= 0.25 * expected.abs(), "{main_param}: fitted {got}, generated with {expected}");
-    let (before, after) = (d.baseline.rmse(true).yaw_rate_radps, d.final_scores.rmse(true).yaw_rate_radps);
-    assert!(after <= 0.5 * before, "held-out yaw-rate RMS {before} -> {after}: not cut in half");
+    // The model error beyond the noise, sqrt(ratio^2 - 1) with ratio the held-out yaw-rate RMS
+    // over the noise, is at least halved. (Halving the RMS itself cannot be asked when the
+    // baseline is already within 2x the noise: the noise floor stays.)
+    let excess = |ratio: f64| (ratio * ratio - 1.0).max(0.0).sqrt();
+    let f = &d.folds[0];
+    let (before, after) = (f.baseline_noise_ratio[0], f.final_noise_ratio[0]);
+    assert!(
+        excess(after) <= 0.5 * excess(before),
+        "held-out yaw-rate RMS / noise {before} -> {after}: the excess over the noise is not halved"
+    );
 }
+
+/// Every generating value of `e` lies inside the interval that the discovery reports for it
+/// (final values, after the polish), taken at the family-wise 95 % level of the whole suite: the
+/// suite checks about 25 parameters, and even exact 95 % intervals would miss one or more of them
+/// with probability 1 - 0.95^25 = 72 %. So each reported interval is widened from 1.96 to
+/// [`Z_SUITE`] standard errors (Bonferroni: two-sided 0.05 / 25), and the distance of the
+/// generating value in standard errors is printed.
+fn check_intervals(d: &Discovery, e: Effect, truth: &[f64]) {
+    let fe = d.final_effects.iter().find(|f| f.effect == e.name() && f.form == e.form()).unwrap();
+    assert!(fe.significant);
+    for ((def, t), ((_, v, _), iv)) in e.params().iter().zip(truth).zip(fe.params.iter().zip(&fe.intervals)) {
+        let widen = (Z_SUITE - vehsim::discover::uncertainty::Z95) * iv.std_error;
+        let off = ((t - v).abs() / iv.std_error * 100.0).round() / 100.0;
+        eprintln!("  {}: {v:.5} (95 %: {:.5} to {:.5}), generated {t} ({off} SE off)", def.name, iv.lo, iv.hi);
+        assert!(
+            iv.lo - widen <= *t && *t <= iv.hi + widen,
+            "{}: generated {t} outside the suite-level interval [{}, {}] around {v}",
+            def.name,
+            iv.lo - widen,
+            iv.hi + widen
+        );
+        assert!(iv.std_error > 0.0 && iv.std_error.is_finite());
+    }
+}
+
+/// Two-sided normal quantile at 0.05 / 25 (the suite's family-wise 95 % level over its ~25
+/// checked parameters).
+const Z_SUITE: f64 = 3.09;
 
 fn blind(e: Effect) -> Discovery {
     let v = synth::default_params(e);
@@ -53,35 +90,48 @@ fn blind(e: Effect) -> Discovery {
     check_named(&d, e.name(), e.params()[0].name, v[0]);
     // The right form of a two-form effect, too.
     assert_eq!(d.steps[0].form, e.form(), "{}: wrong form", e.name());
+    check_intervals(&d, e, &v);
+    // Two folds, each fitted on one side of the split and scored on the other, both at the noise.
+    assert_eq!(d.folds.len(), 2);
+    for f in &d.folds {
+        assert!(f.final_noise_ratio.iter().all(|r| *r <= 1.5), "fold {:?}", f);
+    }
     d
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_sensor_bias_is_named_and_recovered() {
     let _ = blind(Effect::SensorBias);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_steer_compliance_is_named_and_recovered() {
     let _ = blind(Effect::SteerCompliance);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_steering_lag_is_named_as_steer_compliance_in_its_lag_form() {
     let _ = blind(Effect::SteerLag);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_tyre_relaxation_is_named_and_recovered() {
-    let _ = blind(Effect::TyreRelaxation);
+    let d = blind(Effect::TyreRelaxation);
+    check_split(&d);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_friction_change_is_named_and_recovered() {
     let _ = blind(Effect::FrictionChange);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_friction_change_over_a_stretch_is_named_and_located() {
     let d = blind(Effect::FrictionStretch);
     // Where the stretch lies is recovered too (generated: from 40 m for 50 m).
@@ -91,24 +141,95 @@ fn blind_friction_change_over_a_stretch_is_named_and_located() {
     assert!((get("stretch_length_m") - v[2]).abs() < 5.0, "length {}", get("stretch_length_m"));
 }
 
+/// A friction patch on the ground (a disc crossed by each axle at its own time) is told apart
+/// from a stretch of distance travelled, and located.
 #[test]
+fn blind_friction_patch_is_named_and_located() {
+    let _ = blind(Effect::FrictionPatch);
+}
+
+#[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_thermal_friction_is_named_and_recovered() {
     let _ = blind(Effect::ThermalFriction);
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_load_transfer_is_named_and_recovered() {
     let _ = blind(Effect::LoadTransfer);
+}
+
+#[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
+fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
+    let _ = blind(Effect::LoadTransferSensitive);
+}
+
+#[test]
+fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
+    let _ = blind(Effect::AxleStiffness);
+}
+
+#[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
+fn blind_per_axle_peak_friction_is_named_and_recovered() {
+    let _ = blind(Effect::AxleFriction);
+}
+
+#[test]
+fn blind_transient_slip_is_named_as_tyre_relaxation_in_its_slip_form() {
+    let _ = blind(Effect::TransientSlip);
+}
+
+#[test]
+fn blind_yaw_inertia_is_named_and_recovered() {
+    let _ = blind(Effect::YawInertia);
 }
 
 #[test]
 fn null_data_reports_nothing_missing() {
     let d = run_blind(None, 12);
     assert!(d.named.is_empty(), "false effect named: {:?}", d.steps);
-    assert_eq!(d.verdict, "nothing_missing");
+    assert_eq!(d.verdict, Verdict::NothingMissing);
+    // Both folds sit at the noise with the baseline itself.
+    for f in &d.folds {
+        assert!(f.baseline_noise_ratio.iter().all(|r| *r <= 1.5) && f.final_noise_ratio == f.baseline_noise_ratio);
+    }
+}
+
+/// The stratified split puts each surface and each manoeuvre of the synthetic set on both sides
+/// (its runs are named NN_kind_surface), and the second fold holds out the first fold's fitted runs.
+fn check_split(d: &Discovery) {
+    let held: Vec<String> = d.folds[0].heldout_runs.clone();
+    assert_eq!(held.len(), 4, "{held:?}");
+    for key in ["ice", "dry", "sine", "step", "ramp", "lane"] {
+        let n = held.iter().filter(|r| r.contains(key)).count();
+        let total = if key == "ice" || key == "dry" { 4 } else { 2 };
+        assert!(n > 0 && n < total, "{key}: {n} of {total} held out ({held:?})");
+    }
+    assert_eq!(d.folds[1].heldout_runs.len(), 4);
+    assert!(d.folds[1].heldout_runs.iter().all(|r| !held.contains(r)));
+}
+
+/// Data with an effect that no offered candidate can express: the verdict must not be
+/// `explained`; when something is named it is `partly_explained`, with remaining windows.
+#[test]
+fn a_missing_form_leaves_the_data_partly_explained_or_unexplained() {
+    let m = model();
+    let mut p = EffectParams::default();
+    Effect::AxleStiffness.apply(&mut p, &[1.0, 0.7]);
+    let runs = synth::generate(&m, &p, 21);
+    let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
+    let d = discover(&m, &data, &[Effect::SensorBias, Effect::SteerLag]);
+    eprintln!("named {:?}, verdict {}, folds {:?}", d.named, d.verdict, d.folds);
+    let expected = if d.named.is_empty() { Verdict::Unexplained } else { Verdict::PartlyExplained };
+    assert_eq!(d.verdict, expected);
+    assert!(d.folds.iter().any(|f| f.final_noise_ratio.iter().any(|r| *r > 1.5)));
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn roll4dof_data_is_explained_by_load_transfer_from_the_bicycle_baseline() {
     let dir = common::root().join("tests/data/discover/roll4dof");
     let specs: Vec<PathBuf> = ["01_sine_dry", "02_step_dry", "03_sine_dry_fast", "04_step_dry_large"]
@@ -120,7 +241,25 @@ fn roll4dof_data_is_explained_by_load_transfer_from_the_bicycle_baseline() {
     let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
     let d = discover(&m, &data, &Effect::TRIED);
     // The 4-DOF model transfers m ay h / track in steady state, h the CG height of the sedan (0.55 m).
-    check_named(&d, "load_transfer", "load_transfer_height_m", 0.55);
+    // Its load transfer goes through the roll mode and so lags the quasi-static one; a lag form
+    // (transient slip, force relaxation, steering lag) may follow as the second effect, with a
+    // smaller gain than the first. Nothing else may be named.
+    eprintln!("named {:?}: {:?}", d.named, d.steps.iter().map(|s| (&s.form, &s.params)).collect::<Vec<_>>());
+    assert_eq!(d.named[0], "load_transfer");
+    let h = d.steps[0].params[0].1;
+    assert!((h - 0.55).abs() <= 0.25 * 0.55, "h = {h}");
+    assert!(d.named.len() <= 2, "{:?}", d.named);
+    if let Some(s) = d.steps.get(1) {
+        let lag = s.effect == "tyre_relaxation" || (s.effect == "steer_compliance" && s.form == "lag");
+        assert!(lag, "second effect {} ({}) is not a lag", s.effect, s.form);
+        let gain = |s: &vehsim::discover::select::Step| {
+            s.heldout_rmse_after.yaw_rate_radps / s.heldout_rmse_before.yaw_rate_radps
+        };
+        assert!(gain(s) > gain(&d.steps[0]), "the lag gains more than the load transfer");
+    }
+    let excess = |ratio: f64| (ratio * ratio - 1.0).max(0.0).sqrt();
+    let f = &d.folds[0];
+    assert!(excess(f.final_noise_ratio[0]) <= 0.5 * excess(f.baseline_noise_ratio[0]), "{f:?}");
 }
 
 #[test]
@@ -153,9 +292,16 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
     for key in ["rmse_before", "rmse_after", "heldout_rmse_before", "heldout_rmse_after", "evidence"] {
         assert!(!step[key].is_null(), "steps[0].{key} missing");
     }
-    for key in ["baseline_rmse", "final_rmse", "rejected"] {
+    for key in ["baseline_rmse", "final_rmse", "rejected", "folds", "largest_remaining_windows"] {
         assert!(!report[key].is_null(), "{key} missing");
     }
+    // Intervals beside every accepted parameter; the generating value inside.
+    let p0 = &step["params"][0];
+    let (lo, hi) = (p0["ci95_lo"].as_f64().unwrap(), p0["ci95_hi"].as_f64().unwrap());
+    assert!(lo <= 0.03 && 0.03 <= hi && p0["std_error"].as_f64().unwrap() > 0.0, "{p0}");
+    assert_eq!(report["final_effects"][0]["significant"], true);
+    assert_eq!(report["folds"].as_array().unwrap().len(), 2);
+    assert!(report["folds"][1]["final_noise_ratio"][0].as_f64().unwrap() <= 1.5);
     assert!(report["baseline_rmse"]["heldout"]["yaw_rate_radps"].as_f64().unwrap() > 0.02);
     assert!(out.join("report.md").exists() && out.join("effects.toml").exists());
     assert!(out.join("plots/01_sine_ice_yaw_rate.png").exists());
@@ -193,13 +339,93 @@ fn two_hidden_effects_are_both_named_and_recovered() {
     named.sort();
     assert_eq!(named, vec!["sensor_bias".to_string(), "tyre_relaxation".to_string()], "{:?}", d.rejected);
     let get = |effect: &str, k: &str| {
-        let (_, _, ps) = d.final_effects.iter().find(|(e, _, _)| e == effect).unwrap();
-        ps.iter().find(|(n, _, _)| n == k).map(|(_, v, _)| *v).unwrap()
+        let fe = d.final_effects.iter().find(|f| f.effect == effect).unwrap();
+        fe.params.iter().find(|(n, _, _)| n == k).map(|(_, v, _)| *v).unwrap()
     };
     let (sigma, bias) = (get("tyre_relaxation", "relaxation_length_y_m"), get("sensor_bias", "bias_yaw_rate_radps"));
     eprintln!("two effects: sigma_y {sigma} m (1.2), yaw-rate bias {bias} rad/s (0.02)");
+    check_intervals(&d, Effect::TyreRelaxation, &[1.2]);
+    check_intervals(&d, Effect::SensorBias, &[0.02, 0.25]);
     assert!((sigma - 1.2).abs() <= 0.25 * 1.2, "sigma_y {sigma}");
     assert!((bias - 0.02).abs() <= 0.25 * 0.02, "bias {bias}");
     let (before, after) = (d.baseline.rmse(true).yaw_rate_radps, d.final_scores.rmse(true).yaw_rate_radps);
     assert!(after <= 0.5 * before, "held-out yaw-rate RMS {before} -> {after}");
+}
+
+/// The patch's friction factor against its closed form: 1 + (s - 1) / (1 + exp((r - R) / 1 m)).
+#[test]
+fn patch_factor_follows_its_closed_form() {
+    let p = EffectParams { patch: [0.5, 10.0, -2.0, 5.0], ..Default::default() };
+    let expect = |r: f64| 1.0 - 0.5 / (1.0 + (r - 5.0f64).exp());
+    for (x, y, r) in [(10.0, -2.0, 0.0), (13.0, 2.0, 5.0), (10.0, 4.0, 6.0), (60.0, -2.0, 50.0)] {
+        assert!((p.patch_factor(x, y) - expect(r)).abs() < 1e-12, "r = {r}");
+    }
+    // Rim value halfway; far away no change; off when the radius is 0.
+    assert!((p.patch_factor(15.0, -2.0) - 0.75).abs() < 1e-12);
+    assert!((p.patch_factor(60.0, -2.0) - 1.0).abs() < 1e-12);
+    assert_eq!(EffectParams::default().patch_factor(10.0, -2.0), 1.0);
+}
+
+/// With a linear tyre, lagging the slip angle and lagging the force are the same filter: transient
+/// slip with one length on both axles must replay like the force relaxation of that length.
+#[test]
+fn transient_slip_equals_force_relaxation_for_a_linear_tyre() {
+    let v = load_vehicle(&common::root().join("vehicles/sedan.toml"), None, tyre_kind("linear").unwrap()).unwrap();
+    let m = ReplayModel::new(v);
+    let runs = synth::generate(&m, &EffectParams::default(), 3);
+    let (mut force, mut slip) = (EffectParams::default(), EffectParams::default());
+    Effect::TyreRelaxation.apply(&mut force, &[0.9]);
+    Effect::TransientSlip.apply(&mut slip, &[0.9, 0.9]);
+    // The dry sine (02_sine_dry) stays far below the friction limit, where the tyre is linear.
+    let run = &runs[1].0;
+    let none = m.simulate(run, &EffectParams::default());
+    let (a, b) = (m.simulate(run, &force), m.simulate(run, &slip));
+    let diff = a.yaw_rate.iter().zip(&b.yaw_rate).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    let effect = a.yaw_rate.iter().zip(&none.yaw_rate).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    eprintln!("max |r_force - r_slip| = {diff:e} rad/s; the relaxation itself moves r by up to {effect:e}");
+    assert!(effect > 1e-3 && diff < 1e-6 * effect.max(1.0), "{diff} vs {effect}");
+}
+
+/// The replay integrates the first-order lags (force relaxation, steering lag, transient slip)
+/// exactly over its 10 ms step. Against plain RK4 at a twentieth of the fastest lag's time
+/// constant (and at most 1 ms), the yaw rate must agree within 1e-4 rad/s (a fifteenth of the
+/// 1.5e-3 rad/s sensor noise) and within 2 % of what the lags themselves change, for lags up to
+/// four times faster than the step, over the first 4 s of an ice sine and a dry step.
+#[test]
+fn exponential_lag_update_matches_a_fine_step_reference() {
+    let m = model();
+    let mut fine = model();
+    fine.reference_step_s = Some(1e-3);
+    let mut runs = synth::generate(&m, &EffectParams::default(), 5);
+    for (r, _) in runs.iter_mut() {
+        for c in [&mut r.t, &mut r.steer, &mut r.vx, &mut r.yaw_rate, &mut r.ay] {
+            c.truncate(401);
+        }
+    }
+    let mut cases = Vec::new();
+    for (e, v) in [
+        (Effect::TransientSlipSaturating, vec![0.15, 0.3]),
+        (Effect::TransientSlip, vec![0.05, 0.6]),
+        (Effect::TyreRelaxation, vec![0.08]),
+        (Effect::SteerLag, vec![0.0025]),
+    ] {
+        let mut p = EffectParams::default();
+        e.apply(&mut p, &v);
+        cases.push((format!("{}/{}", e.name(), e.form()), p));
+    }
+    // A lag with the steer compliance acting through it.
+    let mut p = cases[0].1;
+    Effect::SteerCompliance.apply(&mut p, &[0.004]);
+    cases.push(("transient slip + steer compliance".into(), p));
+    for (name, p) in &cases {
+        for run in [&runs[0].0, &runs[2].0] {
+            let none = m.simulate(run, &EffectParams::default());
+            let (a, b) = (m.simulate(run, p), fine.simulate(run, p));
+            assert!(a.ok && b.ok);
+            let max_abs = |u: &[f64], w: &[f64]| u.iter().zip(w).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            let (diff, effect) = (max_abs(&a.yaw_rate, &b.yaw_rate), max_abs(&b.yaw_rate, &none.yaw_rate));
+            eprintln!("{name}, {}: max |r - r_fine| = {diff:.2e} rad/s; the lag moves r by {effect:.2e}", run.name);
+            assert!(diff < 1e-4 && diff < 0.02 * effect, "{name}, {}: {diff} against {effect}", run.name);
+        }
+    }
 }

@@ -560,8 +560,15 @@ fn discover_runs(
     model: &str,
 ) -> PyResult<Vec<String>> {
     let kind = vehsim::discover::tyre_kind(tyre_model).map_err(py_err)?;
-    let opts =
-        vehsim::discover::DiscoverOptions { vehicle, tyre, tyre_model: kind, model: model.to_string(), out, runs };
+    let opts = vehsim::discover::DiscoverOptions {
+        vehicle,
+        tyre,
+        tyre_model: kind,
+        model: model.to_string(),
+        out,
+        runs,
+        progress: false,
+    };
     py.allow_threads(|| vehsim::discover::run_discover(&opts)).map(|(_, notices)| notices).map_err(py_err)
 }
 

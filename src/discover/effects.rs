@@ -19,6 +19,23 @@ pub struct ParamDef {
     /// Bounds.
     pub lo: f64,
     pub hi: f64,
+    /// The value at which the effect is off (None for a parameter that only places it, such as
+    /// where a stretch starts). An effect is named only when the confidence interval of at least
+    /// one of its parameters excludes that parameter's no-effect value.
+    pub null: Option<f64>,
+}
+
+/// A parameter definition (`null` as in [`ParamDef::null`]).
+const fn pd(
+    name: &'static str,
+    unit: &'static str,
+    start: f64,
+    scale: f64,
+    lo: f64,
+    hi: f64,
+    null: Option<f64>,
+) -> ParamDef {
+    ParamDef { name, unit, start, scale, lo, hi, null }
 }
 
 /// `name (form)`, or `name` for a one-form effect (form `""`).
@@ -30,10 +47,12 @@ pub fn label(name: &str, form: &str) -> String {
     }
 }
 
-/// A candidate effect. Two effects come in two forms each, tried as separate candidates under
+/// A candidate effect. Some effects come in several forms, tried as separate candidates under
 /// one name: `steer_compliance` (force compliance [`Effect::SteerCompliance`] or a steering lag
-/// [`Effect::SteerLag`]) and `friction_change` (global [`Effect::FrictionChange`] or over a
-/// stretch of the path [`Effect::FrictionStretch`]). The information criterion decides between
+/// [`Effect::SteerLag`]), `friction_change` (global [`Effect::FrictionChange`] or over a
+/// stretch of the path [`Effect::FrictionStretch`]) and `tyre_relaxation` (one length lagging
+/// both axles' forces [`Effect::TyreRelaxation`], or transient slip per axle
+/// [`Effect::TransientSlip`], optionally saturating [`Effect::TransientSlipSaturating`]). The information criterion decides between
 /// the forms like between any two candidates (the stretch pays for its two extra parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Effect {
@@ -45,36 +64,62 @@ pub enum Effect {
     SteerCompliance,
     SteerLag,
     SensorBias,
+    AxleStiffness,
+    AxleFriction,
+    YawInertia,
+    TransientSlip,
+    TransientSlipSaturating,
+    FrictionPatch,
+    LoadTransferSensitive,
 }
 
 impl Effect {
     /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 8] = [
+    pub const TRIED: [Effect; 15] = [
         Effect::SensorBias,
         Effect::SteerCompliance,
         Effect::SteerLag,
         Effect::TyreRelaxation,
+        Effect::TransientSlip,
+        Effect::TransientSlipSaturating,
         Effect::FrictionChange,
         Effect::FrictionStretch,
+        Effect::FrictionPatch,
         Effect::ThermalFriction,
         Effect::LoadTransfer,
+        Effect::LoadTransferSensitive,
+        Effect::AxleStiffness,
+        Effect::AxleFriction,
+        Effect::YawInertia,
     ];
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 8] = Self::TRIED;
+    pub const ALL: [Effect; 15] = Self::TRIED;
 
     /// Every name accepted on the command line.
-    pub const NAMES: [&'static str; 6] =
-        ["tyre_relaxation", "load_transfer", "thermal_friction", "friction_change", "steer_compliance", "sensor_bias"];
+    pub const NAMES: [&'static str; 9] = [
+        "tyre_relaxation",
+        "load_transfer",
+        "thermal_friction",
+        "friction_change",
+        "steer_compliance",
+        "sensor_bias",
+        "axle_cornering_stiffness",
+        "axle_peak_friction",
+        "yaw_inertia",
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
-            Effect::TyreRelaxation => "tyre_relaxation",
-            Effect::LoadTransfer => "load_transfer",
+            Effect::TyreRelaxation | Effect::TransientSlip | Effect::TransientSlipSaturating => "tyre_relaxation",
+            Effect::LoadTransfer | Effect::LoadTransferSensitive => "load_transfer",
             Effect::ThermalFriction => "thermal_friction",
-            Effect::FrictionChange | Effect::FrictionStretch => "friction_change",
+            Effect::FrictionChange | Effect::FrictionStretch | Effect::FrictionPatch => "friction_change",
             Effect::SteerCompliance | Effect::SteerLag => "steer_compliance",
             Effect::SensorBias => "sensor_bias",
+            Effect::AxleStiffness => "axle_cornering_stiffness",
+            Effect::AxleFriction => "axle_peak_friction",
+            Effect::YawInertia => "yaw_inertia",
         }
     }
 
@@ -85,6 +130,10 @@ impl Effect {
             Effect::SteerLag => "lag",
             Effect::FrictionChange => "global",
             Effect::FrictionStretch => "stretch",
+            Effect::TransientSlip => "slip",
+            Effect::FrictionPatch => "patch",
+            Effect::LoadTransferSensitive => "sensitive",
+            Effect::TransientSlipSaturating => "slip_saturating",
             _ => "",
         }
     }
@@ -126,6 +175,21 @@ impl Effect {
             Effect::SteerCompliance => "effective steer is reduced in proportion to the front lateral force",
             Effect::SteerLag => "effective steer follows the measured steer with a first-order lag",
             Effect::SensorBias => "constant offsets on the yaw-rate and lateral-acceleration sensors",
+            Effect::AxleStiffness => {
+                "each axle's cornering stiffness differs from the tyre's by its own factor (peak force unchanged)"
+            }
+            Effect::AxleFriction => "each axle's peak friction differs from the nominal by its own factor",
+            Effect::LoadTransferSensitive => {
+                "lateral load transfer with fitted load sensitivities of each tyre's friction and cornering stiffness"
+            }
+            Effect::FrictionPatch => {
+                "surface friction differs over a disc on the ground, crossed by each axle at its own time"
+            }
+            Effect::TransientSlip => "each axle's slip angle lags the kinematic one over its own relaxation length",
+            Effect::TransientSlipSaturating => {
+                "each axle's slip angle lags over its own relaxation length, shortening as the tyre saturates"
+            }
+            Effect::YawInertia => "the yaw moment of inertia differs from the vehicle's by a factor",
         }
     }
 
@@ -155,45 +219,95 @@ impl Effect {
                 }
                 v
             }
+            // The patch: a grid of discs along the first stretch of +X (where every run starts
+            // when the pose is the replay's own) at a clear friction change.
+            Effect::FrictionPatch => {
+                let mut v = Vec::new();
+                for x0 in [20.0, 45.0, 70.0, 95.0, 120.0, 170.0] {
+                    for radius in [12.0, 30.0] {
+                        v.push(vec![0.6, x0, 0.0, radius]);
+                    }
+                }
+                v
+            }
             _ => Vec::new(),
         }
     }
 
     /// Its parameters; the first is the main parameter.
     pub fn params(self) -> &'static [ParamDef] {
+        const ONE: Option<f64> = Some(1.0);
+        const ZERO: Option<f64> = Some(0.0);
         match self {
-            Effect::TyreRelaxation => {
-                &[ParamDef { name: "relaxation_length_y_m", unit: "m", start: 0.5, scale: 0.5, lo: 0.05, hi: 10.0 }]
+            Effect::TyreRelaxation => const { &[pd("relaxation_length_y_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO)] },
+            Effect::LoadTransfer => const { &[pd("load_transfer_height_m", "m", 0.5, 0.3, 0.0, 2.0, ZERO)] },
+            Effect::ThermalFriction => const { &[pd("thermal_mu_per_k", "1/K", -0.2, 0.2, -2.0, 0.0, ZERO)] },
+            Effect::FrictionChange => const { &[pd("mu_scale", "1", 0.9, 0.2, 0.05, 3.0, ONE)] },
+            Effect::FrictionStretch => {
+                const {
+                    &[
+                        pd("mu_scale", "1", 0.7, 0.2, 0.05, 3.0, ONE),
+                        pd("stretch_start_m", "m", 20.0, 20.0, 0.0, 2000.0, None),
+                        pd("stretch_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                    ]
+                }
             }
-            Effect::LoadTransfer => {
-                &[ParamDef { name: "load_transfer_height_m", unit: "m", start: 0.5, scale: 0.3, lo: 0.0, hi: 2.0 }]
+            Effect::SteerLag => const { &[pd("steer_lag_s", "s", 0.1, 0.1, 0.005, 2.0, ZERO)] },
+            Effect::SteerCompliance => {
+                const { &[pd("steer_compliance_rad_per_kn", "rad/kN", 0.002, 0.003, 0.0, 0.1, ZERO)] }
             }
-            Effect::ThermalFriction => {
-                &[ParamDef { name: "thermal_mu_per_k", unit: "1/K", start: -0.2, scale: 0.2, lo: -2.0, hi: 0.0 }]
+            Effect::SensorBias => {
+                const {
+                    &[
+                        pd("bias_yaw_rate_radps", "rad/s", 0.0, 0.01, -0.5, 0.5, ZERO),
+                        pd("bias_ay_mps2", "m/s^2", 0.0, 0.1, -5.0, 5.0, ZERO),
+                    ]
+                }
             }
-            Effect::FrictionChange => {
-                &[ParamDef { name: "mu_scale", unit: "1", start: 0.9, scale: 0.2, lo: 0.05, hi: 3.0 }]
+            Effect::AxleStiffness => {
+                const {
+                    &[
+                        pd("stiffness_scale_front", "1", 1.0, 0.2, 0.2, 5.0, ONE),
+                        pd("stiffness_scale_rear", "1", 1.0, 0.2, 0.2, 5.0, ONE),
+                    ]
+                }
             }
-            Effect::FrictionStretch => &[
-                ParamDef { name: "mu_scale", unit: "1", start: 0.7, scale: 0.2, lo: 0.05, hi: 3.0 },
-                ParamDef { name: "stretch_start_m", unit: "m", start: 20.0, scale: 20.0, lo: 0.0, hi: 2000.0 },
-                ParamDef { name: "stretch_length_m", unit: "m", start: 40.0, scale: 20.0, lo: 2.0, hi: 2000.0 },
-            ],
-            Effect::SteerLag => {
-                &[ParamDef { name: "steer_lag_s", unit: "s", start: 0.1, scale: 0.1, lo: 0.005, hi: 2.0 }]
+            Effect::AxleFriction => {
+                const {
+                    &[
+                        pd("mu_scale_front", "1", 1.0, 0.2, 0.05, 3.0, ONE),
+                        pd("mu_scale_rear", "1", 1.0, 0.2, 0.05, 3.0, ONE),
+                    ]
+                }
             }
-            Effect::SteerCompliance => &[ParamDef {
-                name: "steer_compliance_rad_per_kn",
-                unit: "rad/kN",
-                start: 0.002,
-                scale: 0.003,
-                lo: 0.0,
-                hi: 0.1,
-            }],
-            Effect::SensorBias => &[
-                ParamDef { name: "bias_yaw_rate_radps", unit: "rad/s", start: 0.0, scale: 0.01, lo: -0.5, hi: 0.5 },
-                ParamDef { name: "bias_ay_mps2", unit: "m/s^2", start: 0.0, scale: 0.1, lo: -5.0, hi: 5.0 },
-            ],
+            Effect::YawInertia => const { &[pd("yaw_inertia_scale", "1", 1.0, 0.2, 0.3, 3.0, ONE)] },
+            Effect::LoadTransferSensitive => {
+                const {
+                    &[
+                        pd("load_transfer_height_m", "m", 0.5, 0.3, 0.0, 2.0, ZERO),
+                        pd("load_sensitivity_mu", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
+                        pd("load_sensitivity_stiffness", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
+                    ]
+                }
+            }
+            Effect::FrictionPatch => {
+                const {
+                    &[
+                        pd("mu_scale", "1", 0.7, 0.2, 0.05, 3.0, ONE),
+                        pd("patch_x_m", "m", 50.0, 20.0, -5000.0, 5000.0, None),
+                        pd("patch_y_m", "m", 0.0, 20.0, -5000.0, 5000.0, None),
+                        pd("patch_radius_m", "m", 20.0, 10.0, 1.0, 1000.0, None),
+                    ]
+                }
+            }
+            Effect::TransientSlip | Effect::TransientSlipSaturating => {
+                const {
+                    &[
+                        pd("relaxation_length_front_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO),
+                        pd("relaxation_length_rear_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO),
+                    ]
+                }
+            }
         }
     }
 
@@ -214,6 +328,18 @@ impl Effect {
             Effect::SensorBias => {
                 p.bias_yaw_rate_radps = v[0];
                 p.bias_ay_mps2 = v[1];
+            }
+            Effect::AxleStiffness => p.stiffness_scale = [v[0], v[1]],
+            Effect::AxleFriction => p.mu_axle_scale = [v[0], v[1]],
+            Effect::YawInertia => p.yaw_inertia_scale = v[0],
+            Effect::FrictionPatch => p.patch = [v[0], v[1], v[2], v[3]],
+            Effect::LoadTransferSensitive => {
+                p.load_transfer_height_m = v[0];
+                p.load_sensitivity = [v[1], v[2]];
+            }
+            Effect::TransientSlip | Effect::TransientSlipSaturating => {
+                p.slip_relaxation_m = [v[0], v[1]];
+                p.slip_relaxation_saturating = self == Effect::TransientSlipSaturating;
             }
         }
     }

@@ -7,6 +7,7 @@
 //! - [`effects`]: the candidate library; [`fit`]: Nelder–Mead fitting.
 //! - [`select`]: noise estimate, residuals, disagreement windows, greedy selection.
 //! - [`synth`]: synthetic runs with one effect on; [`report`]: report.json, report.md, plots.
+//! - [`uncertainty`]: confidence intervals of fitted parameters.
 //! - [`stanford`]: conversion of the Stanford lap data to the run format.
 
 pub mod effects;
@@ -17,6 +18,7 @@ pub mod report;
 pub mod select;
 pub mod stanford;
 pub mod synth;
+pub mod uncertainty;
 
 use std::path::{Path, PathBuf};
 
@@ -39,6 +41,8 @@ pub struct DiscoverOptions {
     pub model: String,
     pub out: PathBuf,
     pub runs: Vec<PathBuf>,
+    /// Print progress (per round and candidate) on stderr.
+    pub progress: bool,
 }
 
 /// Load the vehicle (with an optional tyre override) for provider `kind`.
@@ -68,7 +72,7 @@ pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectPara
         // The 4-DOF baseline: quasi-static lateral load transfer at the vehicle's CG height.
         "roll4dof" => {
             let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
-            Ok((p, Effect::TRIED.iter().copied().filter(|e| *e != Effect::LoadTransfer).collect()))
+            Ok((p, Effect::TRIED.iter().copied().filter(|e| e.name() != "load_transfer").collect()))
         }
         other => {
             Err(Error::input(Path::new("--model"), format!("'{other}' is not a model; allowed: bicycle, roll4dof")))
@@ -92,8 +96,10 @@ pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> 
         runs.push(r);
     }
     let model = model::ReplayModel::new(vehicle);
-    let data = Dataset::new(runs);
-    let d = select::discover_from(&model, &data, base, &candidates);
+    let mut data = Dataset::new(runs);
+    let say = |m: &str| eprintln!("discover: {m}");
+    let d = select::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
+    data.held = d.held.clone();
     report::write_all(&opts.out, opts, &model, &data, &d)?;
     Ok((d, notices))
 }
@@ -111,20 +117,35 @@ pub fn cli_discover(
     model: String,
     out: PathBuf,
     runs: Vec<PathBuf>,
+    quiet: bool,
 ) -> std::process::ExitCode {
+    use std::io::IsTerminal as _;
     let kind = match tyre_kind(tyre_model) {
         Ok(k) => k,
         Err(e) => return fail(&e),
     };
-    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs };
+    let progress = !quiet && std::io::stderr().is_terminal();
+    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs, progress };
     match run_discover(&opts) {
+        Ok(_) if quiet => std::process::ExitCode::SUCCESS,
         Ok((d, notices)) => {
             for n in notices {
                 println!("note: {n}");
             }
             for st in &d.steps {
-                let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
-                println!("accepted {}: {} ({})", effects::label(&st.effect, &st.form), ps.join(", "), st.evidence);
+                let ps = report::params_text(&st.params, &st.intervals);
+                println!("accepted {}: {ps} ({})", effects::label(&st.effect, &st.form), st.evidence);
+            }
+            for (i, f) in d.folds.iter().enumerate() {
+                let [b, a] = [f.baseline_noise_ratio, f.final_noise_ratio];
+                println!(
+                    "fold {}: held-out RMS / noise (yaw rate, ay) {:.2}, {:.2} -> {:.2}, {:.2}",
+                    i + 1,
+                    b[0],
+                    b[1],
+                    a[0],
+                    a[1]
+                );
             }
             let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
             println!(

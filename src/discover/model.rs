@@ -27,6 +27,10 @@
 //!   mu_e = mu (1 + (s_mu - 1) w(d)) where d is the distance travelled since the first sample
 //!   (integral of the measured vx, m) and w is a window of 1 over [d0, d0 + L] with 1 m logistic
 //!   edges (so the fit sees a continuous objective).
+//!   Patch form: mu_e,i = mu (1 + (s_mu - 1) w_i), w_i a disc of radius R at (X0, Y0) on the
+//!   ground (1 m logistic edge) evaluated at axle i's own position X + l_i cos psi,
+//!   Y + l_i sin psi (l_f = a, l_r = -b), from the logged pose (columns x, y, psi) when the run
+//!   has it, else from the replay's own integrated pose (starting at the origin heading +X).
 //! - `thermal_friction`: on runs on ice (sidecar `ice_temp_c`), the ATIIM per-step estimator
 //!   ([`crate::contact::estimator::AtiimEstimator`], default `[contact]` tyre) tracks each axle's
 //!   contact temperature from its load, rolling speed, sliding speed vx |tan alpha| and lateral
@@ -36,6 +40,16 @@
 //! - `load_transfer`: lateral load transfer dFz = m ay_ss h_lt / track per axle in proportion to its
 //!   static load, with ay_ss = vx r; each tyre of an axle is evaluated at its own load, so the tyre's
 //!   load sensitivity lowers the axle force. h_lt is the effective transfer height (m).
+//!   Sensitive form: besides, each tyre's friction and cornering stiffness change with its
+//!   relative load z = Fz / Fz0 - 1 (Fz0 the static tyre load): mu x max(1 - k_mu z, 0.05) and
+//!   alpha x max(1 - k_c z, 0.05), so that the fit does not rest on the tyre file's own load
+//!   sensitivity alone.
+//! - `axle_cornering_stiffness`: each axle's tyres are evaluated at slip angle c_i alpha_i
+//!   (i = front, rear), which scales the cornering stiffness dFy/dalpha at alpha = 0 by c_i and
+//!   leaves the peak force unchanged (it is reached at a slip angle 1/c_i times the tyre's).
+//! - `axle_peak_friction`: each axle's tyres see the surface friction s_i mu_e, so the peak force
+//!   scales by s_i (for providers whose force saturates at mu Fz).
+//! - `yaw_inertia`: I_z is replaced by s_I I_z.
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
 
@@ -80,6 +94,22 @@ pub struct EffectParams {
     pub bias_yaw_rate_radps: f64,
     /// Lateral-acceleration sensor offset, m/s^2 (typical |b| < 0.5).
     pub bias_ay_mps2: f64,
+    /// Cornering-stiffness factor per axle (front, rear), 1 (1 = off; typical 0.5-2).
+    pub stiffness_scale: [f64; 2],
+    /// Peak-friction factor per axle (front, rear), 1 (1 = off; typical 0.5-1.5).
+    pub mu_axle_scale: [f64; 2],
+    /// Yaw-inertia factor, 1 (1 = off; typical 0.7-1.5).
+    pub yaw_inertia_scale: f64,
+    /// Transient-slip relaxation length per axle (front, rear), m (0 = off; typical 0.3-1.5).
+    pub slip_relaxation_m: [f64; 2],
+    /// Whether the transient-slip relaxation length shortens with the tyre's local slope.
+    pub slip_relaxation_saturating: bool,
+    /// Load sensitivity of each tyre's friction and cornering stiffness under load transfer,
+    /// [k_mu, k_c], per unit of relative load change (Fz - Fz0) / Fz0 (0 = only the tyre's own).
+    pub load_sensitivity: [f64; 2],
+    /// Friction patch on the ground: [friction scale, centre X (m), centre Y (m), radius (m)]
+    /// in the run's ground frame (radius 0 = off).
+    pub patch: [f64; 4],
 }
 
 impl Default for EffectParams {
@@ -95,11 +125,34 @@ impl Default for EffectParams {
             load_transfer_height_m: 0.0,
             bias_yaw_rate_radps: 0.0,
             bias_ay_mps2: 0.0,
+            stiffness_scale: [1.0; 2],
+            mu_axle_scale: [1.0; 2],
+            yaw_inertia_scale: 1.0,
+            slip_relaxation_m: [0.0; 2],
+            slip_relaxation_saturating: false,
+            patch: [1.0, 0.0, 0.0, 0.0],
+            load_sensitivity: [0.0; 2],
         }
     }
 }
 
 impl EffectParams {
+    /// Friction factor of the ground patch at ground point (X, Y), m: 1 + (s - 1) w with w a disc
+    /// of the patch radius with logistic edges of [`STRETCH_EDGE_M`].
+    pub fn patch_factor(&self, x_m: f64, y_m: f64) -> f64 {
+        let [s, x0, y0, radius] = self.patch;
+        if radius <= 0.0 {
+            return 1.0;
+        }
+        let r = (x_m - x0).hypot(y_m - y0);
+        1.0 + (s - 1.0) / (1.0 + ((r - radius) / STRETCH_EDGE_M).exp())
+    }
+
+    /// True when the transient-slip form of tyre relaxation is on.
+    pub fn transient_slip(&self) -> bool {
+        self.slip_relaxation_m[0] > 0.0
+    }
+
     /// Friction scale at distance `d_m` travelled (the friction_change effect).
     pub fn mu_factor(&self, d_m: f64) -> f64 {
         if self.stretch_length_m <= 0.0 {
@@ -130,12 +183,17 @@ pub struct Simulated {
 
 /// Floor on |vx| in slip denominators, m/s.
 const V_FLOOR: f64 = 1.0;
-/// Largest integration step, s: one RK4 step per sample at 100 Hz. The lateral modes decay at
+/// Largest integration step, s: one step per sample at 100 Hz. The lateral modes decay at
 /// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
-/// far below sensor noise; relaxation and steering lag shorten the step when they need it.
+/// far below sensor noise. The first-order lags (force relaxation, steering lag, transient slip)
+/// are integrated exactly over the step ([`relax`]), so however fast they are they do not shorten
+/// it.
 const H_MAX: f64 = 0.01;
+/// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
+/// lagged slip angles alpha_f, alpha_r.
+const LAGS: [usize; 5] = [2, 3, 4, 8, 9];
 /// State dimension.
-const NS: usize = 8;
+const NS: usize = 10;
 type State = SVector<f64, NS>;
 
 /// The replay model for one vehicle.
@@ -143,15 +201,39 @@ type State = SVector<f64, NS>;
 pub struct ReplayModel {
     pub vehicle: Vehicle,
     fz_axle: [f64; 2],
+    /// When set, the replay integrates every state, lags included, by plain RK4 with steps no
+    /// longer than this (s) and no longer than a twentieth of any lag's time constant: the
+    /// fine-step reference the exponential lag update is checked against.
+    pub reference_step_s: Option<f64>,
+}
+
+/// Response after a time t of the first-order lag dy/dt = k (u - y), from y0, when its input u moves
+/// linearly from u0 to u1 over t; z = k t >= 0. Exact for that input:
+/// y = u1 + (y0 - u0) e^-z - (u1 - u0) (1 - e^-z) / z. It gives y0 at z = 0 and u1 as z -> inf
+/// (an infinitely fast lag), and the trapezoidal rule y0 + z ((u0 + u1) / 2 - y0) for small z.
+pub fn relax(y0: f64, u0: f64, u1: f64, z: f64) -> f64 {
+    if !(z > 0.0) {
+        return y0;
+    }
+    let e = (-z).exp();
+    let phi = if z < 1e-8 { 1.0 - 0.5 * z } else { -(-z).exp_m1() / z };
+    u1 + (y0 - u0) * e - (u1 - u0) * phi
 }
 
 /// Inputs held over one integration step.
 #[derive(Debug, Clone, Copy)]
 struct Drive {
     steer: f64,
+    /// Rate of the measured steer over the sample interval (it is linear in between), rad/s: the
+    /// steering lag follows the steer's ramp over a step, not its held value.
+    steer_rate: f64,
     vx: f64,
     /// Surface friction with the friction_change factor applied.
     mu: f64,
+    /// Friction factor per axle from a ground patch (1 without one).
+    mu_axle: [f64; 2],
+    /// Logged pose (X, Y, psi) when the run has the x, y and psi columns.
+    pose: Option<[f64; 3]>,
     /// Bulk ice temperature, degC.
     ice_c: f64,
     /// Contact temperature per axle, degC.
@@ -162,13 +244,20 @@ struct Drive {
 struct Forces {
     fy: [f64; 2],
     delta_e: f64,
+    /// Slip angles the tyres carry (the lagged ones under transient slip), rad.
     alpha: [f64; 2],
+    /// Kinematic slip angles (what the lagged ones relax towards), rad.
+    alpha_kin: [f64; 2],
 }
+
+/// Floor on the ratio of the local to the initial tyre slope in the saturating transient-slip
+/// form (the relaxation length never falls below this fraction of its nominal value).
+pub const SLIP_SLOPE_FLOOR: f64 = 0.25;
 
 impl ReplayModel {
     pub fn new(vehicle: Vehicle) -> Self {
         let (ff, fr) = vehicle.static_axle_loads_n();
-        Self { vehicle, fz_axle: [ff, fr] }
+        Self { vehicle, fz_axle: [ff, fr], reference_step_s: None }
     }
 
     /// Steady-state axle lateral force (two tyres) at slip angle `alpha`, with load transfer `dfz`
@@ -181,13 +270,16 @@ impl ReplayModel {
             lateral::thermal_friction_factor(p.thermal_mu_per_k, d.contact_c[axle] - d.ice_c)
         };
         let eval = |fz: f64| {
+            // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
+            let z = fz / half - 1.0;
+            let [k_mu, k_c] = p.load_sensitivity;
             let input = TyreInput {
                 fz_n: fz.max(0.0),
                 kappa: 0.0,
-                alpha_rad: alpha,
+                alpha_rad: alpha * p.stiffness_scale[axle] * (1.0 - k_c * z).max(0.05),
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
-                mu_surface: d.mu * thermal,
+                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle] * (1.0 - k_mu * z).max(0.05),
                 surface_temp_c: d.ice_c,
                 contact_temp_c: d.contact_c[axle],
             };
@@ -217,6 +309,19 @@ impl ReplayModel {
     /// Steady-state axle forces, the effective steer and the slip angles for a state.
     fn forces(&self, x: &State, d: &Drive, p: &EffectParams) -> Forces {
         let v = &self.vehicle;
+        let mut patched;
+        let d = if p.patch[3] > 0.0 {
+            // Each axle at its own ground position: the logged pose, else the replay's own.
+            let [px, py, psi] = d.pose.unwrap_or([x[5], x[6], x[7]]);
+            let (s, c) = psi.sin_cos();
+            patched = *d;
+            for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
+                patched.mu_axle[i] = p.patch_factor(px + l * c, py + l * s);
+            }
+            &patched
+        } else {
+            d
+        };
         let (vy, r) = (x[0], x[1]);
         let vxs = d.vx.abs().max(V_FLOOR);
         let beta_f = ((vy + v.a_m * r) / vxs).atan();
@@ -225,6 +330,12 @@ impl ReplayModel {
         let fyr = self.axle_force(1, alpha_r, dfz[1], d, p);
         let steer = if p.steer_lag_s > 0.0 { x[4] } else { d.steer };
         let c = p.steer_compliance_rad_per_kn * 1e-3;
+        if p.transient_slip() {
+            // The forces follow the lagged slip angles; the compliance acts through them.
+            let fy = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
+            let delta_e = steer - c * fy[0];
+            return Forces { fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
+        }
         let mut delta_e = steer;
         let fyf = if c == 0.0 {
             self.axle_force(0, steer - beta_f, dfz[0], d, p)
@@ -242,7 +353,27 @@ impl ReplayModel {
             delta_e = steer - c * f;
             f
         };
-        Forces { fy: [fyf, fyr], delta_e, alpha: [delta_e - beta_f, alpha_r] }
+        let alpha = [delta_e - beta_f, alpha_r];
+        Forces { fy: [fyf, fyr], delta_e, alpha, alpha_kin: alpha }
+    }
+
+    /// Transient-slip relaxation length of an axle at slip angle `alpha`, m: the nominal one, or
+    /// in the saturating form the nominal one times the tyre's local slope dFy/dalpha over its
+    /// slope at alpha = 0 (floored at [`SLIP_SLOPE_FLOOR`]), as a string model whose relaxation
+    /// length is the cornering stiffness over the lateral carcass stiffness predicts.
+    fn slip_sigma(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> f64 {
+        let s0 = p.slip_relaxation_m[axle];
+        if !p.slip_relaxation_saturating {
+            return s0;
+        }
+        const EPS: f64 = 2e-3;
+        let slope = |a: f64| self.axle_force(axle, a + EPS, dfz, d, p) - self.axle_force(axle, a - EPS, dfz, d, p);
+        let ratio = (slope(alpha) / slope(0.0)).clamp(SLIP_SLOPE_FLOOR, 1.0);
+        if ratio.is_finite() {
+            s0 * ratio
+        } else {
+            s0
+        }
     }
 
     /// Axle forces acting on the body: the relaxed states or the steady-state forces.
@@ -254,27 +385,89 @@ impl ReplayModel {
         }
     }
 
-    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
+    /// Derivatives of the body states (the lag states' entries left 0) and the inputs the lag
+    /// states relax towards ([`LAGS`] order: steady-state forces, the steer, kinematic slip angles).
+    fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; 5]) {
         let v = &self.vehicle;
         let f = self.forces(x, d, p);
         let [fyf, fyr] = Self::acting(x, &f, p);
         let cf = f.delta_e.cos();
         let mut dx = State::zeros();
         dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
-        dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / v.yaw_inertia_kgm2;
-        if p.sigma_y_m > 0.0 {
-            let rate = lateral::relaxation_rate(d.vx, p.sigma_y_m);
-            dx[2] = rate * (f.fy[0] - x[2]);
-            dx[3] = rate * (f.fy[1] - x[3]);
-        }
-        if p.steer_lag_s > 0.0 {
-            dx[4] = (d.steer - x[4]) / p.steer_lag_s;
-        }
+        dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / (v.yaw_inertia_kgm2 * p.yaw_inertia_scale);
         let (sp, cp) = x[7].sin_cos();
         dx[5] = d.vx * cp - x[0] * sp;
         dx[6] = d.vx * sp + x[0] * cp;
         dx[7] = x[1];
+        (dx, [f.fy[0], f.fy[1], d.steer, f.alpha_kin[0], f.alpha_kin[1]])
+    }
+
+    /// Rates k (1/s) of the lag states ([`LAGS`] order; 0 = the state is unused) at state `x`:
+    /// |vx| / sigma_y, 1 / tau_s and |vx| / sigma_i (the saturating form's sigma_i at x's lagged
+    /// slip angle).
+    fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; 5] {
+        let mut k = [0.0; 5];
+        if p.sigma_y_m > 0.0 {
+            k[0] = lateral::relaxation_rate(d.vx, p.sigma_y_m);
+            k[1] = k[0];
+        }
+        if p.steer_lag_s > 0.0 {
+            k[2] = 1.0 / p.steer_lag_s;
+        }
+        if p.transient_slip() {
+            let dfz = [self.load_transfer(0, d.vx, x[1], p), self.load_transfer(1, d.vx, x[1], p)];
+            for i in 0..2 {
+                let sigma = self.slip_sigma(i, x[8 + i], dfz[i], d, p);
+                k[3 + i] = lateral::relaxation_rate(d.vx, sigma);
+            }
+        }
+        k
+    }
+
+    /// All derivatives, lags included (the plain-RK4 reference).
+    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
+        let (mut dx, target) = self.body(x, d, p);
+        for ((i, k), u) in LAGS.into_iter().zip(self.lag_rates(x, d, p)).zip(target) {
+            if k > 0.0 {
+                dx[i] = k * (u - x[i]);
+            }
+        }
         dx
+    }
+
+    /// One step of length h with the input `d` held: RK4 on the body states; each lag state
+    /// relaxes exactly ([`relax`]) at the rate of the step's start towards an input taken as linear
+    /// between its value at the start and at each stage's body state (for inputs that depend on a
+    /// lag state through the steer compliance, the stage input is first taken from the lag
+    /// relaxed towards the start's input). The step is stable for any lag rate.
+    fn step(&self, x0: &State, d: &Drive, p: &EffectParams, h: f64) -> State {
+        let k = self.lag_rates(x0, d, p);
+        if k.iter().all(|&k| k == 0.0) {
+            return rk4_step(|s: &State| self.body(s, d, p).0, x0, h).0;
+        }
+        let (k1, mut u0) = self.body(x0, d, p);
+        // The steer ramps over the step (d holds its midpoint value).
+        let steer_at = |c: f64| d.steer + (c - 0.5) * h * d.steer_rate;
+        u0[2] = steer_at(0.0);
+        let lags = |y: &mut State, u: &[f64; 5], c: f64| {
+            for (j, i) in LAGS.into_iter().enumerate() {
+                if k[j] > 0.0 {
+                    y[i] = relax(x0[i], u0[j], u[j], k[j] * c * h);
+                }
+            }
+        };
+        // The body state at fraction c of the step with its lags relaxed.
+        let stage = |mut y: State, c: f64| {
+            lags(&mut y, &u0, c);
+            let mut u = self.body(&y, d, p).1;
+            u[2] = steer_at(c);
+            lags(&mut y, &u, c);
+            y
+        };
+        let k2 = self.body(&stage(x0 + k1 * (0.5 * h), 0.5), d, p).0;
+        let k3 = self.body(&stage(x0 + k2 * (0.5 * h), 0.5), d, p).0;
+        let k4 = self.body(&stage(x0 + k3 * h, 1.0), d, p).0;
+        stage(x0 + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0), 1.0)
     }
 
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
@@ -368,12 +561,22 @@ impl ReplayModel {
         let mut steer = vec![run.steer[0]; n];
         let mut est = Self::estimator(run, p);
         let mut contact_c = [run.ice_temp_c; 2];
+        let logged = match (run.channel("x"), run.channel("y"), run.channel("psi")) {
+            (Some(x), Some(y), Some(psi)) if p.patch[3] > 0.0 => Some([x, y, psi]),
+            _ => None,
+        };
         let drive_at = |k: usize, frac: f64, contact_c: [f64; 2], steer: &[f64]| {
             let k1 = (k + 1).min(n - 1);
             Drive {
                 steer: steer[k] + frac * (steer[k1] - steer[k]),
+                steer_rate: if k1 > k { (steer[k1] - steer[k]) / (run.t[k1] - run.t[k]) } else { 0.0 },
                 vx: run.vx[k] + frac * (run.vx[k1] - run.vx[k]),
                 mu: run.mu * p.mu_factor(dist[k] + frac * (dist[k1] - dist[k])),
+                mu_axle: [1.0; 2],
+                pose: logged.map(|[x, y, psi]| {
+                    let at = |c: &[f64]| c[k] + frac * (c[k1] - c[k]);
+                    [at(x), at(y), at(psi)]
+                }),
                 ice_c: run.ice_temp_c,
                 contact_c,
             }
@@ -386,6 +589,15 @@ impl ReplayModel {
             let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
             x[2] = f.fy[0];
             x[3] = f.fy[1];
+        }
+        if p.transient_slip() {
+            // Start relaxed: the lagged slip angles at their kinematic values (a fixed point,
+            // since the compliance acts through the lagged force).
+            for _ in 0..8 {
+                let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
+                x[8] = f.alpha_kin[0];
+                x[9] = f.alpha_kin[1];
+            }
         }
         for k in 0..n {
             let d = drive_at(k, 0.0, contact_c, &steer);
@@ -400,16 +612,26 @@ impl ReplayModel {
             }
             steer[k + 1] = next_steer(k, &x, steer[k]);
             let dt = run.t[k + 1] - run.t[k];
-            // Keep h below the relaxation time sigma / vx and the steering lag (RK4 stability).
-            let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
-            let mut hmax = H_MAX;
-            if p.sigma_y_m > 0.0 {
-                hmax = hmax.min(p.sigma_y_m / vmax);
-            }
-            if p.steer_lag_s > 0.0 {
-                hmax = hmax.min(p.steer_lag_s);
-            }
-            let m = ((dt / hmax).ceil() as usize).clamp(1, 10_000);
+            let hmax = match self.reference_step_s {
+                None => H_MAX,
+                Some(h_ref) => {
+                    // Plain RK4 on the lags too: a twentieth of the fastest lag's time constant.
+                    let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
+                    let mut hmax = h_ref;
+                    if p.sigma_y_m > 0.0 {
+                        hmax = hmax.min(0.05 * p.sigma_y_m / vmax);
+                    }
+                    if p.transient_slip() {
+                        let floor = if p.slip_relaxation_saturating { SLIP_SLOPE_FLOOR } else { 1.0 };
+                        hmax = hmax.min(0.05 * floor * p.slip_relaxation_m[0].min(p.slip_relaxation_m[1]) / vmax);
+                    }
+                    if p.steer_lag_s > 0.0 {
+                        hmax = hmax.min(0.05 * p.steer_lag_s);
+                    }
+                    hmax
+                }
+            };
+            let m = ((dt / hmax).ceil() as usize).clamp(1, 1_000_000);
             let h = dt / m as f64;
             for j in 0..m {
                 if let Some(e) = est.as_mut() {
@@ -417,8 +639,11 @@ impl ReplayModel {
                     e.update(h, &self.contacts(&x, &d0, p), &mut contact_c);
                 }
                 let dj = drive_at(k, (j as f64 + 0.5) / m as f64, contact_c, &steer);
-                let (next, _) = rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h);
-                x = next;
+                x = if self.reference_step_s.is_some() {
+                    rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h).0
+                } else {
+                    self.step(&x, &dj, p, h)
+                };
             }
             if !x.iter().all(|v| v.is_finite()) || x[0].abs() > 1e3 || x[1].abs() > 1e2 {
                 out.ok = false;

@@ -10,13 +10,49 @@ use serde_json::json;
 
 use super::effects::label;
 use super::model::{EffectParams, ReplayModel};
-use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse};
+use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
+use super::uncertainty::Interval;
 use super::DiscoverOptions;
 use crate::error::{Error, Result};
 use crate::plot::{xy_chart, Series, XyChart};
 
 fn rmse_json(r: &Rmse) -> serde_json::Value {
     json!({ "yaw_rate_radps": r.yaw_rate_radps, "ay_mps2": r.ay_mps2 })
+}
+
+/// Parameters as {name, value, unit}, with the 95 % interval and standard error beside when known
+/// (null when the data do not determine the parameter).
+fn params_json(ps: &[(String, f64, String)], iv: &[Interval]) -> Vec<serde_json::Value> {
+    let fin = |x: f64| if x.is_finite() { json!(x) } else { serde_json::Value::Null };
+    ps.iter()
+        .enumerate()
+        .map(|(i, (k, v, u))| match iv.get(i) {
+            Some(c) => json!({"name": k, "value": v, "unit": u, "std_error": fin(c.std_error), "ci95_lo": fin(c.lo), "ci95_hi": fin(c.hi)}),
+            None => json!({"name": k, "value": v, "unit": u}),
+        })
+        .collect()
+}
+
+/// `name = value unit [lo, hi]` for the terminal and report.md.
+pub fn params_text(ps: &[(String, f64, String)], iv: &[Interval]) -> String {
+    let v: Vec<String> = ps
+        .iter()
+        .enumerate()
+        .map(|(i, (k, v, u))| match iv.get(i) {
+            Some(c) => format!("{k} = {v:.4e} {u} (95 %: {:.3e} to {:.3e})", c.lo, c.hi),
+            None => format!("{k} = {v:.4e} {u}"),
+        })
+        .collect();
+    v.join(", ")
+}
+
+/// The largest remaining disagreement windows (by excess times duration), at most `n`.
+pub fn largest_windows(windows: &[Window], n: usize) -> Vec<Window> {
+    let mut w = windows.to_vec();
+    let weight = |x: &Window| x.excess * (x.t1_s - x.t0_s);
+    w.sort_by(|a, b| weight(b).total_cmp(&weight(a)).then(a.run.cmp(&b.run)).then(a.t0_s.total_cmp(&b.t0_s)));
+    w.truncate(n);
+    w
 }
 
 /// The accepted effects and their parameters as a TOML document.
@@ -27,13 +63,13 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     let _ = writeln!(s, "verdict = \"{}\"", d.verdict);
     let _ = writeln!(s, "named_effects = {:?}", d.named);
     // Final values (after any joint refit; see report.json `steps` for the values at acceptance).
-    for (effect, form, params) in &d.final_effects {
-        let _ = writeln!(s, "\n[{effect}]");
-        if !form.is_empty() {
-            let _ = writeln!(s, "form = \"{form}\"");
+    for fe in &d.final_effects {
+        let _ = writeln!(s, "\n[{}]", fe.effect);
+        if !fe.form.is_empty() {
+            let _ = writeln!(s, "form = \"{}\"", fe.form);
         }
-        for (k, v, u) in params {
-            let _ = writeln!(s, "{k} = {v:e}  # {u}");
+        for ((k, v, u), iv) in fe.params.iter().zip(&fe.intervals) {
+            let _ = writeln!(s, "{k} = {v:e}  # {u}; 95 % interval [{:e}, {:e}]", iv.lo, iv.hi);
         }
     }
     s
@@ -55,6 +91,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
     let mut lateral = toml::Table::new();
     let mut not_in_spec = Vec::new();
+    let mut inertia = None;
     let p = &d.params;
     let mut put = |k: &str, v: f64| {
         lateral.insert(k.into(), toml::Value::Float(v));
@@ -64,16 +101,21 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
             ("steer_compliance", "force") => put("steer_compliance_rad_per_kn", p.steer_compliance_rad_per_kn),
             ("steer_compliance", "lag") => put("steer_lag_s", p.steer_lag_s),
             ("friction_change", "global") => put("mu_scale", p.mu_scale),
-            ("tyre_relaxation", _) => put("relaxation_length_y_m", p.sigma_y_m),
-            ("load_transfer", _) => put("load_transfer_height_m", p.load_transfer_height_m),
+            ("tyre_relaxation", "") => put("relaxation_length_y_m", p.sigma_y_m),
+            ("load_transfer", "") => put("load_transfer_height_m", p.load_transfer_height_m),
             ("thermal_friction", _) => put("thermal_mu_per_k", p.thermal_mu_per_k),
+            ("yaw_inertia", _) => inertia = Some(p.yaw_inertia_scale),
             // A friction stretch belongs to the road, sensor offsets to the instruments: neither
-            // is a property of the vehicle.
+            // is a property of the vehicle. Per-axle stiffness and friction scales are vehicle
+            // properties that the spec has no key for yet.
             (other, form) => not_in_spec.push(label(other, form)),
         }
     }
     if !lateral.is_empty() {
         table.insert("lateral".into(), toml::Value::Table(lateral));
+    }
+    if let (Some(f), Some(iz)) = (inertia, table.get("yaw_inertia_kgm2").and_then(|v| v.as_float())) {
+        table.insert("yaw_inertia_kgm2".into(), toml::Value::Float(iz * f));
     }
     let body = toml::to_string(&table).map_err(|e| Error::Run(e.to_string()))?;
     let mut s = format!(
@@ -123,7 +165,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
         "steps": d.steps.iter().map(|s| json!({
             "effect": s.effect,
             "form": s.form,
-            "params": s.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+            "params": params_json(&s.params, &s.intervals),
             "rmse_before": rmse_json(&s.rmse_before),
             "rmse_after": rmse_json(&s.rmse_after),
             "heldout_rmse_before": rmse_json(&s.heldout_rmse_before),
@@ -133,7 +175,8 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
         "rejected": d.rejected.iter().map(|t| json!({
             "effect": t.effect, "form": t.form, "round": t.round, "delta_bic": t.delta_bic,
             "heldout_rss_ratio": t.heldout_rss_ratio,
-            "params": t.params.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+            "params": params_json(&t.params, &t.intervals),
+            "reason": t.reason,
         })).collect::<Vec<_>>(),
         "per_run": data.runs.iter().enumerate().map(|(i, r)| {
             let rms = |sim: &[f64], meas: &[f64]| (sim.iter().zip(meas).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / meas.len().max(1) as f64).sqrt();
@@ -148,18 +191,21 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
                 "final_replay_finite": final_sims[i].ok,
             })
         }).collect::<Vec<_>>(),
-        "final_effects": d.final_effects.iter().map(|(e, f, ps)| json!({
-            "effect": e, "form": f,
-            "params": ps.iter().map(|(k, v, u)| json!({"name": k, "value": v, "unit": u})).collect::<Vec<_>>(),
+        "final_effects": d.final_effects.iter().map(|fe| json!({
+            "effect": fe.effect, "form": fe.form,
+            "params": params_json(&fe.params, &fe.intervals),
+            "significant": fe.significant,
         })).collect::<Vec<_>>(),
+        "folds": d.folds,
+        "largest_remaining_windows": largest_windows(&windows_after, 10),
         "named_effects": d.named,
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,
         "disagreement_windows_final": windows_after,
         "operating_regions_baseline": regions,
-        "thresholds": { "bic_min": super::select::BIC_MIN, "min_gain": super::select::MIN_GAIN, "explained_chi2": super::select::EXPLAINED_CHI2 },
+        "thresholds": { "bic_min": super::select::BIC_MIN, "min_gain": super::select::MIN_GAIN, "explained_chi2": super::select::EXPLAINED_NOISE_RATIO.powi(2), "explained_noise_ratio": super::select::EXPLAINED_NOISE_RATIO, "confidence": 0.95 },
     });
-    let md = markdown(opts, data, d, &windows, &regions);
+    let md = markdown(opts, data, d, &windows, &windows_after, &regions);
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
     crate::run::write_dir_atomic(out, |tmp| {
@@ -200,7 +246,8 @@ fn markdown(
     opts: &DiscoverOptions,
     data: &Dataset,
     d: &Discovery,
-    windows: &[super::select::Window],
+    windows: &[Window],
+    windows_after: &[Window],
     regions: &[super::select::RegionBin],
 ) -> String {
     let mut s = String::new();
@@ -232,13 +279,12 @@ fn markdown(
         let _ = writeln!(s, "None.");
     }
     for st in &d.steps {
-        let ps: Vec<String> = st.params.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
         let _ = writeln!(
             s,
             "- **{}** ({}): {}. Held-out yaw-rate RMS {:.5} -> {:.5} rad/s. {}",
             label(&st.effect, &st.form),
             describe(&st.effect, &st.form),
-            ps.join(", "),
+            params_text(&st.params, &st.intervals),
             st.heldout_rmse_before.yaw_rate_radps,
             st.heldout_rmse_after.yaw_rate_radps,
             st.evidence
@@ -246,23 +292,53 @@ fn markdown(
     }
     if d.final_effects.len() >= 2 {
         let _ = writeln!(s, "\nFinal parameters, all accepted effects refitted together:\n");
-        for (e, f, ps) in &d.final_effects {
-            let ps: Vec<String> = ps.iter().map(|(k, v, u)| format!("{k} = {v:.4e} {u}")).collect();
-            let _ = writeln!(s, "- {}: {}", label(e, f), ps.join(", "));
+        for fe in &d.final_effects {
+            let _ = writeln!(s, "- {}: {}", label(&fe.effect, &fe.form), params_text(&fe.params, &fe.intervals));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\n## Held-out gap per fold (RMS residual / noise, yaw rate and ay; explained at <= {})\n",
+        super::select::EXPLAINED_NOISE_RATIO
+    );
+    let _ = writeln!(s, "| fold | held-out runs | baseline | final |\n|---|---|---|---|");
+    for (i, f) in d.folds.iter().enumerate() {
+        let h = if f.heldout_runs.is_empty() { "alternate blocks".to_string() } else { f.heldout_runs.join(", ") };
+        let _ = writeln!(
+            s,
+            "| {} | {h} | {:.2}, {:.2} | {:.2}, {:.2} |",
+            i + 1,
+            f.baseline_noise_ratio[0],
+            f.baseline_noise_ratio[1],
+            f.final_noise_ratio[0],
+            f.final_noise_ratio[1]
+        );
+    }
+    if !d.verdict.at_noise() {
+        let _ = writeln!(s, "\n## Largest remaining disagreement windows (final model)\n");
+        let w = largest_windows(windows_after, 10);
+        if w.is_empty() {
+            let _ = writeln!(s, "None over 0.2 s.");
+        }
+        for w in w {
+            let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
         }
     }
     let _ = writeln!(s, "\n## Candidates tried and rejected\n");
-    let _ = writeln!(s, "| round | effect | held-out dBIC | held-out RSS ratio | parameters |\n|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "| round | effect | held-out dBIC | held-out RSS ratio | parameters | reason |\n|---|---|---|---|---|---|"
+    );
     for t in &d.rejected {
-        let ps: Vec<String> = t.params.iter().map(|(k, v, u)| format!("{k} = {v:.3e} {u}")).collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {:.1} | {:.3} | {} |",
+            "| {} | {} | {:.1} | {:.3} | {} | {} |",
             t.round,
             label(&t.effect, &t.form),
             t.delta_bic,
             t.heldout_rss_ratio,
-            ps.join(", ")
+            params_text(&t.params, &t.intervals),
+            t.reason
         );
     }
     let _ = writeln!(s, "\n## Noise estimate (from second differences of the measured signals)\n");

@@ -6,8 +6,9 @@
 //! gives second differences of variance 6 s^2; the median absolute deviation ignores outliers.
 //!
 //! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
-//! per channel and sample. Held-out data: with two runs or more, every second run (the 2nd, 4th,
-//! ...) is held out and never used by a fit; with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s) are held out.
+//! per channel and sample. Held-out data: with two runs or more, half the runs, stratified by
+//! surface and by the baseline's disagreement ([`Dataset::stratified`]), never used by a fit;
+//! with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s).
 //!
 //! Score of a model with k fitted parameters on the n held-out normalized residuals:
 //! BIC = n ln(RSS / n) + k ln(n). A candidate is accepted when it lowers the held-out BIC by more
@@ -24,13 +25,15 @@ use super::effects::Effect;
 use super::fit::nelder_mead;
 use super::measured::MeasuredRun;
 use super::model::{EffectParams, ReplayModel, Simulated};
+use super::uncertainty::{refine, significant, Interval};
 
 /// Held-out BIC improvement needed to accept an effect.
 pub const BIC_MIN: f64 = 10.0;
 /// Relative held-out RSS reduction needed to accept an effect.
 pub const MIN_GAIN: f64 = 0.05;
-/// Held-out mean square normalized residual (per channel) below which the data are explained.
-pub const EXPLAINED_CHI2: f64 = 2.0;
+/// Held-out RMS residual over the noise, in every channel and every fold, at or below which the
+/// data are explained.
+pub const EXPLAINED_NOISE_RATIO: f64 = 1.5;
 /// Length of held-out blocks when there is one run, s.
 pub const BLOCK_S: f64 = 3.0;
 /// Evaluation budget of one fit.
@@ -58,7 +61,7 @@ pub fn noise_sigma(v: &[f64]) -> f64 {
 }
 
 /// Runs with their noise and their fit/held-out split.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Dataset {
     pub runs: Vec<MeasuredRun>,
     pub noise: Vec<Noise>,
@@ -86,11 +89,68 @@ impl Dataset {
     /// Names of the runs that are held out entirely (empty with one run).
     pub fn heldout_runs(&self) -> Vec<String> {
         if self.runs.len() >= 2 {
-            self.runs.iter().enumerate().filter(|(i, _)| i % 2 == 1).map(|(_, r)| r.name.clone()).collect()
+            self.runs
+                .iter()
+                .zip(&self.held)
+                .filter(|(_, h)| h.iter().all(|x| *x))
+                .map(|(r, _)| r.name.clone())
+                .collect()
         } else {
             Vec::new()
         }
     }
+
+    /// The split stratified by surface and by the baseline's disagreement (two runs or more; one
+    /// run keeps its alternate blocks): runs are grouped by surface (dry, then ice), sorted within
+    /// each group by the mean square normalized residual of the baseline simulations `base_sims`
+    /// (largest first, ties by order given), and dealt out fitted, held, held, fitted, ... on dry
+    /// and held, fitted, fitted, held, ... on ice. Runs of similar disagreement thus fall on both
+    /// sides, each side gets the same share of each surface and of each effect's disagreement
+    /// windows, and a manoeuvre that ranks alike on both surfaces is on both sides.
+    pub fn stratified(&self, base_sims: &[Simulated]) -> Dataset {
+        let mut out = self.clone();
+        if self.runs.len() < 2 {
+            return out;
+        }
+        let excess: Vec<f64> = (0..self.runs.len()).map(|i| mean_square(self, i, &base_sims[i])).collect();
+        let mut order: Vec<usize> = (0..self.runs.len()).collect();
+        order.sort_by(|&a, &b| {
+            self.runs[a].on_ice.cmp(&self.runs[b].on_ice).then(excess[b].total_cmp(&excess[a])).then(a.cmp(&b))
+        });
+        let mut c = 0;
+        for (j, &i) in order.iter().enumerate() {
+            if j > 0 && self.runs[i].on_ice != self.runs[order[j - 1]].on_ice {
+                c = 0;
+            }
+            // Fitted, held, held, fitted on dry; the mirror on ice, so that runs of the same kind
+            // that rank alike on both surfaces land on opposite sides.
+            let held = matches!(c % 4, 1 | 2) != self.runs[i].on_ice;
+            out.held[i] = vec![held; self.runs[i].t.len()];
+            c += 1;
+        }
+        // Both sides must have a run.
+        if out.held.iter().all(|h| h[0]) || out.held.iter().all(|h| !h[0]) {
+            let flip = order[order.len() - 1];
+            out.held[flip].iter_mut().for_each(|x| *x = !*x);
+        }
+        out
+    }
+
+    /// The same runs with fitted and held-out samples swapped (the second fold).
+    pub fn swapped(&self) -> Dataset {
+        let mut out = self.clone();
+        out.held.iter_mut().for_each(|h| h.iter_mut().for_each(|x| *x = !*x));
+        out
+    }
+}
+
+/// Mean square normalized residual (per channel) of run `i` over all its samples.
+fn mean_square(data: &Dataset, i: usize, sim: &Simulated) -> f64 {
+    let (r, nz) = (&data.runs[i], data.noise[i]);
+    let z: f64 = (0..r.t.len())
+        .map(|k| ((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2) + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2))
+        .sum();
+    0.5 * z / r.t.len().max(1) as f64
 }
 
 /// Sums of squares of one model over the data set.
@@ -104,6 +164,8 @@ pub struct Scores {
     /// Raw sums of squared residuals per channel (yaw rate, ay) on fitted and held-out samples.
     pub ss_fit: [f64; 2],
     pub ss_held: [f64; 2],
+    /// Normalized sums of squares per channel on held-out samples.
+    pub zs_held: [f64; 2],
 }
 
 impl Scores {
@@ -112,6 +174,12 @@ impl Scores {
         let (ss, n) = if held { (self.ss_held, self.n_held) } else { (self.ss_fit, self.n_fit) };
         let n = n.max(1) as f64;
         Rmse { yaw_rate_radps: (ss[0] / n).sqrt(), ay_mps2: (ss[1] / n).sqrt() }
+    }
+
+    /// Held-out RMS residual over the noise, per channel (yaw rate, ay); 1 = noise only.
+    pub fn noise_ratio(&self) -> [f64; 2] {
+        let n = self.n_held.max(1) as f64;
+        [(self.zs_held[0] / n).sqrt(), (self.zs_held[1] / n).sqrt()]
     }
 
     /// Held-out BIC with k parameters.
@@ -134,6 +202,16 @@ pub fn simulate_all(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> Ve
     data.runs.par_iter().map(|r| model.simulate(r, p)).collect()
 }
 
+/// Simulate (in parallel) only the runs with fitted samples, None for runs held out whole: what a
+/// fit's objective and its Jacobian need (held-out runs add nothing to them).
+pub fn simulate_fitted(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> Vec<Option<Simulated>> {
+    data.runs
+        .par_iter()
+        .zip(&data.held)
+        .map(|(r, h)| h.iter().any(|held| !held).then(|| model.simulate(r, p)))
+        .collect()
+}
+
 /// Score simulations against the data.
 pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
     let mut s = Scores::default();
@@ -148,6 +226,8 @@ pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
                 s.n_held += 1;
                 s.ss_held[0] += er * er;
                 s.ss_held[1] += ea * ea;
+                s.zs_held[0] += (er / nz.yaw_rate).powi(2);
+                s.zs_held[1] += (ea / nz.ay).powi(2);
             } else {
                 s.rss_fit += z;
                 s.n_fit += 1;
@@ -161,9 +241,10 @@ pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
 
 /// Normalized RSS of the fitted samples only (the fit objective).
 fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
-    let sims = simulate_all(model, data, p);
+    let sims = simulate_fitted(model, data, p);
     let mut c = 0.0;
     for (i, (r, sim)) in data.runs.iter().zip(&sims).enumerate() {
+        let Some(sim) = sim else { continue };
         let nz = data.noise[i];
         for k in 0..r.t.len() {
             if !data.held[i][k] {
@@ -191,6 +272,11 @@ pub struct Trial {
     pub delta_bic: f64,
     /// Held-out RSS of the candidate over that of the current model.
     pub heldout_rss_ratio: f64,
+    /// 95 % intervals of the parameters (computed only for candidates that passed the held-out
+    /// tests; empty otherwise).
+    pub intervals: Vec<Interval>,
+    /// Why it was not accepted (empty for the accepted one).
+    pub reason: String,
     #[serde(skip)]
     pub values: Vec<f64>,
     #[serde(skip)]
@@ -204,11 +290,76 @@ pub struct Step {
     /// The effect's form (see [`Trial::form`]).
     pub form: String,
     pub params: Vec<(String, f64, String)>,
+    /// 95 % intervals of the parameters at acceptance (estimated jointly with the effects
+    /// accepted before).
+    pub intervals: Vec<Interval>,
     pub rmse_before: Rmse,
     pub rmse_after: Rmse,
     pub heldout_rmse_before: Rmse,
     pub heldout_rmse_after: Rmse,
     pub evidence: String,
+}
+
+/// One fold of the held-out design: the model is fitted on one side of the split and scored on
+/// the other.
+#[derive(Debug, Clone, Serialize)]
+pub struct Fold {
+    /// Runs held out entirely in this fold (empty with one run: alternate blocks).
+    pub heldout_runs: Vec<String>,
+    pub baseline_heldout_rmse: Rmse,
+    pub final_heldout_rmse: Rmse,
+    /// Held-out RMS residual over the noise, per channel [yaw rate, ay], baseline and final.
+    pub baseline_noise_ratio: [f64; 2],
+    pub final_noise_ratio: [f64; 2],
+}
+
+/// An accepted effect with its final parameters (after any joint refit) and their intervals.
+#[derive(Debug, Clone)]
+pub struct FinalEffect {
+    pub effect: String,
+    pub form: String,
+    /// (name, value, unit).
+    pub params: Vec<(String, f64, String)>,
+    pub intervals: Vec<Interval>,
+    /// Whether some parameter's interval still excludes its no-effect value.
+    pub significant: bool,
+}
+
+/// What the discovery concludes about the data (serialised, and printed, as its snake_case name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Nothing named, and the baseline already leaves every fold's held-out residuals within
+    /// [`EXPLAINED_NOISE_RATIO`] times the noise.
+    NothingMissing,
+    /// Effects named, and with them every fold's held-out residuals are within that ratio.
+    Explained,
+    /// Effects named, but some fold's held-out residuals stay above that ratio.
+    PartlyExplained,
+    /// Nothing named, and the residuals stay above that ratio.
+    Unexplained,
+}
+
+impl Verdict {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::NothingMissing => "nothing_missing",
+            Verdict::Explained => "explained",
+            Verdict::PartlyExplained => "partly_explained",
+            Verdict::Unexplained => "unexplained",
+        }
+    }
+
+    /// True when the final model leaves the data at the noise (explained or nothing missing).
+    pub fn at_noise(self) -> bool {
+        matches!(self, Verdict::NothingMissing | Verdict::Explained)
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// Result of the greedy search.
@@ -218,12 +369,37 @@ pub struct Discovery {
     pub final_scores: Scores,
     pub params: EffectParams,
     pub steps: Vec<Step>,
-    /// Every accepted effect with its final parameters: (effect, form, [(name, value, unit)]).
-    /// They equal the steps' values unless a joint refit moved them (see [`fit_jointly`]).
-    pub final_effects: Vec<(String, String, Vec<(String, f64, String)>)>,
+    /// Every accepted effect with its final parameters. They equal the steps' values unless a
+    /// joint refit moved them (see [`fit_jointly`]).
+    pub final_effects: Vec<FinalEffect>,
     pub rejected: Vec<Trial>,
     pub named: Vec<String>,
-    pub verdict: String,
+    pub verdict: Verdict,
+    /// The split used (per run and sample: true when held out); see [`Dataset::stratified`].
+    pub held: Vec<Vec<bool>>,
+    /// Fold 1: fitted on the split's fitted side, scored on its held-out side (the selection's own
+    /// scores); fold 2: the accepted effects refitted on the held-out side and scored on the
+    /// fitted side.
+    pub folds: Vec<Fold>,
+}
+
+/// Parameters with `effects` switched on over `base`, their values the flat vector `x` (in the
+/// order of the effects and of their parameters).
+pub fn apply_all(base: &EffectParams, effects: &[(Effect, Vec<f64>)], x: &[f64]) -> EffectParams {
+    let mut p = *base;
+    let mut i = 0;
+    for (e, _) in effects {
+        let n = e.params().len();
+        e.apply(&mut p, &x[i..i + n]);
+        i += n;
+    }
+    p
+}
+
+/// Parameters with `effects` switched on at their values over `base`.
+pub fn apply_flat(base: &EffectParams, effects: &[(Effect, Vec<f64>)]) -> EffectParams {
+    let x: Vec<f64> = effects.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+    apply_all(base, effects, &x)
 }
 
 fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effect) -> (Vec<f64>, EffectParams) {
@@ -274,17 +450,10 @@ pub fn fit_jointly(
         }
         out
     };
-    let params_of = |x: &[f64]| {
-        let mut p = *base;
-        for ((e, _), v) in effects.iter().zip(split(x)) {
-            e.apply(&mut p, &v);
-        }
-        p
-    };
-    let mut f = |x: &[f64]| fit_cost(model, data, &params_of(x));
+    let mut f = |x: &[f64]| fit_cost(model, data, &apply_all(base, effects, x));
     // The simplex returns its best point inside the bounds.
     let (x, _) = nelder_mead(&mut f, &x0, &sc, &lo, &hi, FIT_EVALS * defs.len());
-    (split(&x), params_of(&x))
+    (split(&x), apply_all(base, effects, &x))
 }
 
 /// Run the greedy discovery over `candidates` from the plain bicycle baseline.
@@ -294,8 +463,40 @@ pub fn discover(model: &ReplayModel, data: &Dataset, candidates: &[Effect]) -> D
 
 /// Run the greedy discovery over `candidates` from the baseline `base`.
 pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, candidates: &[Effect]) -> Discovery {
+    discover_with(model, data, base, candidates, None)
+}
+
+/// A progress sink: one line per finished candidate and per round.
+pub type Progress<'a> = Option<&'a (dyn Fn(&str) + Sync)>;
+
+/// Parameter triples (name, value, unit) of an effect.
+fn triples(e: Effect, v: &[f64]) -> Vec<(String, f64, String)> {
+    e.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect()
+}
+
+/// Held-out noise ratio of a fold's scores as the larger channel.
+fn worst(r: [f64; 2]) -> f64 {
+    r[0].max(r[1])
+}
+
+/// Run the greedy discovery over `candidates` from the baseline `base`, on the split stratified
+/// from the baseline's residuals ([`Dataset::stratified`]), reporting progress to `progress`.
+pub fn discover_with(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: EffectParams,
+    candidates: &[Effect],
+    progress: Progress,
+) -> Discovery {
+    let say = |m: String| {
+        if let Some(f) = progress {
+            f(&m)
+        }
+    };
+    let base_sims = simulate_all(model, data, &base);
+    let data = &data.stratified(&base_sims);
     let mut p = base;
-    let baseline = score(data, &simulate_all(model, data, &p));
+    let baseline = score(data, &base_sims);
     let mut current = baseline;
     let mut k_params = 0usize;
     let mut steps = Vec::new();
@@ -306,9 +507,12 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
     let mut round = 0;
     while !left.is_empty() {
         round += 1;
-        let trials: Vec<(Effect, Trial, EffectParams)> = left
+        say(format!("round {round}: fitting {} candidates", left.len()));
+        let t0 = std::time::Instant::now();
+        let mut trials: Vec<(Effect, Trial, EffectParams)> = left
             .par_iter()
             .map(|&e| {
+                let t = std::time::Instant::now();
                 let (vals, pc) = fit_effect(model, data, &p, e);
                 let sc = score(data, &simulate_all(model, data, &pc));
                 let k = k_params + e.params().len();
@@ -316,43 +520,83 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
                     effect: e.name().to_string(),
                     form: e.form().to_string(),
                     round,
-                    params: e
-                        .params()
-                        .iter()
-                        .zip(&vals)
-                        .map(|(d, v)| (d.name.to_string(), *v, d.unit.to_string()))
-                        .collect(),
+                    params: triples(e, &vals),
                     delta_bic: current.bic_held(k_params) - sc.bic_held(k),
                     heldout_rss_ratio: sc.rss_held / current.rss_held.max(1e-300),
+                    intervals: Vec::new(),
+                    reason: String::new(),
                     values: vals,
                     scores: sc,
                 };
+                say(format!(
+                    "round {round}: {} held-out dBIC {:.1} ({:.1} s)",
+                    e.label(),
+                    trial.delta_bic,
+                    t.elapsed().as_secs_f64()
+                ));
                 (e, trial, pc)
             })
             .collect();
-        let best =
-            trials.iter().enumerate().max_by(|a, b| a.1 .1.delta_bic.total_cmp(&b.1 .1.delta_bic)).map(|(i, _)| i);
-        let Some(bi) = best else { break };
-        let (e, t, pc) = trials[bi].clone();
-        let accept = t.delta_bic > BIC_MIN && t.heldout_rss_ratio < 1.0 - MIN_GAIN;
+        // Best first by held-out BIC; the first that passes the held-out tests and whose interval
+        // excludes its no-effect value is accepted.
+        trials.sort_by(|a, b| b.1.delta_bic.total_cmp(&a.1.delta_bic));
+        let mut chosen = None;
+        let mut polished = Vec::new();
+        for (j, (e, t, _)) in trials.iter_mut().enumerate() {
+            if !(t.delta_bic > BIC_MIN && t.heldout_rss_ratio < 1.0 - MIN_GAIN) {
+                t.reason = format!(
+                    "held-out dBIC {:.1} (needs > {BIC_MIN}) or RSS ratio {:.3} (needs < {:.2})",
+                    t.delta_bic,
+                    t.heldout_rss_ratio,
+                    1.0 - MIN_GAIN
+                );
+                continue;
+            }
+            let mut with = accepted.clone();
+            with.push((*e, t.values.clone()));
+            let (vals, ivs) = refine(model, data, &base, &with);
+            t.intervals = ivs.last().cloned().unwrap_or_default();
+            if significant(*e, &t.intervals) {
+                chosen = Some(j);
+                polished = vals;
+                break;
+            }
+            t.reason = "a 95 % interval contains the no-effect value".to_string();
+        }
         for (j, (_, tr, _)) in trials.iter().enumerate() {
-            if j != bi || !accept {
-                rejected.push(tr.clone());
+            if Some(j) != chosen {
+                let mut tr = tr.clone();
+                if tr.reason.is_empty() {
+                    tr.reason = "a better candidate was accepted this round".to_string();
+                }
+                rejected.push(tr);
             }
         }
-        if !accept {
+        let Some(bi) = chosen else {
+            say(format!("round {round}: nothing accepted ({:.1} s)", t0.elapsed().as_secs_f64()));
             break;
+        };
+        let (e, mut t, _) = trials[bi].clone();
+        say(format!("round {round}: accepted {} ({:.1} s)", e.label(), t0.elapsed().as_secs_f64()));
+        // The polished values of every accepted effect and of the new one.
+        accepted.push((e, Vec::new()));
+        for (a, v) in accepted.iter_mut().zip(polished) {
+            a.1 = v;
         }
+        p = apply_flat(&base, &accepted);
+        let after = score(data, &simulate_all(model, data, &p));
+        t.params = triples(e, &accepted[accepted.len() - 1].1);
         steps.push(Step {
             effect: t.effect.clone(),
             form: t.form.clone(),
             params: t.params.clone(),
+            intervals: t.intervals.clone(),
             rmse_before: current.rmse(false),
-            rmse_after: t.scores.rmse(false),
+            rmse_after: after.rmse(false),
             heldout_rmse_before: current.rmse(true),
-            heldout_rmse_after: t.scores.rmse(true),
+            heldout_rmse_after: after.rmse(true),
             evidence: format!(
-                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only",
+                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only; 95 % interval excludes the no-effect value",
                 t.delta_bic,
                 t.heldout_rss_ratio,
                 e.params().len()
@@ -360,9 +604,7 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         });
         named.push(t.effect.clone());
         k_params += e.params().len();
-        current = t.scores;
-        p = pc;
-        accepted.push((e, t.values.clone()));
+        current = after;
         if accepted.len() >= 2 {
             // Joint refit of everything accepted so far; kept only when it does not make the
             // held-out data worse.
@@ -379,23 +621,58 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         // Both forms of a named effect leave the pool together.
         left.retain(|x| x.name() != e.name());
     }
-    let chi2 = current.rss_held / (2.0 * current.n_held.max(1) as f64);
-    let verdict = if chi2 <= EXPLAINED_CHI2 {
-        if named.is_empty() {
-            "nothing_missing"
-        } else {
-            "explained"
-        }
+    // The final values and intervals, all accepted effects polished together.
+    let final_iv = if accepted.is_empty() {
+        Vec::new()
     } else {
-        "unexplained"
+        let (vals, iv) = refine(model, data, &base, &accepted);
+        for (a, v) in accepted.iter_mut().zip(vals) {
+            a.1 = v;
+        }
+        p = apply_flat(&base, &accepted);
+        current = score(data, &simulate_all(model, data, &p));
+        iv
     };
     let final_effects = accepted
         .iter()
-        .map(|(e, v)| {
-            let ps = e.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect();
-            (e.name().to_string(), e.form().to_string(), ps)
+        .zip(&final_iv)
+        .map(|((e, v), iv)| FinalEffect {
+            effect: e.name().to_string(),
+            form: e.form().to_string(),
+            params: triples(*e, v),
+            intervals: iv.clone(),
+            significant: significant(*e, iv),
         })
         .collect();
+    // The second fold: the accepted effects refitted on the other side of the split.
+    let other = data.swapped();
+    let other_base = score(&other, &base_sims);
+    let other_final = if accepted.is_empty() {
+        other_base
+    } else {
+        let (vals, _) = fit_jointly(model, &other, &base, &accepted);
+        let refit: Vec<(Effect, Vec<f64>)> = accepted.iter().map(|a| a.0).zip(vals).collect();
+        let (vals, _) = refine(model, &other, &base, &refit);
+        let refit: Vec<(Effect, Vec<f64>)> = accepted.iter().map(|a| a.0).zip(vals).collect();
+        score(&other, &simulate_all(model, &other, &apply_flat(&base, &refit)))
+    };
+    let folds: Vec<Fold> = [(data, &baseline, &current), (&other, &other_base, &other_final)]
+        .into_iter()
+        .map(|(d, b, f)| Fold {
+            heldout_runs: d.heldout_runs(),
+            baseline_heldout_rmse: b.rmse(true),
+            final_heldout_rmse: f.rmse(true),
+            baseline_noise_ratio: b.noise_ratio(),
+            final_noise_ratio: f.noise_ratio(),
+        })
+        .collect();
+    let explained = folds.iter().all(|f| worst(f.final_noise_ratio) <= EXPLAINED_NOISE_RATIO);
+    let verdict = match (explained, named.is_empty()) {
+        (true, true) => Verdict::NothingMissing,
+        (true, false) => Verdict::Explained,
+        (false, true) => Verdict::Unexplained,
+        (false, false) => Verdict::PartlyExplained,
+    };
     Discovery {
         baseline,
         final_scores: current,
@@ -404,7 +681,9 @@ pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, ca
         final_effects,
         rejected,
         named,
-        verdict: verdict.to_string(),
+        verdict,
+        held: data.held.clone(),
+        folds,
     }
 }
 

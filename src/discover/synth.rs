@@ -61,9 +61,15 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::ThermalFriction => vec![-1.0],
         Effect::FrictionChange => vec![0.7],
         Effect::FrictionStretch => vec![0.5, 40.0, 50.0],
+        Effect::FrictionPatch => vec![0.5, 60.0, 0.0, 25.0],
+        Effect::LoadTransferSensitive => vec![0.6, 0.3, 0.2],
         Effect::SteerCompliance => vec![0.004],
         Effect::SteerLag => vec![0.12],
         Effect::SensorBias => vec![0.02, 0.25],
+        Effect::AxleStiffness => vec![1.0, 0.7],
+        Effect::AxleFriction => vec![1.0, 0.8],
+        Effect::YawInertia => vec![1.4],
+        Effect::TransientSlip | Effect::TransientSlipSaturating => vec![0.8, 1.4],
     }
 }
 
