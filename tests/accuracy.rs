@@ -221,7 +221,12 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
     let base = dlc("events", "pacejka", "bicycle", 12.0, 0.15);
     let runs: Vec<RunOutput> = [0.005, 0.0025, 0.001].iter().map(|&h| run(&base, Some(h), Some(0.005))).collect();
     let strikes = |o: &RunOutput| -> Vec<(f64, String)> {
-        o.summary.events.iter().filter(|e| e.kind == "cone_strike").map(|e| (e.t_s, e.detail.clone())).collect()
+        o.summary
+            .events
+            .iter()
+            .filter(|e| e.kind == vehsim::maneuver::EventKind::ConeStrike)
+            .map(|e| (e.t_s, e.detail.clone()))
+            .collect()
     };
     let fine = strikes(&runs[2]);
     assert!(!fine.is_empty(), "the case must strike cones: {:?}", runs[2].summary.events);
@@ -233,7 +238,7 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
             assert!((t - tf).abs() < 1e-3, "{d} at {t} s vs {df} at {tf} s");
             assert_eq!(d.split(" corner").next(), df.split(" corner").next());
         }
-        assert_eq!(o.summary.end_reason, "completed");
+        assert_eq!(o.summary.end_reason, vehsim::sim::EndReason::Completed);
         assert!(
             (o.summary.end_time_s - runs[2].summary.end_time_s).abs() < 1e-4,
             "{} vs {}",

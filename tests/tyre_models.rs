@@ -338,7 +338,7 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
         let notes = th.take_run_notes();
         if published < 0.0 {
             assert_eq!(notes.len(), 1, "{notes:?}");
-            assert_eq!(notes[0].0, "thermal_factor_clamped");
+            assert_eq!(notes[0].0, vehsim::maneuver::EventKind::ThermalFactorClamped);
             assert!(notes[0].1.contains("reverse"), "{notes:?}");
             assert!(th.take_run_notes().is_empty(), "reported once");
         } else {

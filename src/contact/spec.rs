@@ -287,6 +287,28 @@ pub struct ContactSpec {
     pub statistic: Option<String>,
 }
 
+/// The contact-temperature models a spec can select (`[contact] model`, `bench --contact`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactModelKind {
+    /// No heating: the tyre sees the surface temperature.
+    Isothermal,
+    /// The ATIIM flash-temperature estimate ([`AtiimEstimator`]).
+    Atiim,
+}
+
+impl ContactModelKind {
+    /// Every model, in declaration order.
+    pub const ALL: &'static [ContactModelKind] = &[ContactModelKind::Isothermal, ContactModelKind::Atiim];
+
+    /// The name used in spec files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ContactModelKind::Isothermal => "isothermal",
+            ContactModelKind::Atiim => "atiim",
+        }
+    }
+}
+
 impl Default for ContactSpec {
     fn default() -> Self {
         toml::from_str("").unwrap_or_else(|_| unreachable!("defaults are valid"))
@@ -341,15 +363,21 @@ impl ContactSpec {
     /// Build the estimator for `n_tyres` tyres on ice at `ice_temp_c` (used for the compound
     /// preset's hardness). `file` is the manoeuvre file (named in errors).
     pub fn build(&self, file: &Path, n_tyres: usize, ice_temp_c: f64) -> Result<Box<dyn ContactTemperature>> {
-        match self.model.as_str() {
-            "isothermal" => Ok(Box::new(Isothermal)),
-            "atiim" => Ok(Box::new(self.build_atiim(file, n_tyres, ice_temp_c)?)),
-            other => Err(Error::key(
+        match self.kind(file)? {
+            ContactModelKind::Isothermal => Ok(Box::new(Isothermal)),
+            ContactModelKind::Atiim => Ok(Box::new(self.build_atiim(file, n_tyres, ice_temp_c)?)),
+        }
+    }
+
+    /// The contact model `model` names (`file`, the manoeuvre file, is named in the error).
+    pub fn kind(&self, file: &Path) -> Result<ContactModelKind> {
+        ContactModelKind::ALL.iter().copied().find(|k| k.as_str() == self.model).ok_or_else(|| {
+            Error::key(
                 file,
                 "contact.model",
-                format!("unknown model '{other}'; expected \"isothermal\" or \"atiim\""),
-            )),
-        }
+                format!("unknown model '{}'; expected \"isothermal\" or \"atiim\"", self.model),
+            )
+        })
     }
 
     /// Build the concrete ATIIM estimator (see [`ContactSpec::build`]).

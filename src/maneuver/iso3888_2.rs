@@ -28,7 +28,7 @@
 //! path (heading = path tangent), clears every gate boundary by `clearance_m`.
 
 use super::path::RefPath;
-use super::{Command, Event, Maneuver, Outcome, Start};
+use super::{Command, Event, EventKind, Maneuver, Outcome, Start};
 use crate::control::{Driver, DriverParams};
 use crate::vehicle::Kinematics;
 
@@ -92,6 +92,13 @@ pub struct Iso3888_2Params {
     pub lane5_min_width_m: f64,
     /// Clearance between the body outline on the reference path and the gate boundaries, m.
     pub clearance_m: f64,
+}
+
+impl Iso3888_2Params {
+    /// Distance the CG drives from the start to the run's end: approach, course, exit, m.
+    pub fn run_length_m(&self) -> f64 {
+        self.approach_m + COURSE_LENGTH_M + self.exit_m
+    }
 }
 
 /// Vehicle dimensions the manoeuvre needs.
@@ -405,7 +412,7 @@ impl Maneuver for Iso3888_2 {
             let side_name = ["right", "left"][side];
             events.push(Event {
                 t_s: ts,
-                kind: "cone_strike".into(),
+                kind: EventKind::ConeStrike,
                 detail: format!(
                     "{} {} boundary struck by the {corner} corner at x = {cx:.2} m, y = {cy:.3} m",
                     self.gates[gi].name, side_name
@@ -418,7 +425,7 @@ impl Maneuver for Iso3888_2 {
             self.course_done = true;
             events.push(Event {
                 t_s: crossing_time(t0, t, rear0, rear1, COURSE_LENGTH_M),
-                kind: "course_complete".into(),
+                kind: EventKind::CourseComplete,
                 detail: "the whole body passed the exit gate".into(),
             });
         }

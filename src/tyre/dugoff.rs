@@ -40,6 +40,7 @@ use std::sync::Mutex;
 
 use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
+use crate::maneuver::EventKind;
 
 /// Dugoff parameters, validated.
 #[derive(Debug, Clone, PartialEq)]
@@ -216,11 +217,11 @@ impl TyreModel for DugoffThermalTyre {
         self.base.cornering_stiffness(i)
     }
 
-    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
+    fn take_run_notes(&self) -> Vec<(EventKind, String)> {
         let first = self.reversal.lock().ok().and_then(|mut r| r.take());
         match first {
             Some((dt, kappa, h)) => vec![(
-                "thermal_factor_clamped",
+                EventKind::ThermalFactorClamped,
                 format!(
                     "dugoff_thermal: the published H ({h:.3e}) would reverse Fx (first at Delta-T {dt:.2} K, kappa {kappa:.3}); H is clamped to [0, 1]"
                 ),

@@ -112,7 +112,7 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// The run calls it once before and once after simulating, so each note is reported once per
     /// run (thermal Dugoff: a force the published H would reverse). The notes do not change any
     /// force. Default: nothing.
-    fn take_run_notes(&self) -> Vec<(&'static str, String)> {
+    fn take_run_notes(&self) -> Vec<(crate::maneuver::EventKind, String)> {
         Vec::new()
     }
 }
