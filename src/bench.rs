@@ -28,7 +28,8 @@ use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::ManeuverFile;
 use crate::tyre::TyreModelKind;
 
-/// Column names of the `--tsv` line.
+/// Column names of the `--tsv` line (documentation; the test below holds [`Report::tsv`] to it).
+#[cfg_attr(not(test), allow(dead_code))]
 pub const TSV_HEADER: &str =
     "name\tmodel\ttyre\tcontact\truns\tsim_s\tsteps\tmedian_ms\tmin_ms\trealtime_factor\tpeak_mem_kib";
 
@@ -159,4 +160,33 @@ pub(crate) fn cli_bench(file: &Path, opts: &Options, tsv: bool) -> Result<std::p
     let r = bench(file, opts)?;
     println!("{}", if tsv { r.tsv() } else { r.line() });
     Ok(std::process::ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `--tsv` line has one field per column of [`TSV_HEADER`], in its order of kinds.
+    #[test]
+    fn tsv_line_matches_the_header() {
+        let r = Report {
+            name: "n".into(),
+            model: "bicycle",
+            tyre: "linear",
+            contact: "isothermal",
+            runs: 3,
+            sim_s: 2.0,
+            steps: 400,
+            median_s: 0.004,
+            min_s: 0.003,
+            peak_mem_kib: None,
+        };
+        let line = r.tsv();
+        let fields: Vec<&str> = line.split('\t').collect();
+        assert_eq!(fields.len(), TSV_HEADER.split('\t').count(), "{line}");
+        assert_eq!(
+            fields,
+            ["n", "bicycle", "linear", "isothermal", "3", "2.000", "400", "4.0000", "3.0000", "500.0", "-"]
+        );
+    }
 }

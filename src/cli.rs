@@ -15,7 +15,7 @@ use crate::spec::maneuver::VehicleModelKind;
 use crate::tyre::TyreModelKind;
 
 /// The exit codes, as `--help` shows them (README "Exit codes" says the same).
-pub const EXIT_CODES: &str =
+pub(crate) const EXIT_CODES: &str =
     "Exit codes: 0 success; 1 a run failed (diverged, spun out, left its path) or compare found a \
 difference; 2 bad input (a spec, a flag, a referenced file); 3 I/O or environment error (disk full, permission, a \
 collision); 130 / 143 stopped by SIGINT / SIGTERM (temporary output removed, results left complete or as before).";
@@ -226,7 +226,7 @@ flag_values!(VehicleModelKind, TyreModelKind, ContactModelKind);
 
 /// The one place an error becomes a message and an exit code; an interruption ends the process
 /// with its one line (130 / 143).
-pub fn report(e: &Error) -> ExitCode {
+pub(crate) fn report(e: &Error) -> ExitCode {
     if let Error::Interrupted(kept) = e {
         signals::exit_with(e.exit_code(), &signals::interrupted_line(kept));
     }

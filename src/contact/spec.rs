@@ -434,7 +434,32 @@ fn cached_table(key: &str, build: impl FnOnce() -> Result<FlashTable>) -> Result
     Ok(t)
 }
 
-/// Where the pressure grid of a scenario comes from.
+/// Where the pressure grid of a scenario comes from (`[pressure] source`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PressureSource {
+    /// Synthesised from the load, inflation and tread.
+    Synth,
+    /// A CSV grid of pressures.
+    Csv,
+    /// A pressure-film image with its colour bar.
+    Image,
+}
+
+impl PressureSource {
+    /// Every source, in declaration order.
+    pub const ALL: &'static [PressureSource] = &[PressureSource::Synth, PressureSource::Csv, PressureSource::Image];
+
+    /// The name used in scenario files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            PressureSource::Synth => "synth",
+            PressureSource::Csv => "csv",
+            PressureSource::Image => "image",
+        }
+    }
+}
+
+/// Raw `[pressure]` table of a scenario.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PressureSpec {
@@ -552,8 +577,15 @@ impl ScenarioSpec {
         ck.range("operating.ice_temp_c", o.ice_temp_c, -40.0, 0.0)?;
         let params = self.tyre.params(file, "tyre.", o.ice_temp_c)?;
         let p = &self.pressure;
-        let mut grid = match p.source.as_str() {
-            "synth" => {
+        let source = PressureSource::ALL.iter().copied().find(|k| k.as_str() == p.source).ok_or_else(|| {
+            Error::key(
+                file,
+                "pressure.source",
+                format!("unknown source '{}'; expected \"synth\", \"csv\" or \"image\"", p.source),
+            )
+        })?;
+        let mut grid = match source {
+            PressureSource::Synth => {
                 let [rows, cols] = p.grid.unwrap_or([64, 48]);
                 let load = need(file, "pressure.load_n", p.load_n, "synth")?;
                 synthesize(
@@ -570,7 +602,7 @@ impl ScenarioSpec {
                     },
                 )?
             }
-            "csv" | "image" => {
+            PressureSource::Csv | PressureSource::Image => {
                 let rel = p
                     .file
                     .as_deref()
@@ -588,7 +620,7 @@ impl ScenarioSpec {
                     1e-5,
                     0.05,
                 )?;
-                if p.source == "csv" {
+                if source == PressureSource::Csv {
                     parse_csv(&path, &read_input(&path)?, dx, dy)?
                 } else {
                     let bytes =
@@ -610,15 +642,8 @@ impl ScenarioSpec {
                     )?
                 }
             }
-            other => {
-                return Err(Error::key(
-                    file,
-                    "pressure.source",
-                    format!("unknown source '{other}'; expected \"synth\", \"csv\" or \"image\""),
-                ))
-            }
         };
-        if p.source == "synth" {
+        if source == PressureSource::Synth {
             tilt_for_slip_angle(&mut grid, o.slip_angle_deg.to_radians());
         }
         if grid.rows * grid.cols > 512 * 512 {

@@ -4,7 +4,7 @@
 //! are replaced whole ([`replace`]); SIGINT/SIGTERM are handled in [`signals`]; [`table`] reads
 //! numeric CSV tables back; [`num`] prints numbers with a fixed number of significant digits.
 
-pub mod num;
+pub(crate) mod num;
 pub mod replace;
 pub mod signals;
 pub mod table;
