@@ -32,8 +32,7 @@ pub struct Event {
 }
 
 /// The kinds of [`Event`], serialised (summary.json) as their snake-case names ([`EventKind::as_str`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum EventKind {
     /// ISO 3888-2: the car left the course's exit (the manoeuvre's end).
     CourseComplete,
@@ -99,6 +98,12 @@ impl EventKind {
     /// The onsets of the friction checks: a result beyond what the surface can carry.
     pub fn beyond_friction(self) -> bool {
         matches!(self, EventKind::TyreForceBeyondFriction | EventKind::AyBeyondFriction)
+    }
+}
+
+impl Serialize for EventKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
     }
 }
 
