@@ -34,7 +34,7 @@ use crate::error::{parse_toml, read_input, Error, Result};
 use crate::output::write_atomic;
 use crate::run::{self, write_dir_atomic};
 use crate::sim::EndReason;
-use crate::spec::maneuver::ManeuverConfig;
+use crate::spec::maneuver::{ManeuverConfig, ManeuverKind};
 use crate::spec::RunConfig;
 
 /// The swept key the ISO 3888-2 search sets.
@@ -208,15 +208,15 @@ pub fn load(path: &Path) -> Result<Envelope> {
         })?,
     };
     let kind_name = table.get("maneuver").and_then(|m| m.get("kind")).and_then(|k| k.as_str()).unwrap_or("");
-    let kind = match kind_name {
-        "iso3888_2" => Kind::Speed,
-        "constant_radius" => Kind::LateralAcceleration,
-        other => {
+    let kind = match ManeuverKind::parse(kind_name) {
+        Some(ManeuverKind::Iso3888_2) => Kind::Speed,
+        Some(ManeuverKind::ConstantRadius) => Kind::LateralAcceleration,
+        _ => {
             return Err(Error::key(
                 path,
                 "maneuver.kind",
                 format!(
-                    "'{other}' has neither a pass rule nor a steady-state measure; envelope needs iso3888_2 \
+                    "'{kind_name}' has neither a pass rule nor a steady-state measure; envelope needs iso3888_2 \
                      (highest passing speed) or constant_radius (highest steady lateral acceleration)"
                 ),
             ))

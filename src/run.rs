@@ -308,7 +308,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         vehicle: &cfg.vehicle.name,
         tyre: &cfg.vehicle.tyre.name,
         tyre_model: cfg.tyre_model.as_str(),
-        maneuver: cfg.kind,
+        maneuver: cfg.kind.as_str(),
         mu: cfg.env.mu,
         surface_temperature_c: cfg.env.surface_temp_c,
         integrator: cfg.settings.method.name(),

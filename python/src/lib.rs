@@ -151,7 +151,7 @@ fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -
         "vehicle": cfg.vehicle.name,
         "tyre": cfg.vehicle.tyre.name,
         "tyre_model": cfg.tyre_model.as_str(),
-        "maneuver": cfg.kind,
+        "maneuver": cfg.kind.as_str(),
         "mu": cfg.env.mu,
         "surface_temperature_c": cfg.env.surface_temp_c,
         "integrator": cfg.settings.method.name(),

@@ -284,8 +284,58 @@ pub mod bounds {
     ];
 }
 
-/// The manoeuvre kinds accepted in `[maneuver] kind`.
-pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight", "constant_radius"];
+/// The manoeuvre kinds of `[maneuver] kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ManeuverKind {
+    /// ISO 3888-2 severe lane change.
+    Iso3888_2,
+    /// Open loop: sinusoidal steer.
+    SineSteer,
+    /// Open loop: a (ramped) steer step.
+    StepSteer,
+    /// Open loop: straight ahead on a speed schedule.
+    Straight,
+    /// ISO 4138 constant radius.
+    ConstantRadius,
+}
+
+impl ManeuverKind {
+    /// Every kind, in declaration order.
+    pub const ALL: &'static [ManeuverKind] = &[
+        ManeuverKind::Iso3888_2,
+        ManeuverKind::SineSteer,
+        ManeuverKind::StepSteer,
+        ManeuverKind::Straight,
+        ManeuverKind::ConstantRadius,
+    ];
+
+    /// The name used in spec files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ManeuverKind::Iso3888_2 => "iso3888_2",
+            ManeuverKind::SineSteer => "sine_steer",
+            ManeuverKind::StepSteer => "step_steer",
+            ManeuverKind::Straight => "straight",
+            ManeuverKind::ConstantRadius => "constant_radius",
+        }
+    }
+
+    /// The kind named `name`, if any.
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.iter().copied().find(|k| k.as_str() == name)
+    }
+
+    /// Every name, comma-separated (for messages).
+    pub fn allowed() -> String {
+        Self::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+impl std::fmt::Display for ManeuverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// Which vehicle model a run uses (top-level `vehicle_model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -317,11 +367,7 @@ impl ManeuverSpec {
             Some(toml::Value::String(k)) => k.clone(),
             Some(_) => return Err(Error::key(path, "maneuver.kind", "expected a string")),
             None => {
-                return Err(Error::key(
-                    path,
-                    "maneuver.kind",
-                    format!("missing; allowed: {}", MANEUVER_KINDS.join(", ")),
-                ))
+                return Err(Error::key(path, "maneuver.kind", format!("missing; allowed: {}", ManeuverKind::allowed())))
             }
         };
         let mut rest = table.clone();
@@ -335,17 +381,17 @@ impl ManeuverSpec {
                 Error::key(path, &key, msg.lines().next().unwrap_or_default())
             })
         }
-        Ok(match kind.as_str() {
-            "iso3888_2" => ManeuverSpec::Iso3888_2(parse(path, rest)?),
-            "sine_steer" => ManeuverSpec::SineSteer(parse(path, rest)?),
-            "step_steer" => ManeuverSpec::StepSteer(parse(path, rest)?),
-            "straight" => ManeuverSpec::Straight(parse(path, rest)?),
-            "constant_radius" => ManeuverSpec::ConstantRadius(parse(path, rest)?),
-            other => {
+        Ok(match ManeuverKind::parse(&kind) {
+            Some(ManeuverKind::Iso3888_2) => ManeuverSpec::Iso3888_2(parse(path, rest)?),
+            Some(ManeuverKind::SineSteer) => ManeuverSpec::SineSteer(parse(path, rest)?),
+            Some(ManeuverKind::StepSteer) => ManeuverSpec::StepSteer(parse(path, rest)?),
+            Some(ManeuverKind::Straight) => ManeuverSpec::Straight(parse(path, rest)?),
+            Some(ManeuverKind::ConstantRadius) => ManeuverSpec::ConstantRadius(parse(path, rest)?),
+            None => {
                 return Err(Error::key(
                     path,
                     "maneuver.kind",
-                    format!("unknown kind '{other}'; allowed: {}", MANEUVER_KINDS.join(", ")),
+                    format!("unknown kind '{kind}'; allowed: {}", ManeuverKind::allowed()),
                 ))
             }
         })
@@ -508,7 +554,7 @@ pub struct RunConfig {
     pub vehicle_model: VehicleModelKind,
     pub env: Environment,
     pub maneuver: ManeuverConfig,
-    pub kind: &'static str,
+    pub kind: ManeuverKind,
     pub pid: PidParams,
     pub driver: DriverParams,
     pub settings: SimSettings,
@@ -728,7 +774,7 @@ impl ManeuverFile {
         }
     }
 
-    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, &'static str, Option<f64>)> {
+    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, ManeuverKind, Option<f64>)> {
         let speed = |v: f64| c.bound(&bounds::SPEED_MPS, v);
         let steer = |v: f64| c.bound(&bounds::STEER_AMPLITUDE_DEG, v);
         Ok(match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
@@ -758,7 +804,11 @@ impl ManeuverFile {
                     clearance_m: *clearance_m,
                 };
                 // Twice the time of the run's length at the entry speed, plus 5 s.
-                (ManeuverConfig::Iso3888_2(params), "iso3888_2", Some(2.0 * params.run_length_m() / v + 5.0))
+                (
+                    ManeuverConfig::Iso3888_2(params),
+                    ManeuverKind::Iso3888_2,
+                    Some(2.0 * params.run_length_m() / v + 5.0),
+                )
             }
             ManeuverSpec::SineSteer(SineSteerSpec { speed_mps, steer_amplitude_deg, period_s, start_s }) => {
                 let v = speed(*speed_mps)?;
@@ -767,7 +817,7 @@ impl ManeuverFile {
                 c.bound(&bounds::START_S, *start_s)?;
                 let steer =
                     SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: *period_s, start_s: *start_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "sine_steer", None)
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::SineSteer, None)
             }
             ManeuverSpec::StepSteer(StepSteerSpec { speed_mps, steer_amplitude_deg, start_s, ramp_s }) => {
                 let v = speed(*speed_mps)?;
@@ -775,7 +825,7 @@ impl ManeuverFile {
                 c.bound(&bounds::START_S, *start_s)?;
                 c.bound(&bounds::RAMP_S, *ramp_s)?;
                 let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: *start_s, ramp_s: *ramp_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "step_steer", None)
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::StepSteer, None)
             }
             ManeuverSpec::Straight(StraightSpec { speed_schedule }) => {
                 if speed_schedule.is_empty() {
@@ -798,7 +848,7 @@ impl ManeuverFile {
                     prev = *t;
                 }
                 let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
-                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, "straight", None)
+                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, ManeuverKind::Straight, None)
             }
             ManeuverSpec::ConstantRadius(s) => {
                 let r = c.bound(&bounds::RADIUS_M, s.radius_m)?;
@@ -883,7 +933,7 @@ impl ManeuverFile {
                 };
                 let total = params.total_s();
                 c.require("maneuver.window_s", s.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
-                (ManeuverConfig::ConstantRadius(params), "constant_radius", Some(total + 0.5))
+                (ManeuverConfig::ConstantRadius(params), ManeuverKind::ConstantRadius, Some(total + 0.5))
             }
         })
     }
