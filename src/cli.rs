@@ -1,5 +1,5 @@
 //! Command-line interface: parse arguments, validate every input before anything runs, call the
-//! library, print results, and map errors to exit codes in one place ([`report`], [`EXIT_CODES`]).
+//! library, print results, and map errors to exit codes in one place (`report`, `EXIT_CODES`).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -235,7 +235,7 @@ pub(crate) fn report(e: &Error) -> ExitCode {
 }
 
 /// Entry point used by the binary: parse, dispatch to the command's function (next to the module it
-/// drives), and turn an error into its message and exit code ([`report`]).
+/// drives), and turn an error into its message and exit code (`report`).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let code = |done: Result<ExitCode>| done.unwrap_or_else(|e| report(&e));
