@@ -109,3 +109,22 @@ fn bad_flags_are_usage_errors() {
     let (code, _, err) = case.run(&["bench", "d.toml", "--runs", "1", "--model", "roll4dof", "--tsv"]);
     assert_eq!(code, 0, "{err}");
 }
+
+/// The name lists kept for messages agree with the enums, and every name parses back to its kind.
+#[test]
+fn choice_names_match_their_enums() {
+    use vehsim::spec::maneuver::{ManeuverKind, VehicleModelKind};
+    use vehsim::tyre::TyreModelKind;
+    let tyre: Vec<&str> = TyreModelKind::ALL.iter().map(|k| k.as_str()).collect();
+    assert_eq!(tyre, TyreModelKind::ALLOWED);
+    let vehicle: Vec<&str> = VehicleModelKind::ALL.iter().map(|k| k.as_str()).collect();
+    assert_eq!(vehicle, VehicleModelKind::ALLOWED);
+    for k in ManeuverKind::ALL {
+        assert_eq!(ManeuverKind::parse(k.as_str()), Some(*k));
+    }
+    assert_eq!(ManeuverKind::allowed(), "iso3888_2, sine_steer, step_steer, straight, constant_radius");
+    let statuses: Vec<&str> = vehsim::batch::RunStatus::ALL.iter().map(|s| s.as_str()).collect();
+    assert_eq!(statuses, ["ok", "failed", "invalid"]);
+    let contact: Vec<&str> = vehsim::contact::spec::ContactModelKind::ALL.iter().map(|k| k.as_str()).collect();
+    assert_eq!(contact, ["isothermal", "atiim"]);
+}
