@@ -6,6 +6,8 @@
 //!
 //! Outputs are byte-identical whatever the thread count: every run is deterministic and the
 //! summary is written in run order.
+//!
+//! The commands that drive batches live here too: `vehsim validate`, `vehsim run` and `vehsim merge`.
 
 use std::path::{Path, PathBuf};
 

@@ -5,6 +5,7 @@
 //! both files' `t_s` must be strictly increasing; the time ranges must overlap by at least
 //! [`MIN_OVERLAP`] of the longer one and their ends agree within the `t_s` tolerance (a run that
 //! ended earlier or later fails); a channel in only one file fails unless it is ignored by name.
+//! `vehsim compare` prints the report (its command: `cli_compare`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
