@@ -120,13 +120,13 @@ pub enum Command {
         /// Number of timed runs.
         #[arg(long, default_value_t = 200)]
         runs: usize,
-        /// Vehicle model instead of the spec's: bicycle or roll4dof.
+        /// Vehicle model instead of the spec's.
         #[arg(long)]
         model: Option<VehicleModelKind>,
-        /// Tyre provider instead of the spec's (linear, polynomial, pacejka, dugoff, ...).
+        /// Tyre provider instead of the spec's.
         #[arg(long)]
         tyre_model: Option<TyreModelKind>,
-        /// Contact-temperature model instead of the spec's: isothermal or atiim.
+        /// Contact-temperature model instead of the spec's.
         #[arg(long)]
         contact: Option<ContactModelKind>,
         /// One tab-separated line (columns: see src/bench.rs) instead of the sentence.
