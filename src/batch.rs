@@ -6,6 +6,8 @@
 //!
 //! Outputs are byte-identical whatever the thread count: every run is deterministic and the
 //! summary is written in run order.
+//!
+//! The commands that drive batches live here too: `vehsim validate`, `vehsim run` and `vehsim merge`.
 
 use std::path::{Path, PathBuf};
 
@@ -206,13 +208,57 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     Ok(Batch { name, spec_file: path.to_path_buf(), keys, runs })
 }
 
+/// What became of one run of a batch (the `status` column of summary.csv and the table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RunStatus {
+    /// The run went to its end (passed or not).
+    Ok,
+    /// The run diverged or spun out ([`Summary::failed`]).
+    Failed,
+    /// The combination did not validate; nothing ran.
+    Invalid,
+}
+
+impl RunStatus {
+    /// Every status, in declaration order.
+    pub const ALL: [RunStatus; 3] = [RunStatus::Ok, RunStatus::Failed, RunStatus::Invalid];
+
+    /// The name written to summary.csv.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Failed => "failed",
+            RunStatus::Invalid => "invalid",
+        }
+    }
+
+    /// The status of a run that ended with `summary`.
+    pub fn of(summary: &Summary) -> Self {
+        if summary.failed() {
+            RunStatus::Failed
+        } else {
+            RunStatus::Ok
+        }
+    }
+
+    /// True when the run wrote a run folder (it ran).
+    pub fn ran(self) -> bool {
+        self != RunStatus::Invalid
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// What happened to one run of a batch.
 #[derive(Debug, Clone)]
 pub struct RunRecord {
     pub index: usize,
     pub params: Vec<(String, String)>,
-    /// `ok`, `failed` (diverged or spun out) or `invalid` (the combination did not validate).
-    pub status: &'static str,
+    pub status: RunStatus,
     pub summary: Option<Summary>,
     /// Why the run is invalid (empty otherwise).
     pub message: String,
@@ -366,7 +412,7 @@ pub struct BatchResult {
 
 fn execute_one(run: &BatchRun, dir: Option<&Path>) -> Result<RunRecord> {
     let (status, summary, message) = match &run.config {
-        Err(msg) => ("invalid", None, msg.clone()),
+        Err(msg) => (RunStatus::Invalid, None, msg.clone()),
         Ok(cfg) => {
             let out: RunOutput = run::execute(cfg);
             if let Some(d) = dir {
@@ -374,8 +420,7 @@ fn execute_one(run: &BatchRun, dir: Option<&Path>) -> Result<RunRecord> {
                 crate::output::create_dir(&rd)?;
                 run::write_run_files(&rd, cfg, &out, &run.params)?;
             }
-            let status = if out.summary.failed() { "failed" } else { "ok" };
-            (status, Some(out.summary), String::new())
+            (RunStatus::of(&out.summary), Some(out.summary), String::new())
         }
     };
     Ok(RunRecord { index: run.index, params: run.params.clone(), status, summary, message })
@@ -441,11 +486,10 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
             Ok(())
         })?;
         bar.inc();
-        let status = if out.summary.failed() { "failed" } else { "ok" };
         records.push(RunRecord {
             index: 0,
             params: Vec::new(),
-            status,
+            status: RunStatus::of(&out.summary),
             summary: Some(out.summary),
             message: String::new(),
         });
@@ -559,7 +603,7 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
                 format!("line {}: run {idx} does not belong to shard {k} of {n}", i + 2),
             ));
         }
-        let has_folder = matches!(status, "ok" | "failed");
+        let has_folder = RunStatus::ALL.iter().any(|s| s.as_str() == status && s.ran());
         if has_folder {
             let rd = d.join(run_folder(idx));
             let real_dir = std::fs::symlink_metadata(&rd).is_ok_and(|m| m.is_dir());
@@ -723,4 +767,144 @@ pub fn table(keys: &[String], records: &[RunRecord], max_rows: usize) -> String 
         out.push_str(&format!("... {} more runs (see summary.csv)\n", records.len() - max_rows));
     }
     out
+}
+
+// ---- Command line: `vehsim validate`, `vehsim run`, `vehsim merge` ----
+
+/// `vehsim validate`: check every file (each error printed as it is found, the next file still
+/// checked); exit 2 when any file or combination is invalid.
+pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::process::ExitCode> {
+    use crate::output::num::Sig;
+    use std::process::ExitCode;
+    crate::progress::set_quiet(quiet);
+    let mut code = ExitCode::SUCCESS;
+    for f in files {
+        let b = match load(f) {
+            Ok(b) => b,
+            Err(e) => {
+                code = crate::cli::report(&e);
+                continue;
+            }
+        };
+        let mut invalid = 0;
+        for r in &b.runs {
+            match &r.config {
+                Ok(cfg) => {
+                    for w in &cfg.vehicle.tyre_warnings {
+                        eprintln!("warning: {w}");
+                    }
+                }
+                Err(msg) => {
+                    invalid += 1;
+                    eprintln!("error: {} {}: {msg}", f.display(), run_folder(r.index));
+                }
+            }
+        }
+        if invalid > 0 {
+            code = ExitCode::from(2);
+        } else if let Some(Ok(cfg)) = b.runs.first().map(|r| &r.config) {
+            println!(
+                "{}: ok ({} run{}; {} with {} on mu {}, tyre model {}, vehicle model {})",
+                f.display(),
+                b.runs.len(),
+                if b.runs.len() == 1 { "" } else { "s" },
+                cfg.kind,
+                cfg.vehicle.name,
+                Sig(cfg.env.mu),
+                cfg.tyre_model.as_str(),
+                cfg.vehicle_model.as_str()
+            );
+        }
+    }
+    Ok(code)
+}
+
+/// `--jobs`: at least 1 thread, and without `force` at most 4 per core.
+pub(crate) fn check_jobs(jobs: Option<usize>, force: bool) -> Result<()> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match jobs {
+        Some(0) => Err(Error::usage("--jobs", "expected at least 1 thread")),
+        Some(j) if j > 4 * cores && !force => {
+            Err(Error::usage("--jobs", format!("{j} threads; at most 4 x {cores} cores = {} (or --force)", 4 * cores)))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The `vehsim run` flags besides the spec files.
+#[derive(Debug, Clone)]
+pub(crate) struct RunFlags {
+    pub out: PathBuf,
+    pub jobs: Option<usize>,
+    pub shard: Option<Shard>,
+    pub quiet: bool,
+    pub force: bool,
+}
+
+/// `vehsim run`: load every spec and check names, threads and limits before anything runs; then run
+/// each batch and print its table (or the single run's line). Exit 2 when a combination is
+/// invalid, else 1 when a run failed.
+pub(crate) fn cli_run(files: &[PathBuf], flags: &RunFlags) -> Result<std::process::ExitCode> {
+    use std::process::ExitCode;
+    let RunFlags { ref out, jobs, shard, quiet, force } = *flags;
+    crate::progress::set_quiet(quiet);
+    let batches = files.iter().map(|f| load(f)).collect::<Result<Vec<_>>>()?;
+    let mut warned = std::collections::BTreeSet::new();
+    for w in batches
+        .iter()
+        .flat_map(|b| &b.runs)
+        .filter_map(|r| r.config.as_ref().ok())
+        .flat_map(|c| &c.vehicle.tyre_warnings)
+    {
+        if warned.insert(w.clone()) {
+            eprintln!("warning: {w}");
+        }
+    }
+    let mut names = std::collections::BTreeSet::new();
+    for b in &batches {
+        if !names.insert(b.name.clone()) {
+            return Err(Error::key(
+                &b.spec_file,
+                "name",
+                format!("'{}' is used by more than one spec in this call; results would overwrite each other", b.name),
+            ));
+        }
+    }
+    check_jobs(jobs, force)?;
+    for b in &batches {
+        check_limits(b, shard, out, force)?;
+    }
+    let mut code = ExitCode::SUCCESS;
+    for b in &batches {
+        let result = execute(b, out, Options { jobs, shard, progress: !quiet })?;
+        if result.records.iter().any(|r| r.status == RunStatus::Invalid) {
+            code = ExitCode::from(2);
+        } else if result.records.iter().any(|r| r.status != RunStatus::Ok) && code == ExitCode::SUCCESS {
+            code = ExitCode::from(1);
+        }
+        for r in result.records.iter().filter(|r| r.status == RunStatus::Invalid) {
+            eprintln!("error: {} {}: invalid: {}", b.name, run_folder(r.index), r.message);
+        }
+        if quiet {
+            for r in result.records.iter().filter(|r| r.status == RunStatus::Failed) {
+                eprintln!("{} {}: {} {}", b.name, run_folder(r.index), r.status, r.message);
+            }
+        } else if b.is_sweep() {
+            println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
+            print!("{}", table(&b.keys, &result.records, 40));
+        } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
+            println!("{}", run::summary_line(&b.name, s, &result.dir));
+            for r in &s.implausible {
+                println!("  implausible: {r}");
+            }
+        }
+    }
+    Ok(code)
+}
+
+/// `vehsim merge`: join the shard folders and print where the batch went.
+pub(crate) fn cli_merge(shards: &[PathBuf], remove_shards: bool) -> Result<std::process::ExitCode> {
+    let d = merge(shards, remove_shards)?;
+    println!("merged {} shards -> {}", shards.len(), d.display());
+    Ok(std::process::ExitCode::SUCCESS)
 }

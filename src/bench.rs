@@ -21,11 +21,15 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::error::{Error, Result};
+use crate::contact::spec::ContactModelKind;
+use crate::error::Result;
 use crate::run;
+use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::ManeuverFile;
+use crate::tyre::TyreModelKind;
 
-/// Column names of the `--tsv` line.
+/// Column names of the `--tsv` line (documentation; the test below holds [`Report::tsv`] to it).
+#[cfg_attr(not(test), allow(dead_code))]
 pub const TSV_HEADER: &str =
     "name\tmodel\ttyre\tcontact\truns\tsim_s\tsteps\tmedian_ms\tmin_ms\trealtime_factor\tpeak_mem_kib";
 
@@ -34,12 +38,12 @@ pub const TSV_HEADER: &str =
 pub struct Options {
     /// Timed runs (at least 1).
     pub runs: usize,
-    /// Vehicle model override (`bicycle`, `roll4dof`).
-    pub model: Option<String>,
+    /// Vehicle model override.
+    pub model: Option<VehicleModelKind>,
     /// Tyre provider override.
-    pub tyre_model: Option<String>,
-    /// Contact-temperature model override (`isothermal`, `atiim`).
-    pub contact: Option<String>,
+    pub tyre_model: Option<TyreModelKind>,
+    /// Contact-temperature model override.
+    pub contact: Option<ContactModelKind>,
 }
 
 /// Figures of one benchmark.
@@ -48,7 +52,7 @@ pub struct Report {
     pub name: String,
     pub model: &'static str,
     pub tyre: &'static str,
-    pub contact: String,
+    pub contact: &'static str,
     pub runs: usize,
     /// Simulated time of one run, s.
     pub sim_s: f64,
@@ -114,17 +118,15 @@ pub fn peak_memory_kib() -> Option<u64> {
 /// Load `file`, apply the overrides, validate, and time `opts.runs` runs.
 pub fn bench(file: &Path, opts: &Options) -> Result<Report> {
     let mut spec = ManeuverFile::load(file)?;
-    if let Some(m) = &opts.model {
-        spec.vehicle_model = Some(m.clone());
+    // The raw spec holds names; the overrides are written as the spec file would spell them.
+    if let Some(m) = opts.model {
+        spec.vehicle_model = Some(m.as_str().into());
     }
-    if let Some(t) = &opts.tyre_model {
-        spec.tyre_model = t.clone();
+    if let Some(t) = opts.tyre_model {
+        spec.tyre_model = t.as_str().into();
     }
-    if let Some(c) = &opts.contact {
-        if c != "isothermal" && c != "atiim" {
-            return Err(Error::input(Path::new("--contact"), format!("'{c}': expected isothermal or atiim")));
-        }
-        spec.contact.model = c.clone();
+    if let Some(c) = opts.contact {
+        spec.contact.model = c.as_str().into();
     }
     let cfg = spec.build(file)?;
     let runs = opts.runs.max(1);
@@ -143,7 +145,7 @@ pub fn bench(file: &Path, opts: &Options) -> Result<Report> {
         name: cfg.name.clone(),
         model: cfg.vehicle_model.as_str(),
         tyre: cfg.tyre_model.as_str(),
-        contact: cfg.contact.model.clone(),
+        contact: cfg.contact.kind(file)?.as_str(),
         runs,
         sim_s: first.summary.end_time_s,
         steps: first.summary.steps,
@@ -151,4 +153,40 @@ pub fn bench(file: &Path, opts: &Options) -> Result<Report> {
         min_s: times[0],
         peak_mem_kib: peak_memory_kib(),
     })
+}
+
+/// `vehsim bench`: time the runs and print the sentence (or the `--tsv` line).
+pub(crate) fn cli_bench(file: &Path, opts: &Options, tsv: bool) -> Result<std::process::ExitCode> {
+    let r = bench(file, opts)?;
+    println!("{}", if tsv { r.tsv() } else { r.line() });
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `--tsv` line has one field per column of [`TSV_HEADER`], in its order of kinds.
+    #[test]
+    fn tsv_line_matches_the_header() {
+        let r = Report {
+            name: "n".into(),
+            model: "bicycle",
+            tyre: "linear",
+            contact: "isothermal",
+            runs: 3,
+            sim_s: 2.0,
+            steps: 400,
+            median_s: 0.004,
+            min_s: 0.003,
+            peak_mem_kib: None,
+        };
+        let line = r.tsv();
+        let fields: Vec<&str> = line.split('\t').collect();
+        assert_eq!(fields.len(), TSV_HEADER.split('\t').count(), "{line}");
+        assert_eq!(
+            fields,
+            ["n", "bicycle", "linear", "isothermal", "3", "2.000", "400", "4.0000", "3.0000", "500.0", "-"]
+        );
+    }
 }

@@ -1,19 +1,21 @@
 //! Command-line interface: parse arguments, validate every input before anything runs, call the
-//! library, print results, and map errors to exit codes in one place ([`report`], [`EXIT_CODES`]).
+//! library, print results, and map errors to exit codes in one place (`report`, `EXIT_CODES`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::builder::PossibleValue;
+use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::error::Error;
-use crate::output::num::{sig, Sig};
+use crate::batch;
+use crate::contact::spec::ContactModelKind;
+use crate::error::{Error, Result};
 use crate::output::signals;
-use crate::output::table::Table;
-use crate::{batch, compare};
+use crate::spec::maneuver::VehicleModelKind;
+use crate::tyre::TyreModelKind;
 
 /// The exit codes, as `--help` shows them (README "Exit codes" says the same).
-pub const EXIT_CODES: &str =
+pub(crate) const EXIT_CODES: &str =
     "Exit codes: 0 success; 1 a run failed (diverged, spun out, left its path) or compare found a \
 difference; 2 bad input (a spec, a flag, a referenced file); 3 I/O or environment error (disk full, permission, a \
 collision); 130 / 143 stopped by SIGINT / SIGTERM (temporary output removed, results left complete or as before).";
@@ -118,15 +120,15 @@ pub enum Command {
         /// Number of timed runs.
         #[arg(long, default_value_t = 200)]
         runs: usize,
-        /// Vehicle model instead of the spec's: bicycle or roll4dof.
+        /// Vehicle model instead of the spec's.
         #[arg(long)]
-        model: Option<String>,
-        /// Tyre provider instead of the spec's (linear, polynomial, pacejka, dugoff, ...).
+        model: Option<VehicleModelKind>,
+        /// Tyre provider instead of the spec's.
         #[arg(long)]
-        tyre_model: Option<String>,
-        /// Contact-temperature model instead of the spec's: isothermal or atiim.
+        tyre_model: Option<TyreModelKind>,
+        /// Contact-temperature model instead of the spec's.
         #[arg(long)]
-        contact: Option<String>,
+        contact: Option<ContactModelKind>,
         /// One tab-separated line (columns: see src/bench.rs) instead of the sentence.
         #[arg(long)]
         tsv: bool,
@@ -211,9 +213,24 @@ pub enum Command {
     },
 }
 
+/// Spec choices as flag values, spelled as in spec files (their `ALL` and `as_str`).
+macro_rules! flag_values {
+    ($($t:ty),*) => {$(
+        impl ValueEnum for $t {
+            fn value_variants<'a>() -> &'a [Self] {
+                <$t>::ALL
+            }
+            fn to_possible_value(&self) -> Option<PossibleValue> {
+                Some(PossibleValue::new(self.as_str()))
+            }
+        }
+    )*};
+}
+flag_values!(VehicleModelKind, TyreModelKind, ContactModelKind);
+
 /// The one place an error becomes a message and an exit code; an interruption ends the process
 /// with its one line (130 / 143).
-pub fn report(e: &Error) -> ExitCode {
+pub(crate) fn report(e: &Error) -> ExitCode {
     if let Error::Interrupted(kept) = e {
         signals::exit_with(e.exit_code(), &signals::interrupted_line(kept));
     }
@@ -221,252 +238,27 @@ pub fn report(e: &Error) -> ExitCode {
     ExitCode::from(e.exit_code())
 }
 
-/// Entry point used by the binary.
+/// Entry point used by the binary: parse, dispatch to the command's function (next to the module it
+/// drives), and turn an error into its message and exit code (`report`).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    let code = |done: Result<ExitCode>| done.unwrap_or_else(|e| report(&e));
     match cli.command {
-        Command::Validate { files, quiet } => {
-            crate::progress::set_quiet(quiet);
-            let mut code = ExitCode::SUCCESS;
-            for f in &files {
-                let b = match batch::load(f) {
-                    Ok(b) => b,
-                    Err(e) => {
-                        code = report(&e);
-                        continue;
-                    }
-                };
-                let mut invalid = 0;
-                for r in &b.runs {
-                    match &r.config {
-                        Ok(cfg) => {
-                            for w in &cfg.vehicle.tyre_warnings {
-                                eprintln!("warning: {w}");
-                            }
-                        }
-                        Err(msg) => {
-                            invalid += 1;
-                            eprintln!("error: {} {}: {msg}", f.display(), batch::run_folder(r.index));
-                        }
-                    }
-                }
-                if invalid > 0 {
-                    code = ExitCode::from(2);
-                } else if let Some(Ok(cfg)) = b.runs.first().map(|r| &r.config) {
-                    println!(
-                        "{}: ok ({} run{}; {} with {} on mu {}, tyre model {}, vehicle model {})",
-                        f.display(),
-                        b.runs.len(),
-                        if b.runs.len() == 1 { "" } else { "s" },
-                        cfg.kind,
-                        cfg.vehicle.name,
-                        Sig(cfg.env.mu),
-                        cfg.tyre_model.as_str(),
-                        cfg.vehicle_model.as_str()
-                    );
-                }
-            }
-            code
-        }
+        Command::Validate { files, quiet } => code(batch::cli_validate(&files, quiet)),
         Command::Run { files, out, jobs, shard, quiet, force } => {
-            crate::progress::set_quiet(quiet);
-            let mut batches = Vec::new();
-            for f in &files {
-                match batch::load(f) {
-                    Ok(b) => batches.push(b),
-                    Err(e) => return report(&e),
-                }
-            }
-            let mut warned = std::collections::BTreeSet::new();
-            for w in batches
-                .iter()
-                .flat_map(|b| &b.runs)
-                .filter_map(|r| r.config.as_ref().ok())
-                .flat_map(|c| &c.vehicle.tyre_warnings)
-            {
-                if warned.insert(w.clone()) {
-                    eprintln!("warning: {w}");
-                }
-            }
-            let mut names = std::collections::BTreeSet::new();
-            for b in &batches {
-                if !names.insert(b.name.clone()) {
-                    return report(&Error::key(
-                        &b.spec_file,
-                        "name",
-                        format!(
-                            "'{}' is used by more than one spec in this call; results would overwrite each other",
-                            b.name
-                        ),
-                    ));
-                }
-            }
-            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-            match jobs {
-                Some(0) => return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread")),
-                Some(j) if j > 4 * cores && !force => {
-                    let allowed = format!("{j} threads; at most 4 x {cores} cores = {} (or --force)", 4 * cores);
-                    return report(&Error::input(std::path::Path::new("--jobs"), allowed));
-                }
-                _ => {}
-            }
-            for b in &batches {
-                if let Err(e) = batch::check_limits(b, shard, &out, force) {
-                    return report(&e);
-                }
-            }
-            let mut code = ExitCode::SUCCESS;
-            for b in &batches {
-                let opts = batch::Options { jobs, shard, progress: !quiet };
-                let result = match batch::execute(b, &out, opts) {
-                    Ok(r) => r,
-                    Err(e) => return report(&e),
-                };
-                if result.records.iter().any(|r| r.status == "invalid") {
-                    code = ExitCode::from(2);
-                } else if result.records.iter().any(|r| r.status != "ok") && code == ExitCode::SUCCESS {
-                    code = ExitCode::from(1);
-                }
-                for r in result.records.iter().filter(|r| r.status == "invalid") {
-                    eprintln!("error: {} {}: invalid: {}", b.name, batch::run_folder(r.index), r.message);
-                }
-                if quiet {
-                    for r in result.records.iter().filter(|r| r.status == "failed") {
-                        eprintln!("{} {}: {} {}", b.name, batch::run_folder(r.index), r.status, r.message);
-                    }
-                    continue;
-                }
-                if b.is_sweep() {
-                    println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
-                    print!("{}", batch::table(&b.keys, &result.records, 40));
-                } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
-                    let verdict = match s.passed {
-                        Some(true) => "passed".to_string(),
-                        Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
-                        None => "no pass rule".to_string(),
-                    };
-                    let verdict = if s.plausible { verdict } else { format!("{verdict}, IMPLAUSIBLE") };
-                    println!(
-                        "{}: {} at t = {} s, {}; peak yaw rate {} rad/s, peak sideslip {} deg, peak ay {} m/s^2 -> {}",
-                        b.name,
-                        s.end_reason,
-                        Sig(s.end_time_s),
-                        verdict,
-                        Sig(s.peak_yaw_rate_radps),
-                        Sig(s.peak_sideslip_rad.to_degrees()),
-                        Sig(s.peak_ay_mps2),
-                        result.dir.display()
-                    );
-                    for r in &s.implausible {
-                        println!("  implausible: {r}");
-                    }
-                }
-            }
-            code
+            code(batch::cli_run(&files, &batch::RunFlags { out, jobs, shard, quiet, force }))
         }
-        Command::Tyre { file, out } => match crate::tyre::run_tyre_command(&file, &out) {
-            Ok(d) => {
-                println!("{} -> {}", file.display(), d.display());
-                ExitCode::SUCCESS
-            }
-            Err(e) => report(&e),
-        },
-        Command::Atiim { file, out } => match crate::contact::command::run_atiim_command(&file, &out) {
-            Ok(d) => {
-                println!("{} -> {}", file.display(), d.display());
-                ExitCode::SUCCESS
-            }
-            Err(e) => report(&e),
-        },
-        Command::Merge { shards, remove_shards } => match batch::merge(&shards, remove_shards) {
-            Ok(d) => {
-                println!("merged {} shards -> {}", shards.len(), d.display());
-                ExitCode::SUCCESS
-            }
-            Err(e) => report(&e),
-        },
-        Command::Plot { folder } => match crate::plot::runs::plot_results(&folder, &folder) {
-            Ok(w) => {
-                for p in w {
-                    println!("{}.png, .svg", p.display());
-                }
-                ExitCode::SUCCESS
-            }
-            Err(e) => report(&e),
-        },
+        Command::Merge { shards, remove_shards } => code(batch::cli_merge(&shards, remove_shards)),
+        Command::Plot { folder } => code(plot(&folder)),
         Command::Compare { a, b, tol, default_tol, ignore } => {
-            let tols = match compare::parse_tolerances(&tol) {
-                Ok(t) => t,
-                Err(e) => return report(&Error::input(std::path::Path::new("--tol"), e)),
-            };
-            if !(default_tol.is_finite() && default_tol >= 0.0) {
-                return report(&Error::input(
-                    std::path::Path::new("--default-tol"),
-                    "expected a finite tolerance >= 0",
-                ));
-            }
-            let (ta, tb) = match (Table::read(&a), Table::read(&b)) {
-                (Ok(x), Ok(y)) => (x, y),
-                (Err(e), _) | (_, Err(e)) => return report(&e),
-            };
-            let r = match compare::compare(&a, &ta, &b, &tb, &tols, default_tol) {
-                Ok(r) => r,
-                Err(e) => return report(&e),
-            };
-            if let Some(c) = ignore.iter().find(|c| ta.column(c).is_none() && tb.column(c).is_none()) {
-                return report(&Error::input(
-                    std::path::Path::new("--ignore"),
-                    format!("names channel '{c}', which neither file has"),
-                ));
-            }
-            for line in r.lines(&ignore) {
-                println!("{line}");
-            }
-            if let Some(w) = r.worst() {
-                println!(
-                    "worst channel: {} = {} at t = {} s (tolerance {})",
-                    w.channel,
-                    Sig(w.max_abs_error),
-                    sig(w.at_t_s, 4),
-                    Sig(w.tolerance)
-                );
-            }
-            let failed = r.lines(&ignore).iter().filter(|l| l.starts_with("FAIL")).count();
-            if r.passes(&ignore) {
-                println!("within tolerance: {} channels", r.channels.len());
-                ExitCode::SUCCESS
-            } else {
-                println!("FAILED: {failed} of {} lines", r.channels.len() + r.only_in_one.len());
-                ExitCode::from(1)
-            }
+            code(crate::compare::cli_compare(&a, &b, &tol, default_tol, &ignore))
         }
+        Command::Tyre { file, out } => code(crate::tyre::sweep::cli_tyre(&file, &out)),
+        Command::Atiim { file, out } => code(crate::contact::command::cli_atiim(&file, &out)),
         Command::Bench { file, runs, model, tyre_model, contact, tsv } => {
-            let opts = crate::bench::Options { runs, model, tyre_model, contact };
-            match crate::bench::bench(&file, &opts) {
-                Ok(r) => {
-                    println!("{}", if tsv { r.tsv() } else { r.line() });
-                    ExitCode::SUCCESS
-                }
-                Err(e) => report(&e),
-            }
+            code(crate::bench::cli_bench(&file, &crate::bench::Options { runs, model, tyre_model, contact }, tsv))
         }
-        Command::Envelope { file, out, jobs } => {
-            if jobs == Some(0) {
-                return report(&Error::input(std::path::Path::new("--jobs"), "expected at least 1 thread"));
-            }
-            match crate::envelope::load(&file).and_then(|e| crate::envelope::run_envelope(&e, &out, jobs)) {
-                Ok((dir, rows)) => {
-                    for r in &rows {
-                        let what = if r.label.is_empty() { r.params.join(", ") } else { r.label.clone() };
-                        let v = r.limit.value.map_or("none".into(), |v| format!("{v:.3}"));
-                        println!("{what}: {v} ({} runs) {}", r.limit.runs, r.limit.note);
-                    }
-                    println!("-> {}", dir.display());
-                    ExitCode::SUCCESS
-                }
-                Err(e) => report(&e),
-            }
-        }
+        Command::Envelope { file, out, jobs } => code(crate::envelope::cli_envelope(&file, &out, jobs)),
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet } => {
             crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet)
         }
@@ -477,4 +269,12 @@ pub fn main() -> ExitCode {
             crate::discover::cli_convert(&dir, &out, segment_s, segments)
         }
     }
+}
+
+/// `vehsim plot`: draw the charts of a results folder and print each file written.
+fn plot(folder: &Path) -> Result<ExitCode> {
+    for p in crate::plot::runs::plot_results(folder, folder)? {
+        println!("{}.png, .svg", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -5,6 +5,7 @@
 //! both files' `t_s` must be strictly increasing; the time ranges must overlap by at least
 //! [`MIN_OVERLAP`] of the longer one and their ends agree within the `t_s` tolerance (a run that
 //! ended earlier or later fails); a channel in only one file fails unless it is ignored by name.
+//! `vehsim compare` prints the report (its command: `cli_compare`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -234,6 +235,50 @@ pub fn compare(
             .then_with(|| p.channel.cmp(&q.channel))
     });
     Ok(Report { channels, only_in_one, only_in_a, only_in_b, a_range: (a0, a1), b_range: (b0, b1) })
+}
+
+/// `vehsim compare`: check the flags, compare the files, print one line per channel, the worst
+/// channel and the verdict; exit 0 within tolerance, 1 otherwise.
+pub(crate) fn cli_compare(
+    a: &Path,
+    b: &Path,
+    tol: &[String],
+    default_tol: f64,
+    ignore: &[String],
+) -> Result<std::process::ExitCode> {
+    let tols = parse_tolerances(tol).map_err(|e| Error::usage("--tol", e))?;
+    if !(default_tol.is_finite() && default_tol >= 0.0) {
+        return Err(Error::usage("--default-tol", "expected a finite tolerance >= 0"));
+    }
+    let (ta, tb) = match (Table::read(a), Table::read(b)) {
+        (Ok(x), Ok(y)) => (x, y),
+        (Err(e), _) | (_, Err(e)) => return Err(e),
+    };
+    let r = compare(a, &ta, b, &tb, &tols, default_tol)?;
+    if let Some(c) = ignore.iter().find(|c| ta.column(c).is_none() && tb.column(c).is_none()) {
+        return Err(Error::usage("--ignore", format!("names channel '{c}', which neither file has")));
+    }
+    let lines = r.lines(ignore);
+    for line in &lines {
+        println!("{line}");
+    }
+    if let Some(w) = r.worst() {
+        println!(
+            "worst channel: {} = {} at t = {} s (tolerance {})",
+            w.channel,
+            Sig(w.max_abs_error),
+            sig(w.at_t_s, 4),
+            Sig(w.tolerance)
+        );
+    }
+    if r.passes(ignore) {
+        println!("within tolerance: {} channels", r.channels.len());
+        Ok(std::process::ExitCode::SUCCESS)
+    } else {
+        let failed = lines.iter().filter(|l| l.starts_with("FAIL")).count();
+        println!("FAILED: {failed} of {} lines", r.channels.len() + r.only_in_one.len());
+        Ok(std::process::ExitCode::from(1))
+    }
 }
 
 #[cfg(test)]

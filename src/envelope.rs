@@ -33,7 +33,8 @@ use crate::batch::{self, set_path};
 use crate::error::{parse_toml, read_input, Error, Result};
 use crate::output::write_atomic;
 use crate::run::{self, write_dir_atomic};
-use crate::spec::maneuver::ManeuverConfig;
+use crate::sim::EndReason;
+use crate::spec::maneuver::{ManeuverConfig, ManeuverKind};
 use crate::spec::RunConfig;
 
 /// The swept key the ISO 3888-2 search sets.
@@ -142,9 +143,6 @@ pub fn search_speed(s: &SpeedSearch, mut trial: impl FnMut(f64) -> Result<Trial>
     Ok(out)
 }
 
-/// Onset events of the friction checks ([`crate::sim::plausibility`]).
-const FRICTION_EVENTS: [&str; 2] = ["tyre_force_beyond_friction", "ay_beyond_friction"];
-
 /// The steady lateral-acceleration limit of one constant-radius run.
 fn steady_limit(cfg: &RunConfig) -> Limit {
     let out = run::execute(cfg);
@@ -153,7 +151,7 @@ fn steady_limit(cfg: &RunConfig) -> Limit {
     let steady_at = |step: usize| out.steady_states.iter().any(|s| s.step == step && s.steady);
     // The run ends by leaving the circle or with unsteady steps by design; what makes its limit
     // implausible is a tyre force or a_y beyond friction.
-    let beyond = out.summary.events.iter().any(|e| FRICTION_EVENTS.contains(&e.kind.as_str()));
+    let beyond = out.summary.events.iter().any(|e| e.kind.beyond_friction());
     let mut limit = Limit { runs: 1, plausible: Some(!beyond), ..Limit::default() };
     limit.value = out.steady_states.iter().filter(|s| s.steady).map(|s| s.ay_mps2.abs()).reduce(f64::max);
     let top_step = out.steady_states.iter().filter(|s| s.steady).map(|s| s.step).max().unwrap_or(0);
@@ -210,15 +208,15 @@ pub fn load(path: &Path) -> Result<Envelope> {
         })?,
     };
     let kind_name = table.get("maneuver").and_then(|m| m.get("kind")).and_then(|k| k.as_str()).unwrap_or("");
-    let kind = match kind_name {
-        "iso3888_2" => Kind::Speed,
-        "constant_radius" => Kind::LateralAcceleration,
-        other => {
+    let kind = match ManeuverKind::parse(kind_name) {
+        Some(ManeuverKind::Iso3888_2) => Kind::Speed,
+        Some(ManeuverKind::ConstantRadius) => Kind::LateralAcceleration,
+        _ => {
             return Err(Error::key(
                 path,
                 "maneuver.kind",
                 format!(
-                    "'{other}' has neither a pass rule nor a steady-state measure; envelope needs iso3888_2 \
+                    "'{kind_name}' has neither a pass rule nor a steady-state measure; envelope needs iso3888_2 \
                      (highest passing speed) or constant_radius (highest steady lateral acceleration)"
                 ),
             ))
@@ -348,7 +346,7 @@ fn job_limit(env: &Envelope, job: &Job) -> Result<Limit> {
         Some(s) => search_speed(&s, |v| {
             crate::output::signals::check(|| "the envelope was not written (no partial results)".into())?;
             let out = run::execute(&job_config(path, job, Some(v))?);
-            let pass = out.summary.passed == Some(true) && out.summary.end_reason == "completed";
+            let pass = out.summary.passed == Some(true) && out.summary.end_reason == EndReason::Completed;
             Ok(Trial { pass, plausible: out.summary.plausible })
         }),
         None => Ok(steady_limit(&job_config(path, job, None)?)),
@@ -426,6 +424,19 @@ pub fn run_envelope(env: &Envelope, out_root: &Path, jobs: Option<usize>) -> Res
         crate::plot::envelope::plot(&plots.join("envelope"), env, &rows)
     })?;
     Ok((dir, rows))
+}
+
+/// `vehsim envelope`: search the limit of every combination, print one line each and the folder.
+pub(crate) fn cli_envelope(file: &Path, out: &Path, jobs: Option<usize>) -> Result<std::process::ExitCode> {
+    batch::check_jobs(jobs, true)?; // at least 1; no upper limit here
+    let (dir, rows) = run_envelope(&load(file)?, out, jobs)?;
+    for r in &rows {
+        let what = if r.label.is_empty() { r.params.join(", ") } else { r.label.clone() };
+        let v = r.limit.value.map_or("none".into(), |v| format!("{v:.3}"));
+        println!("{what}: {v} ({} runs) {}", r.limit.runs, r.limit.note);
+    }
+    println!("-> {}", dir.display());
+    Ok(std::process::ExitCode::SUCCESS)
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 /// Library error, each kind with its exit code ([`Error::exit_code`]): `Run` a run that could not
-/// be carried out (1), `Input` the user's fault (2), `Io` the environment's (3: disk full,
+/// be carried out (1), `Input` and `Usage` the user's fault (2), `Io` the environment's (3: disk full,
 /// permission, a collision), `Interrupted` a signal (130 for SIGINT, 143 for SIGTERM).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -15,6 +15,9 @@ pub enum Error {
     /// Bad input: a missing or malformed file, an unknown key, a non-physical value.
     #[error("{}: {message}", file.display())]
     Input { file: PathBuf, message: String },
+    /// A bad command-line flag value: the flag (`--jobs`) and what is allowed.
+    #[error("{flag}: {message}")]
+    Usage { flag: String, message: String },
     /// Reading or writing a file failed for a reason outside the user's input.
     #[error("{}: {source}", path.display())]
     Io {
@@ -36,7 +39,7 @@ impl Error {
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Run(_) => 1,
-            Error::Input { .. } => 2,
+            Error::Input { .. } | Error::Usage { .. } => 2,
             Error::Io { .. } => 3,
             Error::Interrupted(_) => crate::output::signals::exit_code(),
         }
@@ -45,6 +48,11 @@ impl Error {
     /// A bad-input error about `file`.
     pub fn input(file: &Path, message: impl Into<String>) -> Self {
         Error::Input { file: file.to_path_buf(), message: message.into() }
+    }
+
+    /// A bad value of command-line flag `flag` (e.g. `--jobs`); `message` says what is allowed.
+    pub fn usage(flag: &str, message: impl Into<String>) -> Self {
+        Error::Usage { flag: flag.to_string(), message: message.into() }
     }
 
     /// A bad-input error about key `key` of `file`.
@@ -148,6 +156,79 @@ pub fn referred_by<'a>(referrer: &'a Path, key: &'a str) -> impl FnOnce(Error) -
     }
 }
 
+/// Which ends of a [`Bound`] are allowed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ends {
+    /// `[lo, hi]`.
+    Closed,
+    /// `(lo, hi]`.
+    LeftOpen,
+    /// `(lo, hi)`.
+    Open,
+}
+
+/// The allowed range of one numeric spec key, declared once: the check, its message and the
+/// tests that hold the docs' key tables to the code all read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bound {
+    /// Dotted key, e.g. `surface.mu`.
+    pub key: &'static str,
+    pub lo: f64,
+    pub hi: f64,
+    pub ends: Ends,
+    /// Unit as the docs write it (`s`, `m/s`, `1/K`; empty when dimensionless).
+    pub unit: &'static str,
+}
+
+impl Bound {
+    /// A closed range `[lo, hi]`.
+    pub const fn closed(key: &'static str, lo: f64, hi: f64, unit: &'static str) -> Self {
+        Bound { key, lo, hi, ends: Ends::Closed, unit }
+    }
+
+    /// A range `(lo, hi]`.
+    pub const fn left_open(key: &'static str, lo: f64, hi: f64, unit: &'static str) -> Self {
+        Bound { key, lo, hi, ends: Ends::LeftOpen, unit }
+    }
+
+    /// An open range `(lo, hi)`.
+    pub const fn open(key: &'static str, lo: f64, hi: f64, unit: &'static str) -> Self {
+        Bound { key, lo, hi, ends: Ends::Open, unit }
+    }
+
+    /// True when finite `v` is within the range.
+    pub fn contains(&self, v: f64) -> bool {
+        v.is_finite()
+            && match self.ends {
+                Ends::Closed => v >= self.lo && v <= self.hi,
+                Ends::LeftOpen => v > self.lo && v <= self.hi,
+                Ends::Open => v > self.lo && v < self.hi,
+            }
+    }
+
+    /// The range in interval notation, e.g. `(0, 2]`.
+    pub fn interval(&self) -> String {
+        let (l, r) = match self.ends {
+            Ends::Closed => ('[', ']'),
+            Ends::LeftOpen => ('(', ']'),
+            Ends::Open => ('(', ')'),
+        };
+        format!("{l}{}, {}{r}", self.lo, self.hi)
+    }
+
+    /// What the error message says is allowed: `expected a finite number in [lo, hi]` for a
+    /// closed range, else `expected lo < name <= hi (unit)` with the key's last part as name.
+    pub fn allowed(&self) -> String {
+        let name = self.key.rsplit('.').next().unwrap_or(self.key);
+        let unit = if self.unit.is_empty() { String::new() } else { format!(" ({})", self.unit) };
+        match self.ends {
+            Ends::Closed => format!("expected a finite number in [{}, {}]", self.lo, self.hi),
+            Ends::LeftOpen => format!("expected {} < {name} <= {}{unit}", self.lo, self.hi),
+            Ends::Open => format!("expected {} < {name} < {}{unit}", self.lo, self.hi),
+        }
+    }
+}
+
 /// Checks on one spec file's numeric values. Each check returns the first violation as a
 /// bad-input error naming the file, the key, the value and what is allowed.
 pub struct Checker<'a> {
@@ -196,6 +277,15 @@ impl<'a> Checker<'a> {
             Ok(v)
         } else {
             Err(self.fail(key, v, &format!("expected a finite number in [{lo}, {hi}]")))
+        }
+    }
+
+    /// Within `b` (its key and message).
+    pub fn bound(&self, b: &Bound, v: f64) -> Result<f64> {
+        if b.contains(v) {
+            Ok(v)
+        } else {
+            Err(self.fail(b.key, v, &b.allowed()))
         }
     }
 

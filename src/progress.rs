@@ -69,7 +69,8 @@ impl Progress {
         self.bar.inc(1);
     }
 
-    /// Steps done so far.
+    /// Steps done so far (for the tests).
+    #[cfg(test)]
     pub fn position(&self) -> u64 {
         self.bar.position()
     }

@@ -13,7 +13,7 @@ use crate::maneuver::constant_radius::ConstantRadius;
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
-use crate::maneuver::{Event, Maneuver};
+use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::output::write_atomic;
 use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
@@ -106,7 +106,7 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
                     end_reason: EndReason::Diverged,
                     events: vec![Event {
                         t_s: 0.0,
-                        kind: "diverged".into(),
+                        kind: EventKind::Diverged,
                         detail: "the 4-DOF model needs the vehicle's [roll] data; nothing was simulated".into(),
                     }],
                     plausible: true,
@@ -143,7 +143,7 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     let mut observer = Checked { plausibility: &mut plausibility, keep };
     let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
     if let Some(n) = note {
-        summary.events.insert(0, Event { t_s: 0.0, kind: "contact_model_unavailable".into(), detail: n });
+        summary.events.insert(0, Event { t_s: 0.0, kind: EventKind::ContactModelUnavailable, detail: n });
     }
     if summary.end_reason == EndReason::Completed {
         if let Some(r) = maneuver.end_reason() {
@@ -303,7 +303,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         vehicle: &cfg.vehicle.name,
         tyre: &cfg.vehicle.tyre.name,
         tyre_model: cfg.tyre_model.as_str(),
-        maneuver: cfg.kind,
+        maneuver: cfg.kind.as_str(),
         mu: cfg.env.mu,
         surface_temperature_c: cfg.env.surface_temp_c,
         integrator: cfg.settings.method.name(),
@@ -346,4 +346,25 @@ impl Observer for Checked<'_> {
         self.plausibility.check(row);
         self.keep.record(row);
     }
+}
+
+/// The line `vehsim run` prints for a single run `name` written to `dir`: why and when it ended,
+/// the pass verdict (and plausibility), the peaks and the folder.
+pub(crate) fn summary_line(name: &str, s: &Summary, dir: &Path) -> String {
+    use crate::output::num::Sig;
+    let verdict = match s.passed {
+        Some(true) => "passed".to_string(),
+        Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
+        None => "no pass rule".to_string(),
+    };
+    let verdict = if s.plausible { verdict } else { format!("{verdict}, IMPLAUSIBLE") };
+    format!(
+        "{name}: {} at t = {} s, {verdict}; peak yaw rate {} rad/s, peak sideslip {} deg, peak ay {} m/s^2 -> {}",
+        s.end_reason,
+        Sig(s.end_time_s),
+        Sig(s.peak_yaw_rate_radps),
+        Sig(s.peak_sideslip_rad.to_degrees()),
+        Sig(s.peak_ay_mps2),
+        dir.display()
+    )
 }

@@ -223,13 +223,17 @@ fn exponential_rk4_bound_is_honest() {
     let r = run(&with(h, vehsim::sim::Method::Rk4), Some(0.00025), Some(h));
     let (er, _, n) = diff(&d, &r);
     println!("bound {bound} s; at {h:.4} s: {:?}, yaw rate {er:.2e} rad/s over {n} rows", d.summary.end_reason);
-    assert_eq!(d.summary.end_reason, "completed", "{:?}", d.summary.events);
+    assert_eq!(d.summary.end_reason, vehsim::sim::EndReason::Completed, "{:?}", d.summary.events);
     assert!(n > 100 && er < 5e-3, "at {h} s: {er:.2e} rad/s over {n} rows");
     let bad = run(&with(0.025, vehsim::sim::Method::Rk4Exp), None, None);
     let r = run(&with(0.025, vehsim::sim::Method::Rk4), Some(0.00025), Some(0.025));
     let (eb, _, _) = diff(&bad, &r);
     println!("at 0.025 s: {:?}, yaw rate {eb:.2e} rad/s", bad.summary.end_reason);
-    assert!(bad.summary.end_reason != "completed" || !(eb <= 0.1), "{:?} {eb:.2e}", bad.summary.end_reason);
+    assert!(
+        bad.summary.end_reason != vehsim::sim::EndReason::Completed || !(eb <= 0.1),
+        "{:?} {eb:.2e}",
+        bad.summary.end_reason
+    );
 }
 
 /// Exploration, not a check: errors of step / period pairs against the reference.
@@ -301,7 +305,12 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
     let base = dlc("events", "pacejka", "bicycle", 12.0, 0.15);
     let runs: Vec<RunOutput> = [0.005, 0.0025, 0.001].iter().map(|&h| run(&base, Some(h), Some(0.005))).collect();
     let strikes = |o: &RunOutput| -> Vec<(f64, String)> {
-        o.summary.events.iter().filter(|e| e.kind == "cone_strike").map(|e| (e.t_s, e.detail.clone())).collect()
+        o.summary
+            .events
+            .iter()
+            .filter(|e| e.kind == vehsim::maneuver::EventKind::ConeStrike)
+            .map(|e| (e.t_s, e.detail.clone()))
+            .collect()
     };
     let fine = strikes(&runs[2]);
     assert!(!fine.is_empty(), "the case must strike cones: {:?}", runs[2].summary.events);
@@ -313,7 +322,7 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
             assert!((t - tf).abs() < 1e-3, "{d} at {t} s vs {df} at {tf} s");
             assert_eq!(d.split(" corner").next(), df.split(" corner").next());
         }
-        assert_eq!(o.summary.end_reason, "completed");
+        assert_eq!(o.summary.end_reason, vehsim::sim::EndReason::Completed);
         assert!(
             (o.summary.end_time_s - runs[2].summary.end_time_s).abs() < 1e-4,
             "{} vs {}",

@@ -44,7 +44,7 @@ fn steady_state_yaw_rate_matches_linear_theory_at_two_speeds() {
         };
         cfg.settings.duration_s = 25.0;
         let out = execute(&cfg);
-        assert_eq!(out.summary.end_reason, "duration");
+        assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration);
         let last = out.rows.last().unwrap();
         let vx = last.obs.kin.vx_mps;
         let r = last.obs.kin.yaw_rate_radps;
@@ -109,7 +109,7 @@ fn standstill_start_and_brake_to_standstill() {
         cfg.settings.duration_s = 16.0;
         let out = execute(&cfg);
         let s = &out.summary;
-        assert_eq!(s.end_reason, "duration", "{steer:?}: {:?}", s.events);
+        assert_eq!(s.end_reason, vehsim::sim::EndReason::Duration, "{steer:?}: {:?}", s.events);
         assert!(out.rows.iter().all(|r| r.obs.kin.vx_mps.is_finite() && r.obs.kappa.iter().all(|k| k.is_finite())));
         assert!(s.max_speed_mps > 9.5, "{steer:?}: never reached speed ({})", s.max_speed_mps);
         let end = out.rows.last().unwrap();

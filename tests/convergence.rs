@@ -97,8 +97,8 @@ fn dop853(base: &RunConfig, tol: f64) -> RunOutput {
 
 /// Largest |yaw-rate difference| over the common output rows (all 201 rows of a 4 s run).
 fn err(a: &RunOutput, b: &RunOutput) -> f64 {
-    assert_eq!(a.summary.end_reason, "duration", "{:?}", a.summary.events);
-    assert_eq!(b.summary.end_reason, "duration", "{:?}", b.summary.events);
+    assert_eq!(a.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", a.summary.events);
+    assert_eq!(b.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", b.summary.events);
     let mut worst = 0.0_f64;
     let mut n = 0;
     for (p, q) in a.rows.iter().zip(&b.rows) {

@@ -100,7 +100,7 @@ fn speed_envelope_brackets_the_limit_and_is_deterministic() {
         let l = &r.limit;
         let pass = |v| {
             let s = vehsim::run::execute(&cfg_at(&r.params[0], v)).summary;
-            s.passed == Some(true) && s.end_reason == "completed"
+            s.passed == Some(true) && s.end_reason == vehsim::sim::EndReason::Completed
         };
         let (v, hi) = (l.value.expect("a passing speed"), l.fail_above.expect("a failing speed"));
         assert!(hi > v && hi - v <= 0.1 + 1e-12 && (5.0..=12.0).contains(&v), "{l:?}");
@@ -161,6 +161,6 @@ preview_time_s = 0.5
     assert!(best > 0.9 && best < 0.19 * 9.81, "{best}");
     assert_eq!(f[4], "1");
     // The run ends by leaving the circle, yet no tyre force passed its bound: plausible.
-    assert_eq!(out.summary.end_reason, "left_path");
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath);
     assert_eq!(f[5], "true");
 }

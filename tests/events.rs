@@ -6,7 +6,7 @@
 
 mod common;
 
-use vehsim::maneuver::Event;
+use vehsim::maneuver::{Event, EventKind};
 use vehsim::run::{execute, RunOutput};
 use vehsim::spec::RunConfig;
 
@@ -29,8 +29,8 @@ fn case(tag: &str, vehicle_edits: &[(&str, &str)], model: &str, mu: f64, maneuve
 
 const HIGH_CG: [(&str, &str); 1] = [("cg_height_m = 0.55", "cg_height_m = 1.1")];
 
-fn of_kind<'a>(out: &'a RunOutput, kinds: &[&str]) -> Vec<&'a Event> {
-    out.summary.events.iter().filter(|e| kinds.contains(&e.kind.as_str())).collect()
+fn of_kind<'a>(out: &'a RunOutput, kinds: &[EventKind]) -> Vec<&'a Event> {
+    out.summary.events.iter().filter(|e| kinds.contains(&e.kind)).collect()
 }
 
 /// The recorded row at time `t` (every step is recorded).
@@ -57,7 +57,7 @@ fn wheel_lift_and_contact_are_reported_at_the_step_with_wheel_and_load() {
     let h = cfg.settings.step_s;
     let out = execute(&cfg);
     assert!(!out.summary.failed(), "{:?}", out.summary.events);
-    let ev = of_kind(&out, &["wheel_lift", "wheel_contact"]);
+    let ev = of_kind(&out, &[EventKind::WheelLift, EventKind::WheelContact]);
     eprintln!("{:#?}", ev);
     assert!(ev.len() >= 4, "expected lifts and touch-downs on both sides: {ev:?}");
     assert!(ev.len() <= 16, "events flood: {ev:?}");
@@ -65,7 +65,7 @@ fn wheel_lift_and_contact_are_reported_at_the_step_with_wheel_and_load() {
         let mine: Vec<&&Event> = ev.iter().filter(|e| e.detail.starts_with(name)).collect();
         for (k, e) in mine.iter().enumerate() {
             let lift = k % 2 == 0;
-            assert_eq!(e.kind, if lift { "wheel_lift" } else { "wheel_contact" }, "{name}: {mine:?}");
+            assert_eq!(e.kind, if lift { EventKind::WheelLift } else { EventKind::WheelContact }, "{name}: {mine:?}");
             let fz_now = row_at(&out, e.t_s).obs.fz_n[i];
             let fz_before = row_at(&out, e.t_s - h).obs.fz_n[i];
             let v = value_of(&e.detail);
@@ -80,9 +80,12 @@ fn wheel_lift_and_contact_are_reported_at_the_step_with_wheel_and_load() {
     }
     // Left turn first (positive steer): a left wheel lifts first, during the first half period.
     let first = ev[0];
-    assert!(first.kind == "wheel_lift" && first.detail.contains("-left wheel"), "{first:?}");
+    assert!(first.kind == EventKind::WheelLift && first.detail.contains("-left wheel"), "{first:?}");
     assert!(first.t_s > 0.5 && first.t_s < 2.5, "{first:?}");
-    assert!(ev.iter().any(|e| e.kind == "wheel_lift" && e.detail.contains("-right wheel") && e.t_s > 2.5), "{ev:?}");
+    assert!(
+        ev.iter().any(|e| e.kind == EventKind::WheelLift && e.detail.contains("-right wheel") && e.t_s > 2.5),
+        "{ev:?}"
+    );
     // Events are in time order.
     assert!(out.summary.events.windows(2).all(|w| w[0].t_s <= w[1].t_s));
 }
@@ -99,7 +102,7 @@ fn negative_axle_load_under_hard_braking_is_reported_with_axle_and_load() {
     let cfg = case("brake", &edits, "roll4dof", 1.2, brake, 4.0);
     let out = execute(&cfg);
     eprintln!("{:#?}", out.summary.events);
-    let neg = of_kind(&out, &["negative_normal_load"]);
+    let neg = of_kind(&out, &[EventKind::NegativeNormalLoad]);
     assert_eq!(neg.len(), 1, "{:?}", out.summary.events);
     let e = neg[0];
     assert!(e.detail.starts_with("rear axle: axle load from longitudinal transfer before clamping"), "{e:?}");
@@ -107,14 +110,17 @@ fn negative_axle_load_under_hard_braking_is_reported_with_axle_and_load() {
     // Both rear wheels lift at that step, and they carry nothing in its row.
     for w in ["rear-left wheel", "rear-right wheel"] {
         assert!(
-            out.summary.events.iter().any(|x| x.kind == "wheel_lift" && x.detail.starts_with(w) && x.t_s <= e.t_s),
+            out.summary
+                .events
+                .iter()
+                .any(|x| x.kind == EventKind::WheelLift && x.detail.starts_with(w) && x.t_s <= e.t_s),
             "{w}: {:?}",
             out.summary.events
         );
     }
     let row = row_at(&out, e.t_s);
     assert!(row.obs.fz_n[2] == 0.0 && row.obs.fz_n[3] == 0.0, "{:?}", row.obs.fz_n);
-    let back = of_kind(&out, &["normal_load_restored"]);
+    let back = of_kind(&out, &[EventKind::NormalLoadRestored]);
     assert_eq!(back.len(), 1, "{:?}", out.summary.events);
     assert!(back[0].t_s > e.t_s && value_of(&back[0].detail) >= 0.0, "{back:?}");
 }
@@ -124,7 +130,13 @@ fn negative_axle_load_under_hard_braking_is_reported_with_axle_and_load() {
 #[test]
 fn physical_runs_and_the_bicycle_report_nothing_new() {
     let out = execute(&common::load("maneuvers/dlc_roll4dof.toml"));
-    let kinds = ["wheel_lift", "wheel_contact", "negative_normal_load", "normal_load_restored", "events_suppressed"];
+    let kinds = [
+        EventKind::WheelLift,
+        EventKind::WheelContact,
+        EventKind::NegativeNormalLoad,
+        EventKind::NormalLoadRestored,
+        EventKind::EventsSuppressed,
+    ];
     assert!(of_kind(&out, &kinds).is_empty(), "{:?}", out.summary.events);
     let sine = "kind = \"sine_steer\"\nspeed_mps = 15.0\nsteer_amplitude_deg = 8.0\nperiod_s = 4.0\nstart_s = 0.5";
     let out = execute(&case("bicycle", &HIGH_CG, "bicycle", 1.0, sine, 4.5));

@@ -10,7 +10,7 @@ fn pid_holds_10_mps_within_one_percent_through_the_ice_dlc() {
     let cfg = common::load("maneuvers/dlc.toml");
     assert_eq!(cfg.env.mu, 0.15);
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "completed");
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed);
     let worst = out.rows.iter().map(|r| (r.obs.kin.vx_mps - 10.0).abs()).fold(0.0, f64::max);
     assert!(worst < 0.1, "speed left the 1 % band: max |vx - 10| = {worst}");
     assert!(out.summary.max_speed_error_mps.unwrap() < 0.1);
@@ -30,7 +30,7 @@ fn sedan_passes_iso3888_2_at_60_kmh_on_dry_asphalt() {
     let s = &out.summary;
     assert_eq!(s.passed, Some(true), "events: {:?}", s.events);
     assert_eq!(s.cones_hit, 0);
-    assert!(s.events.iter().any(|e| e.kind == "course_complete"));
+    assert!(s.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::CourseComplete));
     assert!(s.peak_ay_mps2 > 5.0, "not a severe lane change: peak ay {}", s.peak_ay_mps2);
 }
 
@@ -43,7 +43,12 @@ fn cone_strikes_are_detected_and_fail_the_run() {
     let out = execute(&cfg);
     assert_eq!(out.summary.passed, Some(false));
     assert!(out.summary.cones_hit > 0);
-    let strike = out.summary.events.iter().find(|e| e.kind == "cone_strike").expect("a cone_strike event");
+    let strike = out
+        .summary
+        .events
+        .iter()
+        .find(|e| e.kind == vehsim::maneuver::EventKind::ConeStrike)
+        .expect("a cone_strike event");
     assert!(strike.detail.contains("lane") && strike.detail.contains("corner"), "{}", strike.detail);
 }
 

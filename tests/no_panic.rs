@@ -143,7 +143,7 @@ fn mutated_manoeuvre_specs_never_panic_and_short_runs_of_valid_ones_finish() {
                     let mut cfg = cfg;
                     cfg.settings.duration_s = cfg.settings.duration_s.min(0.5);
                     let out = check("run::execute", &m, || vehsim::run::execute(&cfg));
-                    assert!(out.summary.steps > 0 || out.summary.end_reason != "duration", "{m}");
+                    assert!(out.summary.steps > 0 || out.summary.end_reason != vehsim::sim::EndReason::Duration, "{m}");
                     simulated += 1;
                 }
             }

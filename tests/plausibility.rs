@@ -21,7 +21,13 @@ fn shipped_physical_examples_are_plausible() {
     ] {
         let out = execute(&common::load(spec));
         assert!(out.summary.plausible, "{spec}: {:?}", out.summary.implausible);
-        assert!(!out.summary.events.iter().any(|e| e.kind.contains("beyond") || e.kind == "path_exit"), "{spec}");
+        assert!(
+            !out.summary
+                .events
+                .iter()
+                .any(|e| e.kind.beyond_friction() || e.kind == vehsim::maneuver::EventKind::PathExit),
+            "{spec}"
+        );
     }
     let out = execute(&common::load("maneuvers/quickstart_dlc_ice.toml"));
     assert_eq!(out.summary.passed, Some(true));
@@ -58,13 +64,14 @@ fn linear_tyre_lane_change_is_flagged_at_the_right_row() {
             (0..2).any(|a| o.fx_n[a].hypot(o.fy_n[a]) > 1.05 * mu * (o.fz_n[2 * a] + o.fz_n[2 * a + 1]))
         })
         .expect("a row beyond the bound");
-    let ev = out.summary.events.iter().find(|e| e.kind == "tyre_force_beyond_friction").unwrap();
+    let ev =
+        out.summary.events.iter().find(|e| e.kind == vehsim::maneuver::EventKind::TyreForceBeyondFriction).unwrap();
     assert_eq!(ev.t_s, first.t_s);
     // The same manoeuvre with a friction-limited tyre never exceeds its bound.
     for kind in [TyreModelKind::Pacejka, TyreModelKind::Polynomial, TyreModelKind::Dugoff] {
         let cfg = with_tyre(&cfg, kind);
         let out = execute(&cfg);
-        assert!(!out.summary.events.iter().any(|e| e.kind.contains("beyond")), "{}", kind.as_str());
+        assert!(!out.summary.events.iter().any(|e| e.kind.beyond_friction()), "{}", kind.as_str());
     }
 }
 
@@ -95,9 +102,9 @@ fn constant_radius_guard_ends_the_run_and_drops_steps() {
         c
     };
     let out = execute(&circle(20.0, 5.0));
-    assert_eq!(out.summary.end_reason, "left_path", "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath, "{:?}", out.summary.events);
     assert!(!out.summary.plausible);
-    assert_eq!(out.summary.events.last().unwrap().kind, "left_path");
+    assert_eq!(out.summary.events.last().unwrap().kind, vehsim::maneuver::EventKind::LeftPath);
     let end = out.summary.end_time_s;
     assert!(end < 20.0 * 13.0, "ended at {end}");
     // A window the run did not reach to its end is not steady; a steady one is within friction.
@@ -116,7 +123,7 @@ fn constant_radius_guard_ends_the_run_and_drops_steps() {
     }
 
     let out = execute(&circle(0.5, 1.0));
-    assert_eq!(out.summary.end_reason, "left_path");
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath);
     assert!(out.understeer_gradient.is_none());
     assert!(
         out.understeer_gradient_note.as_deref().unwrap().contains("at least 3"),

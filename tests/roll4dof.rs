@@ -129,7 +129,7 @@ fn dissertation_run() -> (RunConfig, RunOutput) {
     let cfg = common::load("maneuvers/dissertation/constant_radius_8mps_linear.toml");
     assert_eq!(cfg.vehicle_model, VehicleModelKind::Roll4Dof);
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "completed", "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed, "{:?}", out.summary.events);
     (cfg, out)
 }
 
@@ -171,7 +171,7 @@ fn normal_loads_sum_to_the_weight_at_every_step_of_the_dlc() {
     let mut cfg = common::load("maneuvers/dlc_roll4dof.toml");
     cfg.settings.output_interval_s = cfg.settings.step_s;
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "completed");
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed);
     assert_eq!(out.summary.passed, Some(true), "{:?}", out.summary.events);
     let w = cfg.vehicle.mass_kg * GRAVITY;
     assert!(out.rows.len() as u64 >= out.summary.steps);
@@ -206,8 +206,8 @@ fn degenerate_4dof_reproduces_the_bicycle_through_the_dlc() {
     let four = scratch("degenerate4", &edits, &[], &spec("roll4dof", 0.15, man, ""));
     let two = scratch("degenerate2", &edits, &[], &spec("bicycle", 0.15, man, ""));
     let (a, b) = (execute(&four), execute(&two));
-    assert_eq!(a.summary.end_reason, "completed");
-    assert_eq!(b.summary.end_reason, "completed");
+    assert_eq!(a.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(b.summary.end_reason, vehsim::sim::EndReason::Completed);
     let mut worst = 0.0_f64;
     for (p, q) in a.rows.iter().zip(&b.rows) {
         assert!((p.t_s - q.t_s).abs() < 1e-12);
@@ -246,7 +246,7 @@ fn left_and_right_turns_mirror_each_other() {
     let base = common::load("maneuvers/dissertation/constant_radius_8mps_linear.toml");
     let l = execute(&with_maneuver(&base, stepped(40.0, Direction::Left, 1.0, 4.0, 1.0)));
     let r = execute(&with_maneuver(&base, stepped(40.0, Direction::Right, 1.0, 4.0, 1.0)));
-    assert_eq!(l.summary.end_reason, "completed");
+    assert_eq!(l.summary.end_reason, vehsim::sim::EndReason::Completed);
     assert_eq!(l.rows.len(), r.rows.len());
     let mut max_roll = 0.0_f64;
     for (p, q) in l.rows.iter().zip(&r.rows) {
@@ -305,7 +305,7 @@ fn understeer_gradient_matches_linear_theory_with_load_transfer() {
         edits.push(("roll_stiffness_front_nm_per_rad = 46000.0", &k_edit));
         let cfg = scratch(tag, &edits, &[], &spec("roll4dof", 1.0, circle, ""));
         let out = execute(&cfg);
-        assert_eq!(out.summary.end_reason, "completed", "{tag}: {:?}", out.summary.events);
+        assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed, "{tag}: {:?}", out.summary.events);
         let g = out.understeer_gradient.expect("an understeer gradient");
         assert_eq!(g.steps, 6);
         let raw = Raw::of(&cfg.vehicle_file);
@@ -371,7 +371,7 @@ fn standstill_start_and_stop_with_the_4dof_model() {
         "kind = \"straight\"\nspeed_schedule = [[0.0, 0.0], [1.0, 0.0], [5.0, 10.0], [8.0, 10.0], [11.0, 0.0]]";
     let cfg = scratch("standstill", &[], &[], &spec("roll4dof", 0.15, straight, "duration_s = 16.0"));
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "duration", "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", out.summary.events);
     assert!(out.summary.max_speed_mps > 9.5);
     let end = out.rows.last().unwrap();
     assert!(end.obs.kin.speed_mps() < 0.05);
@@ -383,7 +383,7 @@ fn standstill_start_and_stop_with_the_4dof_model() {
         speed: SpeedSchedule { points: vec![(0.0, 0.0), (1.0, 0.0), (5.0, 10.0), (8.0, 10.0), (11.0, 0.0)] },
     };
     let out = execute(&steered);
-    assert_eq!(out.summary.end_reason, "duration", "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", out.summary.events);
     assert!(out.summary.max_speed_mps > 9.5);
     assert!(out.rows.last().unwrap().obs.kin.speed_mps() < 0.05);
     assert!(out.rows.iter().all(|r| r.obs.fz_n.iter().chain(&r.obs.kappa).all(|v| v.is_finite())));
@@ -405,8 +405,8 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
         &spec("roll4dof", 0.15, sine, "duration_s = 20.0"),
     );
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "spin_out", "{:?}", out.summary.events);
-    assert!(out.summary.events.iter().any(|e| e.kind == "spin_out"));
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::SpinOut, "{:?}", out.summary.events);
+    assert!(out.summary.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::SpinOut));
 
     // RK4 at 10 ms on a 1 ms load-transfer lag is unstable (h / tau = 10 > 2.8): the lag state
     // grows by a factor ~290 per step until it overflows, while the clamped load transfer and the
@@ -431,8 +431,8 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     cfg.settings.step_s = 0.01;
     cfg.settings.control_period_s = 0.01;
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, "diverged", "{:?}", out.summary.events);
-    let e = out.summary.events.iter().find(|e| e.kind == "diverged").unwrap();
+    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Diverged, "{:?}", out.summary.events);
+    let e = out.summary.events.iter().find(|e| e.kind == vehsim::maneuver::EventKind::Diverged).unwrap();
     assert!(e.detail.contains("non-finite") && e.detail.contains("ax_lagged"), "{}", e.detail);
     assert!(out.summary.end_time_s < 5.0);
 
@@ -440,7 +440,11 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     let circle = "kind = \"constant_radius\"\nradius_m = 40.0\nspeed_mps = 17.0\nsettle_s = 6.0\nwindow_s = 1.0";
     let cfg = scratch("lift", &high, &[], &spec("roll4dof", 1.0, circle, ""));
     let out = execute(&cfg);
-    assert!(out.summary.events.iter().any(|e| e.kind == "wheel_lift"), "{:?}", out.summary.events);
+    assert!(
+        out.summary.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::WheelLift),
+        "{:?}",
+        out.summary.events
+    );
     let w = cfg.vehicle.mass_kg * GRAVITY;
     for r in &out.rows {
         assert!(r.obs.fz_n.iter().all(|f| *f >= 0.0));
@@ -465,7 +469,7 @@ fn rk4_on_the_4dof_model_converges_at_fourth_order() {
     };
     let runs: Vec<RunOutput> = [0.004, 0.002, 0.001].iter().map(|&h| with(Method::Rk4, h)).collect();
     let reference = with(Method::Dop853 { rtol: 1e-13, atol: 1e-14 }, 0.004);
-    assert_eq!(reference.summary.end_reason, "completed");
+    assert_eq!(reference.summary.end_reason, vehsim::sim::EndReason::Completed);
     let errs: Vec<f64> = runs.iter().map(|r| common::max_yaw_rate_diff(r, &reference)).collect();
     let diffs: Vec<f64> = runs.windows(2).map(|w| common::max_yaw_rate_diff(&w[0], &w[1])).collect();
     eprintln!("4-DOF RK4 max yaw-rate error vs Dop853 at h = 4, 2, 1 ms: {errs:?}; change per halving {diffs:?}");

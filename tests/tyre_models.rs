@@ -375,7 +375,7 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
         let note = th.departure(&i);
         if published < 0.0 {
             let (kind, detail) = note.expect("a negative published H is a departure");
-            assert_eq!(kind, "thermal_factor_clamped");
+            assert_eq!(kind, vehsim::maneuver::EventKind::ThermalFactorClamped);
             assert!(detail.contains("reverse"), "{detail}");
             assert_eq!(th.departure(&i).map(|n| n.0), Some(kind), "pure: the same answer again");
         } else {
@@ -406,7 +406,8 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     let mut cfg = file.build(&path).unwrap();
     cfg.settings.output_interval_s = cfg.settings.step_s;
     let out = vehsim::run::execute(&cfg);
-    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    let ev: Vec<_> =
+        out.summary.events.iter().filter(|e| e.kind == vehsim::maneuver::EventKind::ThermalFactorClamped).collect();
     assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
     let (mu, ice) = (cfg.env.mu, cfg.env.surface_temp_c); // mu_scale 1 in the SRTT file
     let h = |kappa: f64, dt: f64| {
@@ -430,7 +431,8 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     // run and its uniqueness are checked there.
     file.vehicle_model = Some("roll4dof".into());
     let out = vehsim::run::execute(&file.build(&path).unwrap());
-    let ev: Vec<_> = out.summary.events.iter().filter(|e| e.kind == "thermal_factor_clamped").collect();
+    let ev: Vec<_> =
+        out.summary.events.iter().filter(|e| e.kind == vehsim::maneuver::EventKind::ThermalFactorClamped).collect();
     assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
     assert!(ev[0].t_s > 0.0 && ev[0].t_s < out.summary.end_time_s - 1.0, "{}", ev[0].t_s);
     assert!(["front-left", "front-right"].iter().any(|w| ev[0].detail.starts_with(w)), "{}", ev[0].detail);

@@ -151,7 +151,7 @@ fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -
         "vehicle": cfg.vehicle.name,
         "tyre": cfg.vehicle.tyre.name,
         "tyre_model": cfg.tyre_model.as_str(),
-        "maneuver": cfg.kind,
+        "maneuver": cfg.kind.as_str(),
         "mu": cfg.env.mu,
         "surface_temperature_c": cfg.env.surface_temp_c,
         "integrator": cfg.settings.method.name(),
@@ -200,10 +200,10 @@ type RunRecord = (&'static str, Option<String>, String, Option<(Vec<String>, Vec
 
 fn execute(run: &BatchRun, keep_timeseries: bool) -> Result<RunRecord, Error> {
     match &run.config {
-        Err(msg) => Ok(("invalid", None, msg.clone(), None)),
+        Err(msg) => Ok((batch::RunStatus::Invalid.as_str(), None, msg.clone(), None)),
         Ok(cfg) => {
             let out = run::execute(cfg);
-            let status = if out.summary.failed() { "failed" } else { "ok" };
+            let status = batch::RunStatus::of(&out.summary).as_str();
             let ts = keep_timeseries.then(|| timeseries(&out));
             Ok((status, Some(summary_json(cfg, &out, &run.params)?), String::new(), ts))
         }

@@ -149,3 +149,10 @@ fn write_maps(dir: &Path, sc: &Scenario, r: &PatchResult) -> Result<()> {
     }
     Ok(())
 }
+
+/// `vehsim atiim`: run the scenario and print where its results went.
+pub(crate) fn cli_atiim(spec: &Path, out_root: &Path) -> Result<std::process::ExitCode> {
+    let dir = run_atiim_command(spec, out_root)?;
+    println!("{} -> {}", spec.display(), dir.display());
+    Ok(std::process::ExitCode::SUCCESS)
+}

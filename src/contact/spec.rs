@@ -287,6 +287,28 @@ pub struct ContactSpec {
     pub statistic: Option<String>,
 }
 
+/// The contact-temperature models a spec can select (`[contact] model`, `bench --contact`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactModelKind {
+    /// No heating: the tyre sees the surface temperature.
+    Isothermal,
+    /// The ATIIM flash-temperature estimate ([`AtiimEstimator`]).
+    Atiim,
+}
+
+impl ContactModelKind {
+    /// Every model, in declaration order.
+    pub const ALL: &'static [ContactModelKind] = &[ContactModelKind::Isothermal, ContactModelKind::Atiim];
+
+    /// The name used in spec files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ContactModelKind::Isothermal => "isothermal",
+            ContactModelKind::Atiim => "atiim",
+        }
+    }
+}
+
 impl Default for ContactSpec {
     fn default() -> Self {
         toml::from_str("").unwrap_or_else(|_| unreachable!("defaults are valid"))
@@ -341,15 +363,21 @@ impl ContactSpec {
     /// Build the estimator for `n_tyres` tyres on ice at `ice_temp_c` (used for the compound
     /// preset's hardness). `file` is the manoeuvre file (named in errors).
     pub fn build(&self, file: &Path, n_tyres: usize, ice_temp_c: f64) -> Result<Box<dyn ContactTemperature>> {
-        match self.model.as_str() {
-            "isothermal" => Ok(Box::new(Isothermal)),
-            "atiim" => Ok(Box::new(self.build_atiim(file, n_tyres, ice_temp_c)?)),
-            other => Err(Error::key(
+        match self.kind(file)? {
+            ContactModelKind::Isothermal => Ok(Box::new(Isothermal)),
+            ContactModelKind::Atiim => Ok(Box::new(self.build_atiim(file, n_tyres, ice_temp_c)?)),
+        }
+    }
+
+    /// The contact model `model` names (`file`, the manoeuvre file, is named in the error).
+    pub fn kind(&self, file: &Path) -> Result<ContactModelKind> {
+        ContactModelKind::ALL.iter().copied().find(|k| k.as_str() == self.model).ok_or_else(|| {
+            Error::key(
                 file,
                 "contact.model",
-                format!("unknown model '{other}'; expected \"isothermal\" or \"atiim\""),
-            )),
-        }
+                format!("unknown model '{}'; expected \"isothermal\" or \"atiim\"", self.model),
+            )
+        })
     }
 
     /// Build the concrete ATIIM estimator (see [`ContactSpec::build`]).
@@ -406,7 +434,32 @@ fn cached_table(key: &str, build: impl FnOnce() -> Result<FlashTable>) -> Result
     Ok(t)
 }
 
-/// Where the pressure grid of a scenario comes from.
+/// Where the pressure grid of a scenario comes from (`[pressure] source`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PressureSource {
+    /// Synthesised from the load, inflation and tread.
+    Synth,
+    /// A CSV grid of pressures.
+    Csv,
+    /// A pressure-film image with its colour bar.
+    Image,
+}
+
+impl PressureSource {
+    /// Every source, in declaration order.
+    pub const ALL: &'static [PressureSource] = &[PressureSource::Synth, PressureSource::Csv, PressureSource::Image];
+
+    /// The name used in scenario files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            PressureSource::Synth => "synth",
+            PressureSource::Csv => "csv",
+            PressureSource::Image => "image",
+        }
+    }
+}
+
+/// Raw `[pressure]` table of a scenario.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PressureSpec {
@@ -524,8 +577,15 @@ impl ScenarioSpec {
         ck.range("operating.ice_temp_c", o.ice_temp_c, -40.0, 0.0)?;
         let params = self.tyre.params(file, "tyre.", o.ice_temp_c)?;
         let p = &self.pressure;
-        let mut grid = match p.source.as_str() {
-            "synth" => {
+        let source = PressureSource::ALL.iter().copied().find(|k| k.as_str() == p.source).ok_or_else(|| {
+            Error::key(
+                file,
+                "pressure.source",
+                format!("unknown source '{}'; expected \"synth\", \"csv\" or \"image\"", p.source),
+            )
+        })?;
+        let mut grid = match source {
+            PressureSource::Synth => {
                 let [rows, cols] = p.grid.unwrap_or([64, 48]);
                 let load = need(file, "pressure.load_n", p.load_n, "synth")?;
                 synthesize(
@@ -542,7 +602,7 @@ impl ScenarioSpec {
                     },
                 )?
             }
-            "csv" | "image" => {
+            PressureSource::Csv | PressureSource::Image => {
                 let rel = p
                     .file
                     .as_deref()
@@ -560,7 +620,7 @@ impl ScenarioSpec {
                     1e-5,
                     0.05,
                 )?;
-                if p.source == "csv" {
+                if source == PressureSource::Csv {
                     parse_csv(&path, &read_input(&path)?, dx, dy)?
                 } else {
                     let bytes =
@@ -582,15 +642,8 @@ impl ScenarioSpec {
                     )?
                 }
             }
-            other => {
-                return Err(Error::key(
-                    file,
-                    "pressure.source",
-                    format!("unknown source '{other}'; expected \"synth\", \"csv\" or \"image\""),
-                ))
-            }
         };
-        if p.source == "synth" {
+        if source == PressureSource::Synth {
             tilt_for_slip_angle(&mut grid, o.slip_angle_deg.to_radians());
         }
         if grid.rows * grid.cols > 512 * 512 {

@@ -12,7 +12,7 @@
 //! driven on the circle, so they are not measured.
 
 use super::path::RefPath;
-use super::{Command, Event, Maneuver, Outcome, Start, SteadyWindow};
+use super::{Command, Event, EventKind, Maneuver, Outcome, Start, SteadyWindow};
 use crate::control::{Driver, DriverParams};
 pub use crate::sim::plausibility::circle_tolerance_m;
 use crate::vehicle::Kinematics;
@@ -157,7 +157,7 @@ impl Maneuver for ConstantRadius {
         let len = self.path.length();
         if self.last_s > 0.75 * len && s < 0.25 * len {
             self.laps_done += 1;
-            events.push(Event { t_s: t, kind: "lap_complete".into(), detail: format!("lap {}", self.laps_done) });
+            events.push(Event { t_s: t, kind: EventKind::LapComplete, detail: format!("lap {}", self.laps_done) });
         }
         self.last_s = s;
         let err = self.radial_error_m(kin);
@@ -166,7 +166,7 @@ impl Maneuver for ConstantRadius {
             self.left_path = true;
             events.push(Event {
                 t_s: t,
-                kind: "left_path".into(),
+                kind: EventKind::LeftPath,
                 detail: format!("CG {err:+.2} m from the circle (tolerance {tol:.2} m); the run ends"),
             });
             return true;
@@ -230,7 +230,7 @@ mod tests {
             }
         }
         assert_eq!(m.end_reason(), Some(crate::sim::EndReason::LeftPath));
-        assert_eq!(ev.last().map(|e| e.kind.as_str()), Some("left_path"));
+        assert_eq!(ev.last().map(|e| e.kind), Some(EventKind::LeftPath));
     }
 
     #[test]

@@ -28,7 +28,7 @@
 //! path (heading = path tangent), clears every gate boundary by `clearance_m`.
 
 use super::path::RefPath;
-use super::{Command, Event, Maneuver, Outcome, Start};
+use super::{Command, Event, EventKind, Maneuver, Outcome, Start};
 use crate::control::{Driver, DriverParams};
 use crate::vehicle::Kinematics;
 
@@ -72,7 +72,7 @@ pub fn layout(w: f64, lane5_min: f64) -> [Gate; 3] {
     [
         Gate { name: "lane 1", x0_m: 0.0, x1_m: 12.0, y_right_m: r1, y_left_m: l1 },
         Gate { name: "lane 3", x0_m: 25.5, x1_m: 36.5, y_right_m: l1 + 1.0, y_left_m: l1 + 1.0 + w3 },
-        Gate { name: "lane 5", x0_m: 49.0, x1_m: 61.0, y_right_m: r1, y_left_m: r1 + w5 },
+        Gate { name: "lane 5", x0_m: 49.0, x1_m: COURSE_LENGTH_M, y_right_m: r1, y_left_m: r1 + w5 },
     ]
 }
 
@@ -92,6 +92,19 @@ pub struct Iso3888_2Params {
     pub lane5_min_width_m: f64,
     /// Clearance between the body outline on the reference path and the gate boundaries, m.
     pub clearance_m: f64,
+}
+
+impl Iso3888_2Params {
+    /// Where the run ends: the CG `exit_m` beyond the exit gate, m from the entry gate.
+    pub fn end_x_m(&self) -> f64 {
+        COURSE_LENGTH_M + self.exit_m
+    }
+
+    /// Distance the CG drives from the start to the run's end: approach, course, exit, m (summed
+    /// in that order).
+    pub fn run_length_m(&self) -> f64 {
+        self.approach_m + COURSE_LENGTH_M + self.exit_m
+    }
 }
 
 /// Vehicle dimensions the manoeuvre needs.
@@ -326,7 +339,7 @@ impl Iso3888_2 {
         let transitions = design_path(&gates, &body, params.clearance_m);
         let (t1, t2) = transitions;
         let y = move |x: f64| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 };
-        let x_end = COURSE_LENGTH_M + params.exit_m + 100.0;
+        let x_end = params.end_x_m() + 100.0;
         let path = RefPath::from_fn(-params.approach_m - 50.0, x_end, 0.1, y);
         let driver = Driver::new(driver, body.wheelbase_m);
         Self {
@@ -405,7 +418,7 @@ impl Maneuver for Iso3888_2 {
             let side_name = ["right", "left"][side];
             events.push(Event {
                 t_s: ts,
-                kind: "cone_strike".into(),
+                kind: EventKind::ConeStrike,
                 detail: format!(
                     "{} {} boundary struck by the {corner} corner at x = {cx:.2} m, y = {cy:.3} m",
                     self.gates[gi].name, side_name
@@ -418,11 +431,11 @@ impl Maneuver for Iso3888_2 {
             self.course_done = true;
             events.push(Event {
                 t_s: crossing_time(t0, t, rear0, rear1, COURSE_LENGTH_M),
-                kind: "course_complete".into(),
+                kind: EventKind::CourseComplete,
                 detail: "the whole body passed the exit gate".into(),
             });
         }
-        let x_end = COURSE_LENGTH_M + self.params.exit_m;
+        let x_end = self.params.end_x_m();
         if kin.x_m > x_end {
             self.end_time = Some(crossing_time(t0, t, self.previous_x.unwrap_or(kin.x_m), kin.x_m, x_end));
             return true;
@@ -445,7 +458,7 @@ impl Maneuver for Iso3888_2 {
             .iter()
             .map(|g| serde_json::json!({"name": g.name, "x0_m": g.x0_m, "x1_m": g.x1_m, "y_right_m": g.y_right_m, "y_left_m": g.y_left_m}))
             .collect();
-        let x_end = COURSE_LENGTH_M + self.params.exit_m;
+        let x_end = self.params.end_x_m();
         let (t1, t2) = self.transitions;
         let path: Vec<[f64; 2]> = (0..)
             .map(|i| -self.params.approach_m + 0.5 * i as f64)

@@ -25,10 +25,92 @@ pub struct Command {
 pub struct Event {
     /// Time, s.
     pub t_s: f64,
-    /// `cone_strike`, `spin_out`, `diverged`, `course_complete`, ...
-    pub kind: String,
+    /// What happened (serialised in snake case: `cone_strike`, `spin_out`, ...).
+    pub kind: EventKind,
     /// Human-readable detail (which gate and side, which state went non-finite, ...).
     pub detail: String,
+}
+
+/// The kinds of [`Event`], serialised (summary.json) as their snake-case names ([`EventKind::as_str`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EventKind {
+    /// ISO 3888-2: the car left the course's exit (the manoeuvre's end).
+    CourseComplete,
+    /// ISO 3888-2: a gate boundary (cone line) was struck.
+    ConeStrike,
+    /// Constant radius: one more lap of the circle.
+    LapComplete,
+    /// Constant radius: the car left the circle beyond the path tolerance.
+    LeftPath,
+    /// The state became non-finite or the adaptive solver gave up.
+    Diverged,
+    /// |sideslip| exceeded the spin-out limit.
+    SpinOut,
+    /// A watched condition flapped too often; its further events are not reported.
+    EventsSuppressed,
+    /// 4-DOF model: a wheel's normal load reached zero, and its return.
+    WheelLift,
+    WheelContact,
+    /// 4-DOF model: a normal load went negative before clamping, and its return.
+    NegativeNormalLoad,
+    NormalLoadRestored,
+    /// Plausibility: a tyre force beyond the friction limit, and its return.
+    TyreForceBeyondFriction,
+    TyreForceWithinFriction,
+    /// Plausibility: lateral acceleration beyond mu g, and its return.
+    AyBeyondFriction,
+    AyWithinFriction,
+    /// Plausibility: the car beyond the path tolerance, and its return.
+    PathExit,
+    PathReturn,
+    /// The contact-temperature model could not be built; the run went on isothermal.
+    ContactModelUnavailable,
+    /// Thermal Dugoff: the published temperature factor would reverse F_x; it was clamped.
+    ThermalFactorClamped,
+}
+
+impl EventKind {
+    /// The serialised name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventKind::CourseComplete => "course_complete",
+            EventKind::ConeStrike => "cone_strike",
+            EventKind::LapComplete => "lap_complete",
+            EventKind::LeftPath => "left_path",
+            EventKind::Diverged => "diverged",
+            EventKind::SpinOut => "spin_out",
+            EventKind::EventsSuppressed => "events_suppressed",
+            EventKind::WheelLift => "wheel_lift",
+            EventKind::WheelContact => "wheel_contact",
+            EventKind::NegativeNormalLoad => "negative_normal_load",
+            EventKind::NormalLoadRestored => "normal_load_restored",
+            EventKind::TyreForceBeyondFriction => "tyre_force_beyond_friction",
+            EventKind::TyreForceWithinFriction => "tyre_force_within_friction",
+            EventKind::AyBeyondFriction => "ay_beyond_friction",
+            EventKind::AyWithinFriction => "ay_within_friction",
+            EventKind::PathExit => "path_exit",
+            EventKind::PathReturn => "path_return",
+            EventKind::ContactModelUnavailable => "contact_model_unavailable",
+            EventKind::ThermalFactorClamped => "thermal_factor_clamped",
+        }
+    }
+
+    /// The onsets of the friction checks: a result beyond what the surface can carry.
+    pub fn beyond_friction(self) -> bool {
+        matches!(self, EventKind::TyreForceBeyondFriction | EventKind::AyBeyondFriction)
+    }
+}
+
+impl Serialize for EventKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl std::fmt::Display for EventKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// A manoeuvre's verdict at the end of a run.

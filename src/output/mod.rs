@@ -2,9 +2,9 @@
 //! (created exclusively, so a planted symlink is never followed) and is renamed into place; on any
 //! failure the temporary is removed, so nothing half-written ever carries a final name. Folders
 //! are replaced whole ([`replace`]); SIGINT/SIGTERM are handled in [`signals`]; [`table`] reads
-//! numeric CSV tables back; [`num`] prints numbers with a fixed number of significant digits.
+//! numeric CSV tables back; `num` prints numbers with a fixed number of significant digits.
 
-pub mod num;
+pub(crate) mod num;
 pub mod replace;
 pub mod signals;
 pub mod table;

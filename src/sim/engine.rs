@@ -39,7 +39,7 @@ use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::limit_steer;
 use crate::control::{Pid, PidParams};
-use crate::maneuver::{Event, Maneuver};
+use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::vehicle::{Environment, Inputs, Kinematics, VehicleModel};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
@@ -153,18 +153,6 @@ impl EndReason {
 impl fmt::Display for EndReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.as_str())
-    }
-}
-
-impl PartialEq<str> for EndReason {
-    fn eq(&self, other: &str) -> bool {
-        self.as_str() == other
-    }
-}
-
-impl PartialEq<&str> for EndReason {
-    fn eq(&self, other: &&str) -> bool {
-        self.as_str() == *other
     }
 }
 
@@ -450,13 +438,13 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                     n.iter().zip(names.iter()).filter(|(v, _)| !v.is_finite()).map(|(_, s)| *s).collect();
                 self.events.push(Event {
                     t_s: t_next,
-                    kind: "diverged".into(),
+                    kind: EventKind::Diverged,
                     detail: format!("non-finite state: {}", bad.join(", ")),
                 });
                 return Some(EndReason::Diverged);
             }
             Err(msg) => {
-                self.events.push(Event { t_s: t_next, kind: "diverged".into(), detail: msg });
+                self.events.push(Event { t_s: t_next, kind: EventKind::Diverged, detail: msg });
                 return Some(EndReason::Diverged);
             }
         };
@@ -471,7 +459,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             let frac = if g0 < 0.0 && g1 > g0 { g0 / (g0 - g1) } else { 1.0 };
             self.events.push(Event {
                 t_s: t_next - (1.0 - frac) * self.h,
-                kind: "spin_out".into(),
+                kind: EventKind::SpinOut,
                 detail: format!("sideslip {:.1} deg exceeds 60 deg", kin.sideslip_rad().to_degrees()),
             });
             return Some(EndReason::SpinOut);

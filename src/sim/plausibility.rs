@@ -26,12 +26,12 @@
 
 use std::sync::Arc;
 
-use super::engine::Summary;
+use super::engine::{EndReason, Summary};
 use super::observer::Row;
 use super::watch::MAX_ONSETS;
 use crate::maneuver::iso3888_2;
 use crate::maneuver::steady_state::SteadyState;
-use crate::maneuver::Event;
+use crate::maneuver::{Event, EventKind};
 use crate::spec::maneuver::ManeuverConfig;
 use crate::spec::vehicle::GRAVITY;
 use crate::spec::RunConfig;
@@ -69,10 +69,10 @@ enum Check {
 }
 
 /// Onset and recovery event kinds of each check.
-const CHECKS: [(Check, &str, &str); 3] = [
-    (Check::Force, "tyre_force_beyond_friction", "tyre_force_within_friction"),
-    (Check::LateralAcceleration, "ay_beyond_friction", "ay_within_friction"),
-    (Check::Path, "path_exit", "path_return"),
+const CHECKS: [(Check, EventKind, EventKind); 3] = [
+    (Check::Force, EventKind::TyreForceBeyondFriction, EventKind::TyreForceWithinFriction),
+    (Check::LateralAcceleration, EventKind::AyBeyondFriction, EventKind::AyWithinFriction),
+    (Check::Path, EventKind::PathExit, EventKind::PathReturn),
 ];
 
 /// The worst excess of one check over the run.
@@ -199,7 +199,7 @@ impl Plausibility {
             Check::LateralAcceleration => format!("|a_y| = {value:.2} x mu_eff g (allowed {limit})"),
             Check::Path => format!("CG {value:.2} m from the reference path (tolerance {limit:.2} m)"),
         };
-        self.events.push(Event { t_s, kind: if failing { onset } else { recovery }.into(), detail });
+        self.events.push(Event { t_s, kind: if failing { onset } else { recovery }, detail });
     }
 
     /// The reasons found by the row checks so far.
@@ -237,7 +237,7 @@ impl Plausibility {
     /// were not steady.
     pub fn finish(self, summary: &mut Summary, steady: &[SteadyState]) {
         let mut reasons = self.reasons();
-        if summary.end_reason == "left_path" && self.worst[Check::Path as usize].first_t_s.is_none() {
+        if summary.end_reason == EndReason::LeftPath && self.worst[Check::Path as usize].first_t_s.is_none() {
             reasons.push(format!("left the path: the run ended at t = {:.2} s", summary.end_time_s));
         }
         for s in steady.iter().filter(|s| !s.steady) {
@@ -319,14 +319,14 @@ mod tests {
         }
         let mut s = empty_summary();
         p.finish(&mut s, &[]);
-        let ev: Vec<(String, &str)> = s.events.iter().map(|e| (format!("{:.2}", e.t_s), e.kind.as_str())).collect();
+        let ev: Vec<(String, EventKind)> = s.events.iter().map(|e| (format!("{:.2}", e.t_s), e.kind)).collect();
         assert_eq!(
             ev,
             [
-                ("0.13".to_string(), "tyre_force_beyond_friction"),
-                ("0.20".to_string(), "ay_beyond_friction"),
-                ("0.25".to_string(), "ay_within_friction"),
-                ("0.30".to_string(), "tyre_force_within_friction"),
+                ("0.13".to_string(), EventKind::TyreForceBeyondFriction),
+                ("0.20".to_string(), EventKind::AyBeyondFriction),
+                ("0.25".to_string(), EventKind::AyWithinFriction),
+                ("0.30".to_string(), EventKind::TyreForceWithinFriction),
             ]
         );
         assert!(!s.plausible);
@@ -359,7 +359,7 @@ mod tests {
         }
         let mut s = empty_summary();
         p.finish(&mut s, &[]);
-        assert_eq!((s.events[0].t_s, s.events[0].kind.as_str()), (5.0, "path_exit"));
+        assert_eq!((s.events[0].t_s, s.events[0].kind), (5.0, EventKind::PathExit));
         assert!(s.implausible[0].contains("4.50 m"), "{:?}", s.implausible);
 
         let p = Plausibility::new(linear(true), ENV, Some(2.0));

@@ -13,7 +13,7 @@
 
 use nalgebra::SVector;
 
-use crate::maneuver::Event;
+use crate::maneuver::{Event, EventKind};
 use crate::vehicle::{Condition, Environment, Inputs, VehicleModel};
 
 /// Onsets reported per condition and run before its changes are suppressed.
@@ -25,9 +25,9 @@ pub struct Watch {
     buf: Vec<Condition>,
     active: Vec<bool>,
     onsets: Vec<u32>,
-    notes: Vec<(&'static str, String)>,
+    notes: Vec<(EventKind, String)>,
     /// Note kinds already reported.
-    noted: Vec<&'static str>,
+    noted: Vec<EventKind>,
 }
 
 impl Watch {
@@ -61,7 +61,7 @@ impl Watch {
                 if self.onsets[i] > MAX_ONSETS {
                     events.push(Event {
                         t_s,
-                        kind: "events_suppressed".into(),
+                        kind: EventKind::EventsSuppressed,
                         detail: format!(
                             "{}: {} reported {MAX_ONSETS} times; its further onsets and recoveries are not reported",
                             c.subject, c.onset
@@ -71,13 +71,13 @@ impl Watch {
                 }
             }
             let kind = if c.active { c.onset } else { c.recovery };
-            events.push(Event { t_s, kind: kind.into(), detail: c.detail() });
+            events.push(Event { t_s, kind, detail: c.detail() });
         }
         model.notes(x, u, env, &mut self.notes);
         for (kind, detail) in self.notes.drain(..) {
             if !self.noted.contains(&kind) {
                 self.noted.push(kind);
-                events.push(Event { t_s, kind: kind.into(), detail });
+                events.push(Event { t_s, kind, detail });
             }
         }
     }
@@ -115,8 +115,8 @@ mod tests {
         fn tyre_contacts(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, _out: &mut [TyreContact]) {}
         fn conditions(&self, x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, out: &mut Vec<Condition>) {
             out.push(Condition {
-                onset: "below",
-                recovery: "above",
+                onset: EventKind::WheelLift,
+                recovery: EventKind::WheelContact,
                 subject: "s",
                 quantity: "value",
                 value: x[0],
@@ -138,8 +138,8 @@ mod tests {
             w.check(&Toy, &SVector::<f64, 1>::new(s), &u, &env, k as f64, &mut ev);
         }
         assert_eq!(ev.len(), 2, "{ev:?}");
-        assert_eq!((ev[0].t_s, ev[0].kind.as_str(), ev[0].detail.as_str()), (10.0, "below", "s: value -1.0 m"));
-        assert_eq!((ev[1].t_s, ev[1].kind.as_str()), (50.0, "above"));
+        assert_eq!((ev[0].t_s, ev[0].kind, ev[0].detail.as_str()), (10.0, EventKind::WheelLift, "s: value -1.0 m"));
+        assert_eq!((ev[1].t_s, ev[1].kind), (50.0, EventKind::WheelContact));
 
         let mut w = Watch::default();
         let mut ev = Vec::new();
@@ -147,9 +147,9 @@ mod tests {
             let s = if k % 2 == 0 { -1.0 } else { 1.0 };
             w.check(&Toy, &SVector::<f64, 1>::new(s), &u, &env, k as f64, &mut ev);
         }
-        let onsets = ev.iter().filter(|e| e.kind == "below").count();
+        let onsets = ev.iter().filter(|e| e.kind == EventKind::WheelLift).count();
         assert_eq!(onsets, MAX_ONSETS as usize);
-        assert_eq!(ev.iter().filter(|e| e.kind == "events_suppressed").count(), 1);
+        assert_eq!(ev.iter().filter(|e| e.kind == EventKind::EventsSuppressed).count(), 1);
         assert_eq!(ev.len(), 2 * MAX_ONSETS as usize + 1, "{ev:?}");
     }
 }

@@ -223,8 +223,119 @@ pub enum ManeuverSpec {
     ConstantRadius(ConstantRadiusSpec),
 }
 
-/// The manoeuvre kinds accepted in `[maneuver] kind`.
-pub const MANEUVER_KINDS: &[&str] = &["iso3888_2", "sine_steer", "step_steer", "straight", "constant_radius"];
+/// The allowed ranges of the manoeuvre file's numeric keys, each declared once (README's
+/// "Manoeuvre" table gives the same; `tests/spec_bounds.rs` holds the two together).
+pub mod bounds {
+    use crate::error::Bound;
+
+    pub const MU: Bound = Bound::left_open("surface.mu", 0.0, 2.0, "");
+    pub const TEMPERATURE_C: Bound = Bound::closed("surface.temperature_c", -60.0, 40.0, "degC");
+    pub const PREVIEW_TIME_S: Bound = Bound::closed("driver.preview_time_s", 0.0, 5.0, "s");
+    pub const PREVIEW_MIN_M: Bound = Bound::closed("driver.preview_min_m", 0.5, 100.0, "m");
+    pub const GAIN: Bound = Bound::closed("driver.gain", 0.0, 5.0, "");
+    pub const STEP_S: Bound = Bound::left_open("integrator.step_s", 0.0, 0.05, "s");
+    pub const CONTROL_PERIOD_S: Bound = Bound::left_open("integrator.control_period_s", 0.0, 1.0, "s");
+    pub const RTOL: Bound = Bound::open("integrator.rtol", 0.0, 1.0, "");
+    pub const ATOL: Bound = Bound::open("integrator.atol", 0.0, 1.0, "");
+    pub const INTERVAL_S: Bound = Bound::left_open("output.interval_s", 0.0, 10.0, "s");
+    pub const DURATION_S: Bound = Bound::left_open("duration_s", 0.0, 3600.0, "s");
+    pub const SPEED_MPS: Bound = Bound::left_open("maneuver.speed_mps", 0.0, 100.0, "m/s");
+    pub const STEER_AMPLITUDE_DEG: Bound = Bound::closed("maneuver.steer_amplitude_deg", -60.0, 60.0, "deg");
+    pub const APPROACH_M: Bound = Bound::closed("maneuver.approach_m", 5.0, 1000.0, "m");
+    pub const EXIT_M: Bound = Bound::closed("maneuver.exit_m", 0.0, 1000.0, "m");
+    pub const LANE5_MIN_WIDTH_M: Bound = Bound::closed("maneuver.lane5_min_width_m", 0.0, 10.0, "m");
+    pub const CLEARANCE_M: Bound = Bound::closed("maneuver.clearance_m", 0.0, 0.5, "m");
+    pub const PERIOD_S: Bound = Bound::closed("maneuver.period_s", 0.05, 1000.0, "s");
+    pub const START_S: Bound = Bound::closed("maneuver.start_s", 0.0, 3600.0, "s");
+    pub const RAMP_S: Bound = Bound::closed("maneuver.ramp_s", 0.0, 100.0, "s");
+    pub const RADIUS_M: Bound = Bound::left_open("maneuver.radius_m", 0.0, 10_000.0, "m");
+    pub const SETTLE_S: Bound = Bound::closed("maneuver.settle_s", 0.0, 3600.0, "s");
+    pub const WINDOW_S: Bound = Bound::left_open("maneuver.window_s", 0.0, 3600.0, "s");
+    pub const SPEED_RAMP_MPS2: Bound = Bound::left_open("maneuver.speed_ramp_mps2", 0.0, 20.0, "m/s^2");
+    pub const AY_FIRST_MPS2: Bound = Bound::left_open("maneuver.ay_first_mps2", 0.0, 20.0, "m/s^2");
+
+    /// Every bound above.
+    pub const ALL: [Bound; 25] = [
+        MU,
+        TEMPERATURE_C,
+        PREVIEW_TIME_S,
+        PREVIEW_MIN_M,
+        GAIN,
+        STEP_S,
+        CONTROL_PERIOD_S,
+        RTOL,
+        ATOL,
+        INTERVAL_S,
+        DURATION_S,
+        SPEED_MPS,
+        STEER_AMPLITUDE_DEG,
+        APPROACH_M,
+        EXIT_M,
+        LANE5_MIN_WIDTH_M,
+        CLEARANCE_M,
+        PERIOD_S,
+        START_S,
+        RAMP_S,
+        RADIUS_M,
+        SETTLE_S,
+        WINDOW_S,
+        SPEED_RAMP_MPS2,
+        AY_FIRST_MPS2,
+    ];
+}
+
+/// The manoeuvre kinds of `[maneuver] kind`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ManeuverKind {
+    /// ISO 3888-2 severe lane change.
+    Iso3888_2,
+    /// Open loop: sinusoidal steer.
+    SineSteer,
+    /// Open loop: a (ramped) steer step.
+    StepSteer,
+    /// Open loop: straight ahead on a speed schedule.
+    Straight,
+    /// ISO 4138 constant radius.
+    ConstantRadius,
+}
+
+impl ManeuverKind {
+    /// Every kind, in declaration order.
+    pub const ALL: &'static [ManeuverKind] = &[
+        ManeuverKind::Iso3888_2,
+        ManeuverKind::SineSteer,
+        ManeuverKind::StepSteer,
+        ManeuverKind::Straight,
+        ManeuverKind::ConstantRadius,
+    ];
+
+    /// The name used in spec files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ManeuverKind::Iso3888_2 => "iso3888_2",
+            ManeuverKind::SineSteer => "sine_steer",
+            ManeuverKind::StepSteer => "step_steer",
+            ManeuverKind::Straight => "straight",
+            ManeuverKind::ConstantRadius => "constant_radius",
+        }
+    }
+
+    /// The kind named `name`, if any.
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.iter().copied().find(|k| k.as_str() == name)
+    }
+
+    /// Every name, comma-separated (for messages).
+    pub fn allowed() -> String {
+        Self::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+impl std::fmt::Display for ManeuverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
 
 /// Which vehicle model a run uses (top-level `vehicle_model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -237,6 +348,8 @@ pub enum VehicleModelKind {
 
 impl VehicleModelKind {
     pub const ALLOWED: &'static [&'static str] = &["bicycle", "roll4dof"];
+    /// Every model, in the order of [`Self::ALLOWED`].
+    pub const ALL: &'static [VehicleModelKind] = &[VehicleModelKind::Bicycle, VehicleModelKind::Roll4Dof];
 
     pub fn as_str(self) -> &'static str {
         match self {
@@ -254,11 +367,7 @@ impl ManeuverSpec {
             Some(toml::Value::String(k)) => k.clone(),
             Some(_) => return Err(Error::key(path, "maneuver.kind", "expected a string")),
             None => {
-                return Err(Error::key(
-                    path,
-                    "maneuver.kind",
-                    format!("missing; allowed: {}", MANEUVER_KINDS.join(", ")),
-                ))
+                return Err(Error::key(path, "maneuver.kind", format!("missing; allowed: {}", ManeuverKind::allowed())))
             }
         };
         let mut rest = table.clone();
@@ -272,17 +381,17 @@ impl ManeuverSpec {
                 Error::key(path, &key, msg.lines().next().unwrap_or_default())
             })
         }
-        Ok(match kind.as_str() {
-            "iso3888_2" => ManeuverSpec::Iso3888_2(parse(path, rest)?),
-            "sine_steer" => ManeuverSpec::SineSteer(parse(path, rest)?),
-            "step_steer" => ManeuverSpec::StepSteer(parse(path, rest)?),
-            "straight" => ManeuverSpec::Straight(parse(path, rest)?),
-            "constant_radius" => ManeuverSpec::ConstantRadius(parse(path, rest)?),
-            other => {
+        Ok(match ManeuverKind::parse(&kind) {
+            Some(ManeuverKind::Iso3888_2) => ManeuverSpec::Iso3888_2(parse(path, rest)?),
+            Some(ManeuverKind::SineSteer) => ManeuverSpec::SineSteer(parse(path, rest)?),
+            Some(ManeuverKind::StepSteer) => ManeuverSpec::StepSteer(parse(path, rest)?),
+            Some(ManeuverKind::Straight) => ManeuverSpec::Straight(parse(path, rest)?),
+            Some(ManeuverKind::ConstantRadius) => ManeuverSpec::ConstantRadius(parse(path, rest)?),
+            None => {
                 return Err(Error::key(
                     path,
                     "maneuver.kind",
-                    format!("unknown kind '{other}'; allowed: {}", MANEUVER_KINDS.join(", ")),
+                    format!("unknown kind '{kind}'; allowed: {}", ManeuverKind::allowed()),
                 ))
             }
         })
@@ -447,7 +556,7 @@ pub struct RunConfig {
     pub vehicle_model: VehicleModelKind,
     pub env: Environment,
     pub maneuver: ManeuverConfig,
-    pub kind: &'static str,
+    pub kind: ManeuverKind,
     pub pid: PidParams,
     pub driver: DriverParams,
     pub settings: SimSettings,
@@ -502,32 +611,22 @@ impl ManeuverFile {
         }
         let tyre_model: TyreModelKind =
             self.tyre_model.parse().map_err(|e: String| Error::key(path, "tyre_model", e))?;
-        c.require(
-            "surface.mu",
-            self.surface.mu,
-            self.surface.mu > 0.0 && self.surface.mu <= 2.0,
-            "expected 0 < mu <= 2",
-        )?;
-        c.range("surface.temperature_c", self.surface.temperature_c, -60.0, 40.0)?;
+        c.bound(&bounds::MU, self.surface.mu)?;
+        c.bound(&bounds::TEMPERATURE_C, self.surface.temperature_c)?;
         let p = &self.speed_control;
         c.non_negative("speed_control.kp", p.kp)?;
         c.non_negative("speed_control.ki", p.ki)?;
         c.non_negative("speed_control.kd", p.kd)?;
         let d = &self.driver;
-        c.range("driver.preview_time_s", d.preview_time_s, 0.0, 5.0)?;
-        c.range("driver.preview_min_m", d.preview_min_m, 0.5, 100.0)?;
-        c.range("driver.gain", d.gain, 0.0, 5.0)?;
+        c.bound(&bounds::PREVIEW_TIME_S, d.preview_time_s)?;
+        c.bound(&bounds::PREVIEW_MIN_M, d.preview_min_m)?;
+        c.bound(&bounds::GAIN, d.gain)?;
         let i = &self.integrator;
         if let Some(h) = i.step_s {
-            c.require("integrator.step_s", h, h > 0.0 && h <= 0.05, "expected 0 < step_s <= 0.05 (s)")?;
+            c.bound(&bounds::STEP_S, h)?;
         }
         if let Some(cp) = i.control_period_s {
-            c.require(
-                "integrator.control_period_s",
-                cp,
-                cp > 0.0 && cp <= 1.0,
-                "expected 0 < control_period_s <= 1 (s)",
-            )?;
+            c.bound(&bounds::CONTROL_PERIOD_S, cp)?;
             if let Some(h) = i.step_s {
                 let m = (cp / h).round();
                 c.require(
@@ -538,17 +637,12 @@ impl ManeuverFile {
                 )?;
             }
         }
+        let tolerances =
+            || -> Result<(f64, f64)> { Ok((c.bound(&bounds::RTOL, i.rtol)?, c.bound(&bounds::ATOL, i.atol)?)) };
         let method = match i.method.as_str() {
             "rk4" => Method::Rk4,
-            "dopri5" | "dop853" => {
-                c.require("integrator.rtol", i.rtol, i.rtol > 0.0 && i.rtol < 1.0, "expected 0 < rtol < 1")?;
-                c.require("integrator.atol", i.atol, i.atol > 0.0 && i.atol < 1.0, "expected 0 < atol < 1")?;
-                if i.method == "dopri5" {
-                    Method::Dopri5 { rtol: i.rtol, atol: i.atol }
-                } else {
-                    Method::Dop853 { rtol: i.rtol, atol: i.atol }
-                }
-            }
+            "dopri5" => tolerances().map(|(rtol, atol)| Method::Dopri5 { rtol, atol })?,
+            "dop853" => tolerances().map(|(rtol, atol)| Method::Dop853 { rtol, atol })?,
             other => {
                 return Err(Error::key(
                     path,
@@ -557,30 +651,24 @@ impl ManeuverFile {
                 ))
             }
         };
-        c.require(
-            "output.interval_s",
-            self.output.interval_s,
-            self.output.interval_s > 0.0 && self.output.interval_s <= 10.0,
-            "expected 0 < interval_s <= 10 (s)",
-        )?;
+        c.bound(&bounds::INTERVAL_S, self.output.interval_s)?;
         let (maneuver, kind, default_duration) = self.build_maneuver(&c)?;
         let duration_s = match self.duration_s {
-            Some(v) => c.require("duration_s", v, v > 0.0 && v <= 3600.0, "expected 0 < duration_s <= 3600 (s)")?,
+            Some(v) => c.bound(&bounds::DURATION_S, v)?,
             None => default_duration
                 .ok_or_else(|| Error::key(path, "duration_s", "required for this manoeuvre kind (s)"))?,
         };
         // Validate the contact table now (builds and caches the ATIIM flash table once).
         self.contact.build(path, 4, self.surface.temperature_c)?;
         let vehicle_model = match self.vehicle_model.as_deref() {
-            None | Some("bicycle") => VehicleModelKind::Bicycle,
-            Some("roll4dof") => VehicleModelKind::Roll4Dof,
-            Some(other) => {
-                return Err(Error::key(
+            None => VehicleModelKind::Bicycle,
+            Some(name) => VehicleModelKind::ALL.iter().copied().find(|k| k.as_str() == name).ok_or_else(|| {
+                Error::key(
                     path,
                     "vehicle_model",
-                    format!("unknown vehicle model '{other}'; allowed: {}", VehicleModelKind::ALLOWED.join(", ")),
-                ))
-            }
+                    format!("unknown vehicle model '{name}'; allowed: {}", VehicleModelKind::ALLOWED.join(", ")),
+                )
+            })?,
         };
         let vehicle_file = resolve(path, &self.vehicle);
         let key = (vehicle_file.clone(), tyre_model);
@@ -601,6 +689,17 @@ impl ManeuverFile {
                 format!(
                     "'roll4dof' needs a [roll] section in the vehicle file {}, which has none (or use 'bicycle')",
                     vehicle_file.display()
+                ),
+            ));
+        }
+        if let (VehicleModelKind::Roll4Dof, Some(key)) = (vehicle_model, vehicle.lateral.first_active_key()) {
+            return Err(Error::key(
+                &vehicle_file,
+                key,
+                format!(
+                    "the 4-DOF model (vehicle_model = \"roll4dof\" in {}) does not model [lateral]; remove the \
+                     section or use the bicycle model",
+                    path.display()
                 ),
             ));
         }
@@ -698,10 +797,9 @@ impl ManeuverFile {
         }
     }
 
-    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, &'static str, Option<f64>)> {
-        let speed =
-            |v: f64| c.require("maneuver.speed_mps", v, v > 0.0 && v <= 100.0, "expected 0 < speed_mps <= 100 (m/s)");
-        let steer = |v: f64| c.range("maneuver.steer_amplitude_deg", v, -60.0, 60.0);
+    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, ManeuverKind, Option<f64>)> {
+        let speed = |v: f64| c.bound(&bounds::SPEED_MPS, v);
+        let steer = |v: f64| c.bound(&bounds::STEER_AMPLITUDE_DEG, v);
         Ok(match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
             ManeuverSpec::Iso3888_2(Iso3888_2Spec {
                 speed_mps,
@@ -712,15 +810,14 @@ impl ManeuverFile {
                 clearance_m,
             }) => {
                 let v = speed(*speed_mps)?;
-                c.range("maneuver.approach_m", *approach_m, 5.0, 1000.0)?;
-                c.range("maneuver.exit_m", *exit_m, 0.0, 1000.0)?;
-                c.range("maneuver.lane5_min_width_m", *lane5_min_width_m, 0.0, 10.0)?;
-                c.range("maneuver.clearance_m", *clearance_m, 0.0, 0.5)?;
+                c.bound(&bounds::APPROACH_M, *approach_m)?;
+                c.bound(&bounds::EXIT_M, *exit_m)?;
+                c.bound(&bounds::LANE5_MIN_WIDTH_M, *lane5_min_width_m)?;
+                c.bound(&bounds::CLEARANCE_M, *clearance_m)?;
                 let mode = match speed_mode {
                     SpeedModeSpec::Hold => SpeedMode::Hold,
                     SpeedModeSpec::Coast => SpeedMode::Coast,
                 };
-                let dist = approach_m + 61.0 + exit_m;
                 let params = Iso3888_2Params {
                     speed_mps: v,
                     mode,
@@ -729,24 +826,29 @@ impl ManeuverFile {
                     lane5_min_width_m: *lane5_min_width_m,
                     clearance_m: *clearance_m,
                 };
-                (ManeuverConfig::Iso3888_2(params), "iso3888_2", Some(2.0 * dist / v + 5.0))
+                // Twice the time of the run's length at the entry speed, plus 5 s.
+                (
+                    ManeuverConfig::Iso3888_2(params),
+                    ManeuverKind::Iso3888_2,
+                    Some(2.0 * params.run_length_m() / v + 5.0),
+                )
             }
             ManeuverSpec::SineSteer(SineSteerSpec { speed_mps, steer_amplitude_deg, period_s, start_s }) => {
                 let v = speed(*speed_mps)?;
                 let a = steer(*steer_amplitude_deg)?;
-                c.range("maneuver.period_s", *period_s, 0.05, 1000.0)?;
-                c.range("maneuver.start_s", *start_s, 0.0, 3600.0)?;
+                c.bound(&bounds::PERIOD_S, *period_s)?;
+                c.bound(&bounds::START_S, *start_s)?;
                 let steer =
                     SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: *period_s, start_s: *start_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "sine_steer", None)
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::SineSteer, None)
             }
             ManeuverSpec::StepSteer(StepSteerSpec { speed_mps, steer_amplitude_deg, start_s, ramp_s }) => {
                 let v = speed(*speed_mps)?;
                 let a = steer(*steer_amplitude_deg)?;
-                c.range("maneuver.start_s", *start_s, 0.0, 3600.0)?;
-                c.range("maneuver.ramp_s", *ramp_s, 0.0, 100.0)?;
+                c.bound(&bounds::START_S, *start_s)?;
+                c.bound(&bounds::RAMP_S, *ramp_s)?;
                 let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: *start_s, ramp_s: *ramp_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, "step_steer", None)
+                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::StepSteer, None)
             }
             ManeuverSpec::Straight(StraightSpec { speed_schedule }) => {
                 if speed_schedule.is_empty() {
@@ -769,28 +871,13 @@ impl ManeuverFile {
                     prev = *t;
                 }
                 let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
-                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, "straight", None)
+                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, ManeuverKind::Straight, None)
             }
             ManeuverSpec::ConstantRadius(s) => {
-                let r = c.require(
-                    "maneuver.radius_m",
-                    s.radius_m,
-                    s.radius_m > 0.0 && s.radius_m <= 10_000.0,
-                    "expected 0 < radius_m <= 10000 (m)",
-                )?;
-                c.range("maneuver.settle_s", s.settle_s, 0.0, 3600.0)?;
-                c.require(
-                    "maneuver.window_s",
-                    s.window_s,
-                    s.window_s > 0.0 && s.window_s <= 3600.0,
-                    "expected 0 < window_s <= 3600 (s)",
-                )?;
-                c.require(
-                    "maneuver.speed_ramp_mps2",
-                    s.speed_ramp_mps2,
-                    s.speed_ramp_mps2 > 0.0 && s.speed_ramp_mps2 <= 20.0,
-                    "expected 0 < speed_ramp_mps2 <= 20 (m/s^2)",
-                )?;
+                let r = c.bound(&bounds::RADIUS_M, s.radius_m)?;
+                c.bound(&bounds::SETTLE_S, s.settle_s)?;
+                c.bound(&bounds::WINDOW_S, s.window_s)?;
+                c.bound(&bounds::SPEED_RAMP_MPS2, s.speed_ramp_mps2)?;
                 let not_for = |key: &str, mode: &str| {
                     Error::key(
                         c.file,
@@ -826,12 +913,7 @@ impl ManeuverFile {
                             "expected 0 < ay_step_mps2 <= 0.5 (m/s^2; ISO 4138 steps)",
                         )?;
                         let first = s.ay_first_mps2.unwrap_or(step);
-                        c.require(
-                            "maneuver.ay_first_mps2",
-                            first,
-                            first > 0.0 && first <= 20.0,
-                            "expected 0 < ay_first_mps2 <= 20 (m/s^2)",
-                        )?;
+                        c.bound(&bounds::AY_FIRST_MPS2, first)?;
                         let max = s.ay_max_mps2.ok_or_else(|| {
                             Error::key(c.file, "maneuver.ay_max_mps2", "required with speed_mode = \"steps\" (m/s^2)")
                         })?;
@@ -874,7 +956,7 @@ impl ManeuverFile {
                 };
                 let total = params.total_s();
                 c.require("maneuver.window_s", s.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
-                (ManeuverConfig::ConstantRadius(params), "constant_radius", Some(total + 0.5))
+                (ManeuverConfig::ConstantRadius(params), ManeuverKind::ConstantRadius, Some(total + 0.5))
             }
         })
     }

@@ -73,14 +73,15 @@ pub struct VehicleFile {
     /// model ignores it, the 4-DOF model requires it).
     #[serde(default)]
     pub roll: Option<RollSection>,
-    /// Lateral extensions found by `vehsim discover` (optional; bicycle model only; the defaults
-    /// leave the model unchanged).
+    /// Lateral extensions found by `vehsim discover` (optional; bicycle model only, a 4-DOF run
+    /// refuses them; the defaults leave the model unchanged).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral: Option<LateralSection>,
 }
 
 /// Raw `[lateral]` section: optional extensions of the bicycle model's lateral behaviour, as
-/// fitted by `vehsim discover` (docs/discover.md). Ignored by the 4-DOF model.
+/// fitted by `vehsim discover` (docs/discover.md). The 4-DOF model has none of them: a 4-DOF run
+/// refuses a vehicle that switches one on.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LateralSection {
@@ -112,6 +113,23 @@ fn one() -> f64 {
     1.0
 }
 
+/// The allowed ranges of the `[lateral]` keys, each declared once (README's vehicle section lists
+/// the same; `tests/spec_bounds.rs` holds the two together).
+pub mod lateral_bounds {
+    use crate::error::Bound;
+
+    pub const STEER_COMPLIANCE: Bound = Bound::closed("lateral.steer_compliance_rad_per_kn", 0.0, 0.1, "rad/kN");
+    pub const MU_SCALE: Bound = Bound::closed("lateral.mu_scale", 0.05, 3.0, "");
+    pub const STEER_LAG: Bound = Bound::closed("lateral.steer_lag_s", 0.0, 2.0, "s");
+    pub const RELAXATION_LENGTH: Bound = Bound::closed("lateral.relaxation_length_y_m", 0.0, 10.0, "m");
+    pub const LOAD_TRANSFER_HEIGHT: Bound = Bound::closed("lateral.load_transfer_height_m", 0.0, 2.0, "m");
+    pub const THERMAL_MU: Bound = Bound::closed("lateral.thermal_mu_per_k", -2.0, 0.0, "1/K");
+
+    /// Every bound above, in the order of [`super::Lateral::values`].
+    pub const ALL: [Bound; 6] =
+        [STEER_COMPLIANCE, MU_SCALE, STEER_LAG, RELAXATION_LENGTH, LOAD_TRANSFER_HEIGHT, THERMAL_MU];
+}
+
 /// Validated lateral extensions (see [`LateralSection`]); the default changes nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lateral {
@@ -127,6 +145,26 @@ pub struct Lateral {
     pub load_transfer_height_m: f64,
     /// Friction change per kelvin of contact-temperature rise, 1/K.
     pub thermal_mu_per_k: f64,
+}
+
+impl Lateral {
+    /// The values in the order of [`lateral_bounds::ALL`].
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.steer_compliance_rad_per_kn,
+            self.mu_scale,
+            self.steer_lag_s,
+            self.relaxation_length_y_m,
+            self.load_transfer_height_m,
+            self.thermal_mu_per_k,
+        ]
+    }
+
+    /// The key (e.g. `lateral.steer_lag_s`) of the first extension switched on, if any.
+    pub fn first_active_key(&self) -> Option<&'static str> {
+        let off = Lateral::default().values();
+        lateral_bounds::ALL.iter().zip(self.values().iter().zip(off)).find(|(_, (v, d))| **v != *d).map(|(b, _)| b.key)
+    }
 }
 
 impl Default for Lateral {
@@ -342,24 +380,17 @@ impl VehicleFile {
             None => None,
         };
         let lateral = match &self.lateral {
-            Some(l) => Lateral {
-                steer_compliance_rad_per_kn: c.range(
-                    "lateral.steer_compliance_rad_per_kn",
-                    l.steer_compliance_rad_per_kn,
-                    0.0,
-                    0.1,
-                )?,
-                mu_scale: c.range("lateral.mu_scale", l.mu_scale, 0.05, 3.0)?,
-                steer_lag_s: c.range("lateral.steer_lag_s", l.steer_lag_s, 0.0, 2.0)?,
-                relaxation_length_y_m: c.range("lateral.relaxation_length_y_m", l.relaxation_length_y_m, 0.0, 10.0)?,
-                load_transfer_height_m: c.range(
-                    "lateral.load_transfer_height_m",
-                    l.load_transfer_height_m,
-                    0.0,
-                    2.0,
-                )?,
-                thermal_mu_per_k: c.range("lateral.thermal_mu_per_k", l.thermal_mu_per_k, -2.0, 0.0)?,
-            },
+            Some(l) => {
+                use lateral_bounds as b;
+                Lateral {
+                    steer_compliance_rad_per_kn: c.bound(&b::STEER_COMPLIANCE, l.steer_compliance_rad_per_kn)?,
+                    mu_scale: c.bound(&b::MU_SCALE, l.mu_scale)?,
+                    steer_lag_s: c.bound(&b::STEER_LAG, l.steer_lag_s)?,
+                    relaxation_length_y_m: c.bound(&b::RELAXATION_LENGTH, l.relaxation_length_y_m)?,
+                    load_transfer_height_m: c.bound(&b::LOAD_TRANSFER_HEIGHT, l.load_transfer_height_m)?,
+                    thermal_mu_per_k: c.bound(&b::THERMAL_MU, l.thermal_mu_per_k)?,
+                }
+            }
             None => Lateral::default(),
         };
         Ok(Vehicle {

@@ -38,6 +38,7 @@
 
 use super::combine::{positive, powf_memo};
 use super::{TyreForces, TyreInput, TyreModel};
+use crate::maneuver::EventKind;
 
 /// Dugoff parameters, validated.
 #[derive(Debug, Clone, PartialEq)]
@@ -200,7 +201,7 @@ impl TyreModel for DugoffThermalTyre {
     }
 
     /// `thermal_factor_clamped` where the published H is negative and there is an Fx to reverse.
-    fn departure(&self, i: &TyreInput) -> Option<(&'static str, String)> {
+    fn departure(&self, i: &TyreInput) -> Option<(EventKind, String)> {
         let (_, h) = self.h_used(i);
         let reverses = h < 0.0; // false for a NaN H
         if !reverses || self.base.dugoff(i).0 == 0.0 {
@@ -208,7 +209,7 @@ impl TyreModel for DugoffThermalTyre {
         }
         let (dt, kappa) = (i.delta_t_k(), i.kappa);
         Some((
-            "thermal_factor_clamped",
+            EventKind::ThermalFactorClamped,
             format!(
                 "dugoff_thermal: the published H ({h:.3e}) would reverse Fx (Delta-T {dt:.2} K, kappa {kappa:.3}); H is clamped to [0, 1]"
             ),

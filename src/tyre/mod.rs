@@ -153,7 +153,7 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// [`Self::forces`]; the vehicle models ask it per tyre at every step and the engine reports
     /// each kind once per run, at the first step it holds ([`crate::vehicle::VehicleModel::notes`]).
     /// It does not change any force. Default: none.
-    fn departure(&self, _i: &TyreInput) -> Option<(&'static str, String)> {
+    fn departure(&self, _i: &TyreInput) -> Option<(crate::maneuver::EventKind, String)> {
         None
     }
 }

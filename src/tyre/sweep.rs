@@ -319,3 +319,10 @@ fn chart(
         series,
     }
 }
+
+/// `vehsim tyre`: run the spec and print where its results went.
+pub(crate) fn cli_tyre(spec: &Path, out_root: &Path) -> Result<std::process::ExitCode> {
+    let dir = run_tyre_command(spec, out_root)?;
+    println!("{} -> {}", spec.display(), dir.display());
+    Ok(std::process::ExitCode::SUCCESS)
+}

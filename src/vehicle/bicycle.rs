@@ -383,7 +383,13 @@ impl VehicleModel<N> for Bicycle {
     }
 
     /// The tyres' departures from their published laws, per axle and side.
-    fn notes(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut Vec<(&'static str, String)>) {
+    fn notes(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        out: &mut Vec<(crate::maneuver::EventKind, String)>,
+    ) {
         let tyre = &self.vehicle.tyre;
         if !tyre.model.reports_departures() {
             return;

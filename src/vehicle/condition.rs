@@ -6,14 +6,16 @@
 //! (with its unit). The engine ([`crate::sim::watch`]) turns the changes into events; the model
 //! only evaluates the state.
 
+use crate::maneuver::EventKind;
+
 /// One watched condition of a state, as reported by
 /// [`VehicleModel::conditions`](super::VehicleModel::conditions).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Condition {
     /// Event kind when the condition starts to hold (e.g. `wheel_lift`).
-    pub onset: &'static str,
+    pub onset: EventKind,
     /// Event kind when it stops holding (e.g. `wheel_contact`).
-    pub recovery: &'static str,
+    pub recovery: EventKind,
     /// What it concerns, e.g. `front-left wheel`.
     pub subject: &'static str,
     /// Name of the deciding quantity, e.g. `normal load before clamping`.

@@ -165,7 +165,14 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// departures from their published laws ([`crate::tyre::TyreModel::departure`]), with the
     /// tyre named in the detail. The engine reports each kind once per run, at the first state
     /// that shows it (step resolution). Default: none.
-    fn notes(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<(&'static str, String)>) {}
+    fn notes(
+        &self,
+        _x: &SVector<f64, N>,
+        _u: &Inputs,
+        _env: &Environment,
+        _out: &mut Vec<(crate::maneuver::EventKind, String)>,
+    ) {
+    }
 
     /// The stiff wheel-spin / transient-slip pairs, (omega index, relaxed-slip index) per wheel or
     /// axle, and d(dkappa/dt)/d(omega) = R_e / sigma (see [`wheel`]); the engine's exponential RK4

@@ -62,6 +62,7 @@ use super::wheel::{
 };
 use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
+use crate::maneuver::EventKind;
 use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
 use crate::tyre::{TyreForces, TyreInput};
 
@@ -419,8 +420,8 @@ impl VehicleModel<N> for Roll4Dof {
         let (axle, wheel) = self.unclamped_loads(x);
         for (i, &fz) in wheel.iter().enumerate() {
             out.push(Condition {
-                onset: "wheel_lift",
-                recovery: "wheel_contact",
+                onset: EventKind::WheelLift,
+                recovery: EventKind::WheelContact,
                 subject: WHEEL_SUBJECTS[i],
                 quantity: "normal load before clamping",
                 value: fz,
@@ -431,8 +432,8 @@ impl VehicleModel<N> for Roll4Dof {
         }
         for (i, &fz) in axle.iter().enumerate() {
             out.push(Condition {
-                onset: "negative_normal_load",
-                recovery: "normal_load_restored",
+                onset: EventKind::NegativeNormalLoad,
+                recovery: EventKind::NormalLoadRestored,
                 subject: AXLE_SUBJECTS[i],
                 quantity: "axle load from longitudinal transfer before clamping",
                 value: fz,
@@ -443,7 +444,13 @@ impl VehicleModel<N> for Roll4Dof {
     }
 
     /// The tyres' departures from their published laws, per wheel.
-    fn notes(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut Vec<(&'static str, String)>) {
+    fn notes(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        out: &mut Vec<(crate::maneuver::EventKind, String)>,
+    ) {
         let tyre = &self.vehicle.tyre;
         if !tyre.model.reports_departures() {
             return;
