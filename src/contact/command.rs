@@ -13,7 +13,7 @@ use super::model::{drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinemat
 use super::spec::{Scenario, ScenarioSpec};
 use crate::error::{Error, Result};
 use crate::output::{write_atomic, Staged};
-use crate::plot::{heat_map, line_chart, HeatMap, LineChart, Series};
+use crate::plot::{heat_map, xy_chart, HeatMap, LineStyle, Series, XyChart};
 
 /// Kinematics of a scenario: travel speed, slip ratio, slip angle, ice temperature.
 pub fn operating(sc: &Scenario) -> Kinematics {
@@ -36,6 +36,20 @@ fn csv_grid(values: &[f64], cols: usize, digits: usize) -> String {
 
 fn nested(values: &[f64], cols: usize) -> Vec<Vec<f64>> {
     values.chunks(cols.max(1)).map(|r| r.to_vec()).collect()
+}
+
+/// Slip ratios every 0.005 from the smallest to the largest of `listed`, with the listed ones
+/// included, ascending and without repeats (what the drawbar chart draws).
+fn fine_slips(listed: &[f64]) -> Vec<f64> {
+    let (lo, hi) = listed.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &k| (a.min(k), b.max(k)));
+    let mut out: Vec<f64> = listed.to_vec();
+    if lo.is_finite() && hi.is_finite() {
+        let n = ((hi - lo) / 0.005).ceil() as usize;
+        out.extend((0..=n).map(|j| (lo + j as f64 * 0.005).min(hi)));
+    }
+    out.sort_by(f64::total_cmp);
+    out.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    out
 }
 
 /// Run the scenario in `spec` and write results into `out_root/<name>/`; returns that folder.
@@ -65,20 +79,33 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         );
     }
     write_atomic(&dir.join("drawbar.csv"), csv.as_bytes())?;
-    line_chart(
+    // The chart draws the curve sampled every 0.5 % of slip over the listed range (a patch solve is
+    // about a millisecond), with the listed slips of drawbar.csv as markers on it.
+    let fine = fine_slips(&sc.drawbar_slips);
+    let fine_curve = drawbar_curve(&sc.grid, &sc.params, sc.drawbar_speed_mps, sc.slip_angle_rad, sc.ice_temp_c, &fine);
+    let mut series = vec![Series {
+        label: "ATIIM (sum of tau dA / Fz)".into(),
+        points: fine_curve.iter().map(|(k, s)| (k * 100.0, s.drawbar_coeff)).collect(),
+    }];
+    let mut styles = vec![LineStyle::default()];
+    // Markers only where they stand apart (a dense list is the curve itself).
+    if curve.len() <= 20 {
+        series.push(Series {
+            label: "listed slips (drawbar.csv)".into(),
+            points: curve.iter().map(|(k, s)| (k * 100.0, s.drawbar_coeff)).collect(),
+        });
+        styles.push(LineStyle { points_only: true, ..LineStyle::default() });
+    }
+    xy_chart(
         &dir.join("drawbar"),
-        &LineChart {
-            title: format!(
-                "{}: drawbar pull vs slip at {:.1} m/s, ice {:.0} °C",
-                sc.name, sc.drawbar_speed_mps, sc.ice_temp_c
-            ),
+        &XyChart {
+            title: format!("Drawbar pull vs slip at {:.1} m/s, ice {:.0} °C", sc.drawbar_speed_mps, sc.ice_temp_c),
             x_label: "slip ratio (%)".into(),
             y_label: "drawbar-pull coefficient (-)".into(),
-            series: vec![Series {
-                label: "ATIIM (sum of tau dA / Fz)".into(),
-                points: curve.iter().map(|(k, s)| (k * 100.0, s.drawbar_coeff)).collect(),
-            }],
-            note: String::new(),
+            note: format!("Scenario {}; the curve is solved every 0.5 % of slip and at each listed slip.", sc.name),
+            series,
+            styles,
+            ..XyChart::default()
         },
     )?;
     let summary = serde_json::json!({
@@ -155,4 +182,20 @@ pub(crate) fn cli_atiim(spec: &Path, out_root: &Path) -> Result<std::process::Ex
     let dir = run_atiim_command(spec, out_root)?;
     println!("{} -> {}", spec.display(), dir.display());
     Ok(std::process::ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod fine_slip_tests {
+    use super::fine_slips;
+
+    #[test]
+    fn fine_slips_keep_the_listed_ones_and_step_at_most_half_a_percent() {
+        let listed = [0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.4, 0.333];
+        let f = fine_slips(&listed);
+        assert!(listed.iter().all(|k| f.contains(k)), "{f:?}");
+        assert_eq!((f[0], *f.last().unwrap()), (0.0, 0.4));
+        assert!(f.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] <= 0.005 + 1e-12), "{f:?}");
+        assert_eq!(fine_slips(&[0.1]), vec![0.1]);
+        assert!(fine_slips(&[]).is_empty());
+    }
 }
