@@ -469,6 +469,40 @@ pub fn coincidence_note(series: &[Series], quantity: &str) -> String {
     )
 }
 
+/// A note naming each labelled curve that a later-drawn curve covers: the same x values and every y
+/// within 1e-3 of the chart's y span (about a pixel), e.g. two tyre models that agree on Fy, so a
+/// reader does not take the missing colour for a missing run. Empty when nothing is covered.
+pub fn hidden_note(series: &[Series]) -> String {
+    let ys = || series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.is_finite());
+    let span = ys().fold(f64::NEG_INFINITY, f64::max) - ys().fold(f64::INFINITY, f64::min);
+    if !(span > 0.0) {
+        return String::new();
+    }
+    let covers = |a: &Series, b: &Series| {
+        a.points.len() > 1
+            && a.points.len() == b.points.len()
+            && a.points.iter().zip(&b.points).all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= 1e-3 * span)
+    };
+    let pairs: Vec<String> = series
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| !a.label.is_empty())
+        .filter_map(|(i, a)| {
+            let b = series[i + 1..].iter().find(|b| !b.label.is_empty() && covers(a, b))?;
+            Some(format!("'{}' lies under '{}'", a.label, b.label))
+        })
+        .collect();
+    match pairs.len() {
+        0 => String::new(),
+        n if n > 3 => format!(
+            "Note: {} and {} more curves lie under later ones (equal to within 0.1 % of the axis).",
+            pairs[..3].join(", "),
+            n - 3
+        ),
+        _ => format!("Note: {} (equal to within 0.1 % of the axis).", pairs.join(", ")),
+    }
+}
+
 /// Width of the legend column for `entries` (none: 0).
 fn legend_width(entries: &[LegendEntry]) -> u32 {
     match entries.iter().map(|e| e.label.chars().count()).max() {
@@ -832,6 +866,17 @@ pub fn chart_size(chart: &XyChart) -> (u32, u32) {
 
 /// Write `chart` (with its outlines, markers and spans) to `<stem>.png` and `<stem>.svg`.
 pub fn xy_chart(stem: &Path, chart: &XyChart) -> Result<()> {
+    // Curves that cover others are named under the chart (unless they all coincide, which the
+    // caller's coincidence note says).
+    let hidden = hidden_note(&chart.series);
+    let noted;
+    let chart = if hidden.is_empty() || !coincidence_note(&chart.series, "").is_empty() {
+        chart
+    } else {
+        let note = if chart.note.is_empty() { hidden } else { format!("{} {hidden}", chart.note) };
+        noted = XyChart { note, ..chart.clone() };
+        &noted
+    };
     let size = chart_size(chart);
     write_both(
         stem,
@@ -842,6 +887,17 @@ pub fn xy_chart(stem: &Path, chart: &XyChart) -> Result<()> {
 
 /// Write the small multiples `fig` to `<stem>.png` and `<stem>.svg`.
 pub fn figure(stem: &Path, fig: &Figure) -> Result<()> {
+    // A curve covered in every panel is named once under the figure (panels differ: not named).
+    let hidden: Vec<String> = fig.panels.iter().map(|p| hidden_note(&p.series)).collect();
+    let noted;
+    let fig = match hidden.first() {
+        Some(h) if !h.is_empty() && hidden.iter().all(|x| x == h) => {
+            let note = if fig.note.is_empty() { h.clone() } else { format!("{} {h}", fig.note) };
+            noted = Figure { note, ..fig.clone() };
+            &noted
+        }
+        _ => fig,
+    };
     let size = figure_size(fig.panels.len());
     write_both(
         stem,
@@ -1061,6 +1117,18 @@ mod tests {
         );
         assert!(coincidence_note(&[curve("a", 1.0), curve("b", 1.001)], "Fy").is_empty());
         assert!(coincidence_note(&[curve("a", 1.0)], "Fy").is_empty(), "one curve has nothing to coincide with");
+    }
+
+    #[test]
+    fn a_covered_curve_is_named_under_the_chart() {
+        let curve = |label: &str, k: f64| Series {
+            label: label.into(),
+            points: (0..5).map(|i| (i as f64, k * i as f64)).collect(),
+        };
+        let note = hidden_note(&[curve("dugoff", 1.0), curve("pacejka", 2.0), curve("dugoff_thermal", 1.0 + 1e-5)]);
+        assert_eq!(note, "Note: 'dugoff' lies under 'dugoff_thermal' (equal to within 0.1 % of the axis).");
+        assert!(hidden_note(&[curve("a", 1.0), curve("b", 1.01)]).is_empty(), "1 % apart is visible");
+        assert!(hidden_note(&[curve("a", 1.0), curve("", 1.0)]).is_empty(), "unlabelled curves are not named");
     }
 
     #[test]
