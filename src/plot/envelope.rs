@@ -50,10 +50,37 @@ pub fn plot(stem: &Path, env: &Envelope, rows: &[Row]) -> Result<()> {
     };
     let chart = LineChart {
         title: what.into(),
-        x_label: env.keys.first().cloned().unwrap_or_else(|| "run".into()),
+        x_label: env.keys.first().map_or_else(|| "run".into(), |k| key_label(k)),
         y_label: y_label.into(),
         series,
         note,
     };
     line_chart(stem, &chart)
+}
+
+/// An axis label for a swept spec key: the dotted path in words with the unit its suffix names,
+/// e.g. `surface.temperature_c` -> `surface temperature (°C) [surface.temperature_c]`; a key
+/// without a unit suffix is kept as it is.
+fn key_label(key: &str) -> String {
+    const UNITS: [(&str, &str); 6] =
+        [("_c", "°C"), ("_mps", "m/s"), ("_kmh", "km/h"), ("_deg", "deg"), ("_m", "m"), ("_s", "s")];
+    match UNITS.iter().find(|(suffix, _)| key.ends_with(suffix)) {
+        Some((suffix, unit)) => {
+            let words = key[..key.len() - suffix.len()].replace(['.', '_'], " ");
+            format!("{words} ({unit}) [{key}]")
+        }
+        None => key.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::key_label;
+
+    #[test]
+    fn swept_keys_read_as_words_with_their_unit() {
+        assert_eq!(key_label("surface.temperature_c"), "surface temperature (°C) [surface.temperature_c]");
+        assert_eq!(key_label("speed_mps"), "speed (m/s) [speed_mps]");
+        assert_eq!(key_label("mu"), "mu");
+    }
 }
