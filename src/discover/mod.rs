@@ -58,8 +58,8 @@ pub fn load_vehicle(path: &Path, tyre: Option<&Path>, kind: TyreModelKind) -> Re
 /// Parse a tyre-provider name.
 pub fn tyre_kind(name: &str) -> Result<TyreModelKind> {
     TyreModelKind::ALL.iter().copied().find(|k| k.as_str() == name).ok_or_else(|| {
-        Error::input(
-            Path::new("--tyre-model"),
+        Error::usage(
+            "--tyre-model",
             format!("'{name}' is not a tyre provider; allowed: {}", TyreModelKind::ALLOWED.join(", ")),
         )
     })
@@ -74,9 +74,7 @@ pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectPara
             let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
             Ok((p, Effect::TRIED.iter().copied().filter(|e| e.name() != "load_transfer").collect()))
         }
-        other => {
-            Err(Error::input(Path::new("--model"), format!("'{other}' is not a model; allowed: bicycle, roll4dof")))
-        }
+        other => Err(Error::usage("--model", format!("'{other}' is not a model; allowed: bicycle, roll4dof"))),
     }
 }
 
@@ -181,8 +179,8 @@ pub fn cli_synth(
             let given: Vec<&str> = params.iter().map(|g| g.split_once('=').map_or(g.as_str(), |(k, _)| k)).collect();
             let e = match Effect::from_name(effect) {
                 None => {
-                    return Err(Error::input(
-                        Path::new("--effect"),
+                    return Err(Error::usage(
+                        "--effect",
                         format!("'{effect}' is not an effect; allowed: none, {}", Effect::NAMES.join(", ")),
                     ))
                 }
@@ -192,8 +190,8 @@ pub fn cli_synth(
                         .filter(|e| e.name() == effect)
                         .flat_map(|e| e.params().iter().map(|d| d.name))
                         .collect();
-                    Error::input(
-                        Path::new("--params"),
+                    Error::usage(
+                        "--params",
                         format!(
                             "no form of {effect} has all of {}; its parameters: {} (one form at a time)",
                             given.join(", "),
@@ -205,7 +203,7 @@ pub fn cli_synth(
             let vals = synth::parse_params(e, params)?;
             e.apply(&mut p, &vals);
         } else if !params.is_empty() {
-            return Err(Error::input(Path::new("--params"), "effect 'none' takes no parameters"));
+            return Err(Error::usage("--params", "effect 'none' takes no parameters"));
         }
         let runs = synth::generate(&model::ReplayModel::new(v), &p, seed);
         synth::write_runs(out, &runs)?;

@@ -170,23 +170,19 @@ pub fn parse_params(e: Effect, given: &[String]) -> Result<Vec<f64>> {
     let mut v = default_params(e);
     let defs = e.params();
     for g in given {
-        let (k, val) =
-            g.split_once('=').ok_or_else(|| Error::input(Path::new("--params"), format!("'{g}' is not name=value")))?;
+        let (k, val) = g.split_once('=').ok_or_else(|| Error::usage("--params", format!("'{g}' is not name=value")))?;
         let i = defs.iter().position(|d| d.name == k).ok_or_else(|| {
             let names: Vec<&str> = defs.iter().map(|d| d.name).collect();
-            Error::input(
-                Path::new("--params"),
-                format!("'{k}' is not a parameter of {}; allowed: {}", e.name(), names.join(", ")),
-            )
+            Error::usage("--params", format!("'{k}' is not a parameter of {}; allowed: {}", e.name(), names.join(", ")))
         })?;
         let x: f64 = val
             .parse()
             .ok()
             .filter(|x: &f64| x.is_finite())
-            .ok_or_else(|| Error::input(Path::new("--params"), format!("'{val}' is not a finite number")))?;
+            .ok_or_else(|| Error::usage("--params", format!("'{val}' is not a finite number")))?;
         if x < defs[i].lo || x > defs[i].hi {
-            return Err(Error::input(
-                Path::new("--params"),
+            return Err(Error::usage(
+                "--params",
                 format!("{k} = {x} is outside [{}, {}] {}", defs[i].lo, defs[i].hi, defs[i].unit),
             ));
         }
