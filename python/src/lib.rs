@@ -4,8 +4,8 @@
 //! scenarios (`ScenarioSpec`, `solve_patch_at`, `drawbar_curve`) and discovery (`run_discover`).
 //!
 //! Every simulation and every tyre loop runs with the GIL released. Library errors become Python
-//! exceptions carrying the command line's message: bad input `ValueError`, I/O `OSError`, an
-//! interruption `KeyboardInterrupt`, anything else `RuntimeError`. The pure-Python half
+//! exceptions carrying the command line's message: bad input or a bad option `ValueError`, I/O
+//! `OSError`, an interruption `KeyboardInterrupt`, anything else `RuntimeError`. The pure-Python half
 //! (`vehsim/__init__.py`) turns these raw values into result objects and broadcasts arrays.
 //!
 //! Units and sign conventions are the library's: SI, angles in rad, ISO 8855 axes (see the
@@ -37,7 +37,7 @@ const DICT_SPEC: &str = "<spec dict>";
 fn py_err(e: Error) -> PyErr {
     let msg = e.to_string();
     match e {
-        Error::Input { .. } => PyValueError::new_err(msg),
+        Error::Input { .. } | Error::Usage { .. } => PyValueError::new_err(msg),
         Error::Io { .. } => PyOSError::new_err(msg),
         Error::Interrupted(_) => PyKeyboardInterrupt::new_err(msg),
         _ => PyRuntimeError::new_err(msg),
