@@ -257,16 +257,7 @@ fn explore() {
 #[test]
 #[ignore]
 fn golden_distances() {
-    let cases = [
-        ("dlc_ice__linear__bicycle", "maneuvers/dlc.toml", "linear", "bicycle", "isothermal"),
-        ("sine_steer_ice__linear__bicycle", "maneuvers/sine_steer.toml", "linear", "bicycle", "isothermal"),
-        ("dlc_ice__pacejka__bicycle", "maneuvers/dlc.toml", "pacejka", "bicycle", "isothermal"),
-        ("dlc_ice__atiim_pacejka__bicycle", "maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim"),
-        ("dlc_ice__dugoff__bicycle", "maneuvers/dlc.toml", "dugoff", "bicycle", "isothermal"),
-        ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
-        ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
-    ];
-    for (stem, spec, tyre, model, contact) in cases {
+    for &(stem, spec, tyre, model, contact) in common::GOLDEN_CASES {
         let path = common::root().join(spec);
         let mut file = ManeuverFile::load(&path).unwrap();
         file.tyre_model = tyre.into();

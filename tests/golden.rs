@@ -15,18 +15,6 @@ use vehsim::compare::compare;
 use vehsim::output::table::Table;
 use vehsim::run::{execute, timeseries_csv};
 
-/// (golden file stem `<run>__<tyre model>__<vehicle model>`, spec, tyre model, vehicle model,
-/// contact model): the spec's own settings with those three replaced.
-const CASES: &[(&str, &str, &str, &str, &str)] = &[
-    ("dlc_ice__linear__bicycle", "maneuvers/dlc.toml", "linear", "bicycle", "isothermal"),
-    ("sine_steer_ice__linear__bicycle", "maneuvers/sine_steer.toml", "linear", "bicycle", "isothermal"),
-    ("dlc_ice__pacejka__bicycle", "maneuvers/dlc.toml", "pacejka", "bicycle", "isothermal"),
-    ("dlc_ice__atiim_pacejka__bicycle", "maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim"),
-    ("dlc_ice__dugoff__bicycle", "maneuvers/dlc.toml", "dugoff", "bicycle", "isothermal"),
-    ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
-    ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
-];
-
 /// Absolute tolerances per channel. They allow for last-bit differences of libm between machines
 /// amplified through the closed loop, and are far below any physically meaningful change.
 fn tolerances() -> BTreeMap<String, f64> {
@@ -78,7 +66,7 @@ fn simulate(spec: &str, tyre_model: &str, vehicle_model: &str, contact: &str) ->
 fn trajectories_match_the_golden_files() {
     let bless = std::env::var("VEHSIM_BLESS").is_ok_and(|v| v == "1");
     let mut failures = Vec::new();
-    for (stem, spec, tyre, model, contact) in CASES {
+    for &(stem, spec, tyre, model, contact) in common::GOLDEN_CASES {
         let csv = simulate(spec, tyre, model, contact);
         let path = golden_path(stem);
         if bless {
@@ -111,7 +99,7 @@ fn a_perturbed_trajectory_fails_the_golden_comparison() {
     if std::env::var("VEHSIM_BLESS").is_ok_and(|v| v == "1") {
         return; // the golden files are being rewritten by the other test
     }
-    let (stem, ..) = CASES[0];
+    let (stem, ..) = common::GOLDEN_CASES[0];
     let path = golden_path(stem);
     let golden = Table::read(&path).expect("golden file (bless with VEHSIM_BLESS=1)");
     let mut perturbed = golden.clone();

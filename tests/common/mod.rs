@@ -138,3 +138,16 @@ pub fn synth_runs(dir: &Path, effect: &str, params: &str) -> Vec<PathBuf> {
     runs.sort();
     runs
 }
+
+/// The golden trajectories, checked by tests/golden.rs and measured against a fine step by
+/// tests/accuracy.rs: (golden file stem `<run>__<tyre model>__<vehicle model>`, spec, tyre model,
+/// vehicle model, contact model), the spec's own settings with those three replaced.
+pub const GOLDEN_CASES: &[(&str, &str, &str, &str, &str)] = &[
+    ("dlc_ice__linear__bicycle", "maneuvers/dlc.toml", "linear", "bicycle", "isothermal"),
+    ("sine_steer_ice__linear__bicycle", "maneuvers/sine_steer.toml", "linear", "bicycle", "isothermal"),
+    ("dlc_ice__pacejka__bicycle", "maneuvers/dlc.toml", "pacejka", "bicycle", "isothermal"),
+    ("dlc_ice__atiim_pacejka__bicycle", "maneuvers/dlc.toml", "atiim_pacejka", "bicycle", "atiim"),
+    ("dlc_ice__dugoff__bicycle", "maneuvers/dlc.toml", "dugoff", "bicycle", "isothermal"),
+    ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
+    ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
+];
