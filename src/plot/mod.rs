@@ -454,11 +454,7 @@ where
 pub fn coincidence_note(series: &[Series], quantity: &str) -> String {
     let [first, .., last] = series else { return String::new() };
     let scale = series.iter().flat_map(|s| s.points.iter().map(|p| p.1.abs())).fold(0.0, f64::max).max(1e-300);
-    let same = series.iter().all(|s| {
-        s.points.len() == first.points.len()
-            && s.points.iter().zip(&first.points).all(|(a, b)| a.0 == b.0 && (a.1 - b.1).abs() <= 1e-9 * scale)
-    });
-    if !same {
+    if !series.iter().all(|s| same_curve(s, first, 1e-9 * scale)) {
         return String::new();
     }
     format!(
@@ -467,6 +463,12 @@ pub fn coincidence_note(series: &[Series], quantity: &str) -> String {
         first.label,
         last.label
     )
+}
+
+/// Whether `a` and `b` have the same x values and every y within `tol` of each other.
+fn same_curve(a: &Series, b: &Series, tol: f64) -> bool {
+    a.points.len() == b.points.len()
+        && a.points.iter().zip(&b.points).all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= tol)
 }
 
 /// A note naming each labelled curve that a later-drawn curve covers: the same x values and every y
@@ -478,11 +480,7 @@ pub fn hidden_note(series: &[Series]) -> String {
     if !(span > 0.0) {
         return String::new();
     }
-    let covers = |a: &Series, b: &Series| {
-        a.points.len() > 1
-            && a.points.len() == b.points.len()
-            && a.points.iter().zip(&b.points).all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= 1e-3 * span)
-    };
+    let covers = |a: &Series, b: &Series| a.points.len() > 1 && same_curve(a, b, 1e-3 * span);
     let pairs: Vec<String> = series
         .iter()
         .enumerate()
