@@ -88,7 +88,7 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
     match cfg.vehicle_model {
         VehicleModelKind::Bicycle => execute_with(&Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env), cfg),
         VehicleModelKind::Roll4Dof => match &cfg.vehicle.roll {
-            Some(roll) => execute_with(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()), cfg),
+            Some(roll) => execute_with(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()).prepared_for(&cfg.env), cfg),
             // Spec validation rejects this; a hand-built config gets a result that says why.
             None => RunOutput {
                 summary: Summary {

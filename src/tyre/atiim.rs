@@ -170,6 +170,21 @@ impl TyreModel for AtiimPacejkaTyre {
         self.base.forces_scaled(i, &self.law.scale_for(i))
     }
 
+    /// The base curve's coefficients without the modifier (it depends on the contact
+    /// temperature, applied per input by [`Self::forces_prepared`]).
+    fn prepare(&self, i: &TyreInput) -> super::Prepared {
+        self.base.prepare_scaled(i)
+    }
+
+    fn forces_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> TyreForces {
+        let p = self.law.proximity(i.surface_temp_c, i.contact_temp_c);
+        if p == 0.0 {
+            self.base.forces_prepared(prepared, i) // Scale::ONE
+        } else {
+            self.base.forces_prepared_scaled(prepared, i, &self.law.scale(p))
+        }
+    }
+
     fn peak_friction(&self, i: &TyreInput) -> f64 {
         self.base.peak_friction_scaled(i, &self.law.scale_for(i))
     }
@@ -180,5 +195,87 @@ impl TyreModel for AtiimPacejkaTyre {
 
     fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
         self.base.cornering_stiffness_scaled(i, &self.law.scale_for(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tyre::pacejka::Combination;
+    use crate::tyre::spec::TyreFileSpec;
+
+    /// The SRTT curve, and the same with every camber, shift and scaling coefficient that the
+    /// prepared (load-independent and load-dependent) parts touch set away from 0 and 1, so that
+    /// the order of every product is exercised; each with the MF and the ellipse combination.
+    fn curves() -> Vec<PacejkaTyre> {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/tyres/srtt_p225_60r16.toml");
+        let base = TyreFileSpec::load(&p).unwrap().build_pacejka(&p).unwrap().0;
+        let mut c = base.coeffs.clone();
+        (c.pdx3, c.pdy3, c.pky3, c.phy3, c.pey3, c.pey4, c.pvy3, c.pvy4) = (3.0, 2.0, 0.7, 0.01, 0.2, -0.3, 0.02, 0.01);
+        (c.phx1, c.phx2, c.pvx1, c.pvx2, c.pkx3, c.phy1, c.pvy1, c.pvy2) =
+            (0.002, 0.001, 0.01, -0.02, 0.3, 0.003, 0.02, 0.01);
+        (c.lmux, c.lmuy, c.lkx, c.lky, c.lhx, c.lhy, c.lvx, c.lvy, c.lgax, c.lgay) =
+            (0.9, 1.1, 1.2, 0.8, 1.3, 0.7, 1.1, 0.9, 1.2, 0.8);
+        (c.rhx1, c.rhy1, c.rvy1, c.rvy4, c.rvy5, c.rvy6) = (0.01, 0.02, 0.05, 3.0, 1.9, 10.0);
+        let mut out = Vec::new();
+        for (coeffs, exponent) in [(base.coeffs.clone(), 0.5), (c, 0.7)] {
+            for comb in [Combination::MagicFormula, Combination::Ellipse] {
+                let t = PacejkaTyre::new(coeffs.clone(), 1.0, exponent, Some(comb), true);
+                out.extend(TyreSide::BOTH.map(|s| t.mounted_on(s)));
+            }
+        }
+        out
+    }
+
+    /// Prepared forces equal the unprepared ones bit for bit, for the Magic Formula and its ATIIM
+    /// modification: at the prepared load and surface (heated or not), at other loads on the same
+    /// surface (load transfer), a lifted wheel, and on another surface or camber (the fallback).
+    #[test]
+    fn prepared_forces_change_no_bit() {
+        let law = MeltLaw {
+            k_shift: KShift::Srtt,
+            x: AxisLaw { peak_at_melt: 0.5, stiffness_at_melt: 0.8 },
+            y: AxisLaw { peak_at_melt: 0.9, stiffness_at_melt: 0.7 },
+            floor: 0.1,
+        };
+        let mut n = 0;
+        for base in curves() {
+            let atiim = AtiimPacejkaTyre { base: base.clone(), law };
+            let tyres: [&dyn TyreModel; 2] = [&base, &atiim];
+            for t in tyres {
+                let at = TyreInput {
+                    surface_temp_c: -3.0,
+                    contact_temp_c: -3.0,
+                    camber_rad: 0.01,
+                    ..TyreInput::new(3900.0, 0.0, 0.0, 0.15)
+                };
+                let prepared = t.prepare(&at);
+                for fz in [3900.0, 2500.0, 5200.0, 0.0, -10.0] {
+                    for (mu, camber) in [(0.15, 0.01), (0.3, 0.01), (0.15, 0.0)] {
+                        for contact in [-3.0, -1.5, 0.5] {
+                            for (kappa, alpha) in [(0.0, 0.0), (0.05, -0.02), (-0.3, 0.1), (0.01, 0.3)] {
+                                let i = TyreInput {
+                                    fz_n: fz,
+                                    kappa,
+                                    alpha_rad: alpha,
+                                    camber_rad: camber,
+                                    contact_temp_c: contact,
+                                    ..at
+                                };
+                                let (a, b) = (t.forces_prepared(&prepared, &i), t.forces(&i));
+                                assert_eq!(
+                                    [a.fx_n.to_bits(), a.fy_n.to_bits(), a.mz_nm.to_bits()],
+                                    [b.fx_n.to_bits(), b.fy_n.to_bits(), b.mz_nm.to_bits()],
+                                    "{} {i:?}: {a:?} vs {b:?}",
+                                    t.name()
+                                );
+                                n += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(n, 8 * 2 * 5 * 3 * 3 * 4);
     }
 }

@@ -92,23 +92,45 @@ pub struct TyreForces {
 
 /// Coefficients of a provider prepared for one load and set of conditions
 /// ([`TyreModel::prepare`]): what does not depend on the slips, computed once instead of at every
-/// evaluation (a vehicle model with static loads prepares each tyre once per run). Valid for
-/// inputs with the same load, friction, camber and temperatures as [`Prepared::input`].
+/// evaluation (a vehicle model with static loads prepares each tyre once per run), and what
+/// depends neither on the slips nor on the load (a model with load transfer prepares it once per
+/// surface). The load-dependent part is valid for inputs with the load, friction and camber of
+/// [`Prepared::input`] ([`Prepared::matches_load`]), the load-independent part for inputs with its
+/// friction and camber ([`Prepared::matches_surface`]); the temperatures are not prepared (the
+/// ATIIM modifier is applied per input). A `Prepared` belongs to the provider instance that made it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Prepared {
     /// The input it was prepared for (its slips and speed are not used).
     pub input: TyreInput,
-    /// The Magic Formula's pure-slip coefficients, for the providers built on it.
+    /// The Magic Formula's pure-slip coefficients at the input's load, for the providers built on it.
     pub(crate) pacejka: Option<pacejka::Pure>,
+    /// The Magic Formula's load-independent coefficients on the input's surface.
+    pub(crate) surface: Option<pacejka::Surface>,
 }
 
 impl Prepared {
+    /// Nothing prepared (the providers that have nothing to prepare).
+    pub fn none(input: &TyreInput) -> Self {
+        Prepared { input: *input, pacejka: None, surface: None }
+    }
+
     /// Whether `i` has the load, friction, camber and temperatures this was prepared for.
     #[inline]
     pub fn matches(&self, i: &TyreInput) -> bool {
-        let p = &self.input;
-        (p.fz_n, p.mu_surface, p.camber_rad, p.surface_temp_c, p.contact_temp_c)
-            == (i.fz_n, i.mu_surface, i.camber_rad, i.surface_temp_c, i.contact_temp_c)
+        self.matches_load(i)
+            && (self.input.surface_temp_c, self.input.contact_temp_c) == (i.surface_temp_c, i.contact_temp_c)
+    }
+
+    /// Whether `i` has the load, friction and camber this was prepared for.
+    #[inline]
+    pub fn matches_load(&self, i: &TyreInput) -> bool {
+        self.input.fz_n == i.fz_n && self.matches_surface(i)
+    }
+
+    /// Whether `i` has the friction and camber this was prepared for (any load).
+    #[inline]
+    pub fn matches_surface(&self, i: &TyreInput) -> bool {
+        (self.input.mu_surface, self.input.camber_rad) == (i.mu_surface, i.camber_rad)
     }
 }
 
@@ -133,11 +155,13 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// Prepare the coefficients that depend on `input`'s load and conditions but not on its slips.
     /// Default: nothing to prepare.
     fn prepare(&self, input: &TyreInput) -> Prepared {
-        Prepared { input: *input, pacejka: None }
+        Prepared::none(input)
     }
 
-    /// [`Self::forces`] of an input that `prepared` [matches](Prepared::matches), the same values
-    /// bit for bit. Default: [`Self::forces`].
+    /// [`Self::forces`] of `input` using what `prepared` (made by this instance's
+    /// [`Self::prepare`]) holds for it, the same values bit for bit; an input the prepared
+    /// coefficients do not [match](Prepared::matches_surface) is evaluated in full.
+    /// Default: [`Self::forces`].
     fn forces_prepared(&self, _prepared: &Prepared, input: &TyreInput) -> TyreForces {
         self.forces(input)
     }

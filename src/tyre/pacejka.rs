@@ -315,8 +315,31 @@ pub struct PacejkaTyre {
     sign_iso: f64,
 }
 
+/// The load-independent part of the pure-slip formulas: what depends on the surface friction and
+/// the camber but neither on the load nor on the ATIIM modifier ([`Scale`]). [`super::Prepared`]
+/// keeps it, so a model whose loads change (load transfer) prepares it once per surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Surface {
+    /// LMUX (mu_surface / mu_reference), LMUY likewise (before the modifier).
+    lmux0: f64,
+    lmuy0: f64,
+    /// (mu_surface / mu_reference)^stiffness_mu_exponent.
+    rk: f64,
+    gy: f64,
+    cx: f64,
+    cy: f64,
+    /// 1 - PDX3 gx^2, 1 - PDY3 gy^2, 1 - PKY3 |gy|.
+    cam_dx: f64,
+    cam_dy: f64,
+    cam_ky: f64,
+    /// PHY3 gy.
+    shy_cam: f64,
+    ey_asym: f64,
+}
+
 /// Per-input quantities of the pure-slip formulas (they depend on the load, friction and camber,
-/// not on the slips: [`super::Prepared`] keeps them).
+/// not on the slips: [`super::Prepared`] keeps them). The `*0` fields are the products before
+/// the modifier's factors enter ([`Pure::scaled`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Pure {
     dfz: f64,
@@ -340,6 +363,46 @@ pub(crate) struct Pure {
     ky: f64,
     svy: f64,
     muy: f64,
+    // Before the modifier: LMUX', LMUY' without it, and Dx / (LMUX' Fz), Kx, SVx / LMUX',
+    // mu_y / LMUY', Ky, SVy / LMUY' without its factors.
+    fz: f64,
+    lmux0: f64,
+    lmuy0: f64,
+    dx0: f64,
+    kx0: f64,
+    svx0: f64,
+    muy0: f64,
+    ky0: f64,
+    svy0: f64,
+}
+
+impl Pure {
+    /// The same quantities with the modifier `m` applied: bit for bit what
+    /// [`PacejkaTyre::pure`] gives with `m` at this load and surface (the factors enter last in
+    /// every product, in the same order).
+    #[inline(always)]
+    pub(crate) fn scaled(&self, m: &Scale) -> Pure {
+        let lmux = self.lmux0 * m.mu_x;
+        let lmuy = self.lmuy0 * m.mu_y;
+        let dx = self.dx0 * lmux * self.fz;
+        let kx = self.kx0 * m.k_x;
+        let muy = self.muy0 * lmuy;
+        let dy = muy * self.fz;
+        let ky = self.ky0 * m.k_y;
+        Pure {
+            lmuy,
+            dx,
+            kx,
+            bx: safe_div(kx, self.cx * dx),
+            svx: self.svx0 * lmux,
+            muy,
+            dy,
+            ky,
+            by: safe_div(ky, self.cy * dy),
+            svy: self.svy0 * lmuy,
+            ..*self
+        }
+    }
 }
 
 impl PacejkaTyre {
@@ -395,12 +458,16 @@ impl PacejkaTyre {
         self.fz0p
     }
 
+    #[inline(always)]
     fn pure(&self, fz: f64, mu_surface: f64, camber_file: f64, m: &Scale) -> Pure {
+        self.at_load(&self.surface(mu_surface, camber_file), fz, m)
+    }
+
+    /// The load-independent part of [`Self::pure`] for a surface of friction `mu_surface` and
+    /// file camber `camber_file`.
+    pub(crate) fn surface(&self, mu_surface: f64, camber_file: f64) -> Surface {
         let c = &self.coeffs;
-        let dfz = (fz - self.fz0p) / self.fz0p;
         let r = mu_surface / self.mu_reference;
-        let lmux = c.lmux * r * m.mu_x;
-        let lmuy = c.lmuy * r * m.mu_y;
         let rk = if self.stiffness_mu_exponent == 0.0 {
             1.0
         } else if self.stiffness_mu_exponent == 0.5 {
@@ -410,28 +477,75 @@ impl PacejkaTyre {
         };
         let gx = camber_file * c.lgax;
         let gy = camber_file * c.lgay;
+        Surface {
+            lmux0: c.lmux * r,
+            lmuy0: c.lmuy * r,
+            rk,
+            gy,
+            cx: c.pcx1 * c.lcx,
+            cy: c.pcy1 * c.lcy,
+            cam_dx: 1.0 - c.pdx3 * gx * gx,
+            cam_dy: 1.0 - c.pdy3 * gy * gy,
+            cam_ky: 1.0 - c.pky3 * gy.abs(),
+            shy_cam: c.phy3 * gy,
+            ey_asym: c.pey3 + c.pey4 * gy,
+        }
+    }
+
+    /// [`Self::pure`] at load `fz` on the prepared surface `s`, with the modifier `m`.
+    #[inline(always)]
+    pub(crate) fn at_load(&self, s: &Surface, fz: f64, m: &Scale) -> Pure {
+        let c = &self.coeffs;
+        let dfz = (fz - self.fz0p) / self.fz0p;
+        let gy = s.gy;
 
         let shx = (c.phx1 + c.phx2 * dfz) * c.lhx;
-        let cx = c.pcx1 * c.lcx;
-        let dx = (c.pdx1 + c.pdx2 * dfz) * (1.0 - c.pdx3 * gx * gx) * lmux * fz;
+        let cx = s.cx;
+        let dx0 = (c.pdx1 + c.pdx2 * dfz) * s.cam_dx;
         let ex0 = (c.pex1 + c.pex2 * dfz + c.pex3 * dfz * dfz) * c.lex;
         let kexp = if c.pkx3 == 0.0 { 1.0 } else { (c.pkx3 * dfz).exp() };
-        let kx = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * rk * m.k_x;
-        let bx = safe_div(kx, cx * dx);
-        let svx = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx * lmux;
+        let kx0 = fz * (c.pkx1 + c.pkx2 * dfz) * kexp * c.lkx * s.rk;
+        let svx0 = fz * (c.pvx1 + c.pvx2 * dfz) * c.lvx;
 
-        let shy = (c.phy1 + c.phy2 * dfz) * c.lhy + c.phy3 * gy;
-        let cy = c.pcy1 * c.lcy;
-        let muy = (c.pdy1 + c.pdy2 * dfz) * (1.0 - c.pdy3 * gy * gy) * lmuy;
-        let dy = muy * fz;
+        let shy = (c.phy1 + c.phy2 * dfz) * c.lhy + s.shy_cam;
+        let cy = s.cy;
+        let muy0 = (c.pdy1 + c.pdy2 * dfz) * s.cam_dy;
         let ey0 = (c.pey1 + c.pey2 * dfz) * c.ley;
-        let ey_asym = c.pey3 + c.pey4 * gy;
         // sin(2 atan(x)) = 2x / (1 + x^2).
         let xk = safe_div(fz, c.pky2 * self.fz0p);
-        let ky = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * (1.0 - c.pky3 * gy.abs()) * c.lky * rk * m.k_y;
-        let by = safe_div(ky, cy * dy);
-        let svy = fz * ((c.pvy1 + c.pvy2 * dfz) * c.lvy + (c.pvy3 + c.pvy4 * dfz) * gy) * lmuy;
-        Pure { dfz, lmuy, gy, shx, cx, dx, ex0, bx, kx, svx, shy, cy, dy, ey0, ey_asym, by, ky, svy, muy }
+        let ky0 = c.pky1 * self.fz0p * (2.0 * xk / (1.0 + xk * xk)) * s.cam_ky * c.lky * s.rk;
+        let svy0 = fz * ((c.pvy1 + c.pvy2 * dfz) * c.lvy + (c.pvy3 + c.pvy4 * dfz) * gy);
+        Pure {
+            dfz,
+            lmuy: 0.0,
+            gy,
+            shx,
+            cx,
+            dx: 0.0,
+            ex0,
+            bx: 0.0,
+            kx: 0.0,
+            svx: 0.0,
+            shy,
+            cy,
+            dy: 0.0,
+            ey0,
+            ey_asym: s.ey_asym,
+            by: 0.0,
+            ky: 0.0,
+            svy: 0.0,
+            muy: 0.0,
+            fz,
+            lmux0: s.lmux0,
+            lmuy0: s.lmuy0,
+            dx0,
+            kx0,
+            svx0,
+            muy0,
+            ky0,
+            svy0,
+        }
+        .scaled(m)
     }
 
     #[inline]
@@ -646,6 +760,46 @@ impl PacejkaTyre {
         TyreForces { fx_n: fx, fy_n: self.mirror * fy, mz_nm: self.mirror * mz }
     }
 
+    /// [`TyreModel::prepare`] of this curve, for any modifier (the prepared coefficients are
+    /// those without it; [`Self::forces_prepared_scaled`] applies it).
+    pub fn prepare_scaled(&self, i: &TyreInput) -> super::Prepared {
+        let g = self.file_angles(i).1;
+        super::Prepared {
+            input: *i,
+            pacejka: (!inactive(i)).then(|| self.pure(i.fz_n, i.mu_surface, g, &Scale::ONE)),
+            surface: Some(self.surface(i.mu_surface, g)),
+        }
+    }
+
+    /// [`Self::forces_scaled`] using the coefficients `prepared` holds for `i` (made by
+    /// [`Self::prepare_scaled`] of this instance), the same values bit for bit.
+    #[inline]
+    pub fn forces_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> TyreForces {
+        let (a, g) = self.file_angles(i);
+        let own;
+        let p = match (&prepared.pacejka, &prepared.surface) {
+            // (an active prepared input with the same load and friction: `i` is active too)
+            (Some(p), _) if prepared.matches_load(i) => {
+                if *m == Scale::ONE {
+                    p
+                } else {
+                    own = p.scaled(m);
+                    &own
+                }
+            }
+            _ if inactive(i) => return TyreForces::default(),
+            (_, Some(s)) if prepared.matches_surface(i) => {
+                own = self.at_load(s, i.fz_n, m);
+                &own
+            }
+            _ => {
+                own = self.pure(i.fz_n, i.mu_surface, g, m);
+                &own
+            }
+        };
+        self.forces_from(p, i, a, g)
+    }
+
     /// [`TyreModel::peak_friction`] with the modifier `m` applied.
     pub fn peak_friction_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
         if inactive(i) {
@@ -687,17 +841,17 @@ impl TyreModel for PacejkaTyre {
     }
 
     fn prepare(&self, i: &TyreInput) -> super::Prepared {
-        let pacejka = (!inactive(i)).then(|| self.pure(i.fz_n, i.mu_surface, self.file_angles(i).1, &Scale::ONE));
-        super::Prepared { input: *i, pacejka }
+        self.prepare_scaled(i)
     }
 
     fn forces_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> TyreForces {
         match &prepared.pacejka {
-            Some(p) if prepared.matches(i) => {
+            // (an active prepared input with the same load and friction: `i` is active too)
+            Some(p) if prepared.matches_load(i) => {
                 let (a, g) = self.file_angles(i);
                 self.forces_from(p, i, a, g)
             }
-            _ => self.forces(i),
+            _ => self.forces_prepared_scaled(prepared, i, &Scale::ONE),
         }
     }
 

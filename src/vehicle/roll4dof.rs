@@ -64,7 +64,7 @@ use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleMode
 use crate::contact::TyreContact;
 use crate::maneuver::EventKind;
 use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
-use crate::tyre::{TyreForces, TyreInput};
+use crate::tyre::{Prepared, TyreForces, TyreInput};
 
 /// State dimension of the 4-DOF model.
 pub const N: usize = 18;
@@ -113,6 +113,9 @@ pub struct Roll4Dof {
     m_inv: Matrix3<f64>,
     /// Maximum brake torque per wheel (front, rear), N m.
     brake_max: [f64; 2],
+    /// Tyre coefficients prepared per wheel (FL, FR, RL, RR) for its static load on a surface
+    /// ([`Roll4Dof::prepared_for`]); `None` until prepared.
+    prepared: [Option<Prepared>; 4],
 }
 
 /// Per-wheel intermediate quantities of one evaluation.
@@ -191,7 +194,29 @@ impl Roll4Dof {
             pos,
             m_inv,
             brake_max,
+            prepared: [None; 4],
         }
+    }
+
+    /// The model with its tyres' coefficients prepared for `env` (the explicit prepare step of
+    /// [`crate::tyre::TyreModel::prepare`]): the load-independent part serves every load the
+    /// transfer gives on that surface, the load-dependent part the static load. The forces are the
+    /// same bit for bit.
+    pub fn prepared_for(mut self, env: &Environment) -> Self {
+        for i in 0..4 {
+            let input = TyreInput {
+                fz_n: 0.5 * self.axle_load0[i / 2],
+                kappa: 0.0,
+                alpha_rad: 0.0,
+                camber_rad: 0.0,
+                vx_mps: 0.0,
+                mu_surface: env.mu,
+                surface_temp_c: env.surface_temp_c,
+                contact_temp_c: env.surface_temp_c,
+            };
+            self.prepared[i] = Some(self.vehicle.tyre.mounted[i % 2].prepare(&input));
+        }
+        self
     }
 
     /// Normal loads FL, FR, RL, RR, N, of a state (each >= 0; they sum to m g).
@@ -255,7 +280,11 @@ impl Roll4Dof {
             w.vxw[i] = vxw;
             w.alpha[i] = slip_angle(vxw, vyw);
             let input = tyre_input(x, u, env, i, fz[i], w.alpha[i], vxw);
-            w.f[i] = v.tyre.mounted[i % 2].forces(&input); // FL, RL on the left, FR, RR on the right
+            let tyre = &v.tyre.mounted[i % 2]; // FL, RL on the left, FR, RR on the right
+            w.f[i] = match &self.prepared[i] {
+                Some(p) => tyre.forces_prepared(p, &input),
+                None => tyre.forces(&input),
+            };
             let roll_res = v.rolling_resistance * fz[i] * radius;
             let resist_max = self.brake_max[axle] + v.rolling_resistance * 0.5 * self.axle_load0[axle] * radius;
             let resist = resisting_torque(
@@ -580,6 +609,40 @@ mod tests {
         let fz = m.normal_loads(&x);
         let w = m.vehicle.mass_kg * GRAVITY;
         assert!((fz.iter().sum::<f64>() - w).abs() < 1e-9 * w);
+    }
+
+    /// The prepared model gives the same derivative and observation bit for bit as the
+    /// unprepared one, with load transfer (every wheel off its static load, one lifted), a heated
+    /// contact, for the Magic Formula and its ATIIM modification.
+    #[test]
+    fn prepared_tyres_change_no_bit() {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
+        for kind in [TyreModelKind::Pacejka, TyreModelKind::AtiimPacejka] {
+            let v = VehicleFile::load(&p).unwrap().build(&p, kind).unwrap();
+            let roll = v.roll.clone().unwrap();
+            let env = Environment { mu: 0.15, surface_temp_c: -3.0 };
+            let (plain, prepared) = (Roll4Dof::new(v.clone(), roll.clone()), Roll4Dof::new(v, roll).prepared_for(&env));
+            let mut x = plain.initial_state(0.0, 0.0, 0.2, 10.0);
+            for ay in [0.0, 1.5, 80.0] {
+                (x[ix::VY], x[ix::R], x[ix::PHI], x[ix::AX_LAG], x[ix::AY_LAG]) = (0.3, 0.2, 0.01, 0.4, ay);
+                for (i, k) in [0.02, -0.01, 0.05, 0.0].iter().enumerate() {
+                    x[ix::KAPPA + i] = *k;
+                }
+                for temp in [-3.0, -1.0] {
+                    let u = Inputs {
+                        steer_rad: 0.05,
+                        drive_torque_nm: 300.0,
+                        contact_temp_c: [temp, -3.0, temp, -2.0],
+                        ..Inputs::default()
+                    };
+                    let (a, b) =
+                        (plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
+                    assert_eq!(a, b, "{kind:?} ay {ay} temp {temp}");
+                    assert!(a.0.iter().all(|v| v.is_finite()));
+                }
+            }
+            assert!(plain.normal_loads(&x).contains(&0.0), "the last state lifts a wheel");
+        }
     }
 
     /// At rest with no input nothing moves and nothing is non-finite.
