@@ -33,7 +33,8 @@
 use nalgebra::SVector;
 
 use super::wheel::{
-    kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
+    kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
+    V_LOW,
 };
 use super::{lateral, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
@@ -67,8 +68,10 @@ pub struct Bicycle {
     fz_tyre: [f64; 2],
     /// Spin inertia per axle (two wheels), kg m^2.
     axle_inertia: f64,
-    /// Maximum brake torque per axle (front, rear), N m.
-    brake_max: [f64; 2],
+    /// Rolling-resistance torque per axle at the static loads, N m, and the regularisation
+    /// speed of the axle's resisting torque ([`resisting_omega1`]), rad/s (vehicle constants).
+    roll_torque: [f64; 2],
+    resist_omega1: [f64; 2],
     /// Tyre coefficients prepared for each axle's static load on a surface
     /// ([`Bicycle::prepared_for`]); used for the inputs they match, `None` until prepared.
     prepared: [Option<Prepared>; 2],
@@ -93,7 +96,10 @@ impl Bicycle {
         let axle_inertia = 2.0 * vehicle.wheel_inertia_kgm2;
         let bmax = vehicle.brake_torque_max_nm;
         let brake_max = [bmax * vehicle.brake_front_share, bmax * (1.0 - vehicle.brake_front_share)];
-        Self { vehicle, fz_tyre, axle_inertia, brake_max, prepared: [None; 2] }
+        let radius = vehicle.tyre.rolling_radius_m;
+        let roll_torque = fz_tyre.map(|fz| vehicle.rolling_resistance * 2.0 * fz * radius);
+        let resist_omega1 = [0, 1].map(|i| resisting_omega1((brake_max[i] + roll_torque[i]).max(1.0), axle_inertia));
+        Self { vehicle, fz_tyre, axle_inertia, roll_torque, resist_omega1, prepared: [None; 2] }
     }
 
     /// The model with its tyres' coefficients prepared for the static loads on `env` at the
@@ -203,9 +209,7 @@ impl Bicycle {
                 }
                 sum
             };
-            let roll = v.rolling_resistance * 2.0 * self.fz_tyre[i] * radius;
-            let resist_max = self.brake_max[i] + roll;
-            let resist = resisting_torque(brake[i] + roll, resist_max.max(1.0), self.axle_inertia, omega[i]);
+            let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
         }
         Axles { vxw, alpha, f, torque, cos_d, sin_d }

@@ -58,7 +58,8 @@
 use nalgebra::{Matrix3, SVector, Vector3};
 
 use super::wheel::{
-    kinematic_slip, relaxed_slip_rate, resisting_torque, slide_speed, slip_angle, to_wheel_axes, V_LOW,
+    kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
+    V_LOW,
 };
 use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
@@ -111,8 +112,8 @@ pub struct Roll4Dof {
     pos: [(f64, f64); 4],
     /// Inverse of the (vy, r, p) mass matrix.
     m_inv: Matrix3<f64>,
-    /// Maximum brake torque per wheel (front, rear), N m.
-    brake_max: [f64; 2],
+    /// Regularisation speed of each axle's wheel resisting torque ([`resisting_omega1`]), rad/s.
+    resist_omega1: [f64; 2],
     /// Tyre coefficients prepared per wheel (FL, FR, RL, RR) for its static load on a surface
     /// ([`Roll4Dof::prepared_for`]); `None` until prepared.
     prepared: [Option<Prepared>; 4],
@@ -185,6 +186,11 @@ impl Roll4Dof {
         let bmax = vehicle.brake_torque_max_nm;
         let brake_max = [0.5 * bmax * vehicle.brake_front_share, 0.5 * bmax * (1.0 - vehicle.brake_front_share)];
         let pos = [(a, 0.5 * t), (a, -0.5 * t), (-b, 0.5 * t), (-b, -0.5 * t)];
+        let radius = vehicle.tyre.rolling_radius_m;
+        let resist_omega1 = [0, 1].map(|axle| {
+            let resist_max = brake_max[axle] + vehicle.rolling_resistance * 0.5 * [ff, fr][axle] * radius;
+            resisting_omega1(resist_max.max(0.5), vehicle.wheel_inertia_kgm2)
+        });
         Self {
             long_gain: m * vehicle.cg_height_m / l,
             vehicle,
@@ -193,7 +199,7 @@ impl Roll4Dof {
             lat_gain,
             pos,
             m_inv,
-            brake_max,
+            resist_omega1,
             prepared: [None; 4],
         }
     }
@@ -286,13 +292,8 @@ impl Roll4Dof {
                 None => tyre.forces(&input),
             };
             let roll_res = v.rolling_resistance * fz[i] * radius;
-            let resist_max = self.brake_max[axle] + v.rolling_resistance * 0.5 * self.axle_load0[axle] * radius;
-            let resist = resisting_torque(
-                0.5 * brake_axle[axle] + roll_res,
-                resist_max.max(0.5),
-                v.wheel_inertia_kgm2,
-                x[ix::OMEGA + i],
-            );
+            let resist =
+                resisting_torque_at(0.5 * brake_axle[axle] + roll_res, self.resist_omega1[axle], x[ix::OMEGA + i]);
             w.torque[i] = 0.5 * drive_axle[axle] - resist - radius * w.f[i].fx_n;
         }
         w

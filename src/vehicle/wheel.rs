@@ -51,7 +51,20 @@ pub fn relaxed_slip_rate(kappa: f64, omega: f64, radius: f64, vxw: f64, sigma: f
 /// omega_1 = 1.5 T_max / (I TORQUE_RATE_MAX) the torque's stiffness stays below TORQUE_RATE_MAX.
 #[inline]
 pub fn resisting_torque(torque_nm: f64, torque_max_nm: f64, inertia: f64, omega: f64) -> f64 {
-    let omega1 = (1.5 * torque_max_nm / (inertia * TORQUE_RATE_MAX)).max(1e-3);
+    resisting_torque_at(torque_nm, resisting_omega1(torque_max_nm, inertia), omega)
+}
+
+/// The regularisation speed omega_1 (rad/s) of [`resisting_torque`] for the largest torque
+/// `torque_max_nm` and spin inertia `inertia`: it depends only on the vehicle, so the models
+/// compute it once ([`resisting_torque_at`]).
+#[inline]
+pub fn resisting_omega1(torque_max_nm: f64, inertia: f64) -> f64 {
+    (1.5 * torque_max_nm / (inertia * TORQUE_RATE_MAX)).max(1e-3)
+}
+
+/// [`resisting_torque`] with its regularisation speed `omega1` ([`resisting_omega1`]) given.
+#[inline]
+pub fn resisting_torque_at(torque_nm: f64, omega1: f64, omega: f64) -> f64 {
     let u = omega / omega1;
     if u >= 1.0 {
         torque_nm
