@@ -69,7 +69,7 @@ impl Axis {
         self.nodes[k.min(self.nodes.len() - 1)]
     }
     /// Cell index and fraction for x (clamped to the axis).
-    #[inline]
+    #[inline(always)]
     fn locate(&self, x: f64) -> (usize, f64) {
         let v = &self.nodes;
         let n = v.len();
@@ -512,6 +512,18 @@ pub struct AtiimEstimator {
     e_ice: f64,
 }
 
+/// The per-sample constants of [`AtiimEstimator::update`] that depend only on the bulk parameters
+/// and the ice effusivity (computed once per update, not per tyre).
+#[derive(Debug, Clone, Copy)]
+struct BulkConstants {
+    /// Series effusivity of tread and ice, W s^0.5/(m^2 K).
+    e_series: f64,
+    /// Contact width floored at 1 mm, m.
+    width_m: f64,
+    /// Heat capacity floored at 1e-6 J/K.
+    heat_capacity_j_k: f64,
+}
+
 impl AtiimEstimator {
     /// New estimator for `n_tyres` tyres; bulk states start at the first update's surface temperature.
     pub fn new(table: FlashTable, bulk: BulkParams, n_tyres: usize) -> Self {
@@ -543,7 +555,12 @@ impl ContactTemperature for AtiimEstimator {
     fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
         let b = self.bulk;
         let e_i = self.e_ice;
-        let e_s = b.e_tread * e_i / (b.e_tread + e_i); // series effusivity for tread-to-ice conduction
+        let k = BulkConstants {
+            e_series: b.e_tread * e_i / (b.e_tread + e_i), // tread-to-ice conduction
+            width_m: b.width_m.max(1e-3),
+            heat_capacity_j_k: b.heat_capacity_j_k.max(1e-6),
+        };
+        let e_s = k.e_series;
         let h = finite_or(h, 0.0).max(0.0);
         for (i, (t, o)) in tyres.iter().zip(out.iter_mut()).enumerate() {
             let t_ice = finite_or(t.surface_temp_c, MELT_C);
@@ -560,14 +577,14 @@ impl ContactTemperature for AtiimEstimator {
             let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
             // conduction into the ice through the patch: area A, contact time L / v
             let area = fz * b.area_per_n;
-            let len = area / b.width_m.max(1e-3);
+            let len = area / k.width_m;
             let tc = len / vr.max(vs).max(0.1);
             let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
             let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
             let t_air = b.air_temp_c.unwrap_or(t_ice);
             let g = g_ice + g_air;
             let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
-            let x = g * h / b.heat_capacity_j_k.max(1e-6);
+            let x = g * h / k.heat_capacity_j_k;
             // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
             let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
             tb = t_eq + (tb - t_eq) * decay;

@@ -596,14 +596,23 @@ impl PacejkaTyre {
                 let bxa = c.rbx1 / (1.0 + r2 * r2).sqrt() * c.lxal;
                 let exa = (c.rex1 + c.rex2 * p.dfz).min(1.0);
                 let gxa0 = if c.rhx1 == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(bxa, c.rcx1, exa, c.rhx1)) };
-                let gxa = mf_cos(bxa, c.rcx1, exa, a + c.rhx1) / gxa0;
+                // (G0 = 1 exactly without a shift: the division is skipped, same value)
+                let gxa = if c.rhx1 == 0.0 {
+                    mf_cos(bxa, c.rcx1, exa, a + c.rhx1)
+                } else {
+                    mf_cos(bxa, c.rcx1, exa, a + c.rhx1) / gxa0
+                };
                 // Gyk.
                 let shyk = c.rhy1 + c.rhy2 * p.dfz;
                 let r2 = c.rby2 * (a - c.rby3);
                 let byk = c.rby1 / (1.0 + r2 * r2).sqrt() * c.lyka;
                 let eyk = (c.rey1 + c.rey2 * p.dfz).min(1.0);
                 let gyk0 = if shyk == 0.0 { 1.0 } else { Self::g0_guard(mf_cos(byk, c.rcy1, eyk, shyk)) };
-                let gyk = mf_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0;
+                let gyk = if shyk == 0.0 {
+                    mf_cos(byk, c.rcy1, eyk, kappa + shyk)
+                } else {
+                    mf_cos(byk, c.rcy1, eyk, kappa + shyk) / gyk0
+                };
                 let rv = c.rvy1 + c.rvy2 * p.dfz + c.rvy3 * p.gy;
                 let svyk = if rv == 0.0 {
                     0.0
