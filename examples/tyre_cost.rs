@@ -4,11 +4,15 @@
 //! `forces()` N times through `Arc<dyn TyreModel>` over the 64 inputs of `benches/tyre.rs`
 //! (kappa 0.01–0.3, alpha 0.2–0.01 rad, Fz 2–6 kN, mu 0.15, -3 degC ice, contact -1 degC), then
 //! prints the sum of the forces. Run it under callgrind with N and with 0; the difference of the
-//! instruction counts over N is the cost of one call:
+//! instruction counts over N is the cost of one call. A third argument times the prepared path
+//! (`TyreModel::forces_prepared`): `load` with each input's own load and surface prepared (a
+//! static-load vehicle model), `surface` with the surface prepared at 4 kN and the loads as
+//! above (a model with load transfer):
 //!
 //! ```text
 //! cargo build --release --example tyre_cost
 //! valgrind --tool=callgrind --callgrind-out-file=/dev/null target/release/examples/tyre_cost pacejka 100000
+//! valgrind --tool=callgrind --callgrind-out-file=/dev/null target/release/examples/tyre_cost pacejka 100000 surface
 //! ```
 
 use std::hint::black_box;
@@ -33,9 +37,21 @@ fn main() {
             i
         })
         .collect();
+    let mode = args.get(3).map(String::as_str);
+    let prepared: Vec<_> = inputs
+        .iter()
+        .map(|i| match mode {
+            Some("surface") => model.prepare(&TyreInput { fz_n: 4000.0, ..*i }),
+            _ => model.prepare(i),
+        })
+        .collect();
     let mut sum = 0.0;
     for k in 0..n {
-        let f = model.forces(black_box(&inputs[k & 63]));
+        let f = match mode {
+            None => model.forces(black_box(&inputs[k & 63])),
+            Some("load" | "surface") => model.forces_prepared(&prepared[k & 63], black_box(&inputs[k & 63])),
+            Some(other) => panic!("unknown mode {other}; allowed: load, surface"),
+        };
         sum += f.fx_n + f.fy_n + f.mz_nm;
     }
     println!("{sum}");

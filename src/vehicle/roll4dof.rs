@@ -269,8 +269,11 @@ impl Roll4Dof {
         let radius = v.tyre.rolling_radius_m;
         let fz = self.normal_loads(x);
         let (dl, dr) = front_steer_angles(u.steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
-        // Rear wheels are not steered: sin 0 = 0, cos 0 = 1 exactly, no trigonometry needed.
-        let steer_sc = [dl.sin_cos(), dr.sin_cos(), (0.0, 1.0), (0.0, 1.0)];
+        // Rear wheels are not steered: sin 0 = 0, cos 0 = 1 exactly, no trigonometry needed; front
+        // wheels at the same angle (no Ackermann) share theirs.
+        let sc_left = dl.sin_cos();
+        let sc_right = if dr.to_bits() == dl.to_bits() { sc_left } else { dr.sin_cos() };
+        let steer_sc = [sc_left, sc_right, (0.0, 1.0), (0.0, 1.0)];
         let front_share = v.drive_front_share();
         let drive_axle = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
         let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
