@@ -320,7 +320,9 @@ impl Roll4Dof {
         (fx, fy, mz)
     }
 
-    /// Derivative together with the per-wheel quantities it used.
+    /// Derivative together with the per-wheel quantities it used (inlined: a caller that does not
+    /// read them does not copy them).
+    #[inline(always)]
     fn eval(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, Wheels) {
         let v = &self.vehicle;
         let ro = &self.roll;
