@@ -112,6 +112,13 @@ pub struct Roll4Dof {
     pos: [(f64, f64); 4],
     /// Inverse of the (vy, r, p) mass matrix.
     m_inv: Matrix3<f64>,
+    /// Roll-equation constants: total roll stiffness K (N m/rad) and damping C (N m s/rad),
+    /// m_s g h' (N m) and m_s h' (kg m); and m_s h' / m (m), the CG's share of the roll.
+    roll_k: f64,
+    roll_c: f64,
+    roll_gravity: f64,
+    roll_ms_hp: f64,
+    roll_shift: f64,
     /// Regularisation speed of each axle's wheel resisting torque ([`resisting_omega1`]), rad/s.
     resist_omega1: [f64; 2],
     /// Tyre coefficients prepared per wheel (FL, FR, RL, RR) for its static load on a surface
@@ -186,6 +193,7 @@ impl Roll4Dof {
         let bmax = vehicle.brake_torque_max_nm;
         let brake_max = [0.5 * bmax * vehicle.brake_front_share, 0.5 * bmax * (1.0 - vehicle.brake_front_share)];
         let pos = [(a, 0.5 * t), (a, -0.5 * t), (-b, 0.5 * t), (-b, -0.5 * t)];
+        let (roll_k, roll_c) = (roll.total_stiffness(), roll.damping_nms_per_rad[0] + roll.damping_nms_per_rad[1]);
         let radius = vehicle.tyre.rolling_radius_m;
         let resist_omega1 = [0, 1].map(|axle| {
             let resist_max = brake_max[axle] + vehicle.rolling_resistance * 0.5 * [ff, fr][axle] * radius;
@@ -200,6 +208,11 @@ impl Roll4Dof {
             pos,
             m_inv,
             resist_omega1,
+            roll_k,
+            roll_c,
+            roll_gravity: m_s * GRAVITY * hp,
+            roll_ms_hp: m_s * hp,
+            roll_shift: m_s * hp / m,
             prepared: [None; 4],
         }
     }
@@ -330,10 +343,9 @@ impl Roll4Dof {
         let w = self.wheels(x, u, env);
         let (fx, fy, mz) = self.body_loads(&w, vx);
         let m = v.mass_kg;
-        let (m_s, hp) = (ro.sprung_mass_kg, ro.h_prime_m);
-        let k = ro.total_stiffness();
-        let c = ro.damping_nms_per_rad[0] + ro.damping_nms_per_rad[1];
-        let rhs = Vector3::new(fy - m * r * vx, mz, -k * phi - c * p + m_s * GRAVITY * hp * phi + m_s * hp * r * vx);
+        let (k, c) = (self.roll_k, self.roll_c);
+        let rhs =
+            Vector3::new(fy - m * r * vx, mz, -k * phi - c * p + self.roll_gravity * phi + self.roll_ms_hp * r * vx);
         let acc = self.m_inv * rhs;
         let (s, co) = yaw.sin_cos();
         let radius = v.tyre.rolling_radius_m;
@@ -430,7 +442,7 @@ impl VehicleModel<N> for Roll4Dof {
     /// Acceleration of the whole vehicle's CG: that of O plus the sprung mass's share of its roll
     /// acceleration, -(m_s / m) h' dp/dt sideways (equal to the tyre forces over m by Newton).
     fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64) {
-        let shift = self.roll.sprung_mass_kg * self.roll.h_prime_m / self.vehicle.mass_kg;
+        let shift = self.roll_shift;
         (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX] - shift * dx[ix::P])
     }
 
