@@ -104,11 +104,11 @@ fn defaults_match_the_fine_reference_for_every_model_and_provider() {
 }
 
 /// The sampled loop converges to the continuous-time one: at a fixed 0.25 ms step, the yaw-rate
-/// error of the lane change (bicycle, linear tyre: smooth, so the order is clean; measured 2.02
-/// and 1.78) against the step = period = 0.25 ms reference falls at second order as the control
+/// error of the lane change (bicycle, linear tyre: smooth, so the order is clean; measured 2.09
+/// and 1.93) against the step = period = 0.25 ms reference falls at second order as the control
 /// period halves from 10 ms to 2.5 ms (predicted first-order hold, `vehsim::sim::engine`). With
-/// saturating tyres the errors are not monotone (Pacejka: 7.5e-5, 2.0e-6, 7.4e-6 rad/s) but stay
-/// below 1e-4 rad/s.
+/// saturating tyres the observed order varies (Pacejka: 2.5e-4, 4.8e-5, 1.9e-5 rad/s) but the
+/// error stays below 1e-4 rad/s.
 #[test]
 fn sampled_control_converges_at_second_order_in_the_period() {
     for tyre in ["linear", "pacejka"] {

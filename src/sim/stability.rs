@@ -37,15 +37,15 @@ pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// closed-loop runs. With the engine's predicted first-order hold (`super::engine`), on the
 /// ISO 3888-2 lane change on ice (sedan, 10 m/s held, mu 0.15) the largest yaw-rate difference
 /// from a step = period = 0.25 ms run at step = period = 10 ms is, bicycle / 4-DOF:
-/// linear 6.0e-5 / 4.6e-5, polynomial 2.0e-4 / 1.8e-4, Pacejka 7.6e-5 / 3.1e-5, Dugoff
-/// 2.0e-4 / 2.4e-4 rad/s; at 20 ms polynomial 3.8e-4 / 3.6e-4, Pacejka 2.5e-4 / 5.0e-4, Dugoff
-/// 4.4e-4 / 4.5e-4 rad/s, too close to (or beyond) the 5e-4 rad/s guard of tests/accuracy.rs, and
-/// the unsaturated linear tyre then needs a shorter step than the period. So 10 ms.
+/// linear 1.3e-4 / 1.4e-4, polynomial 3.7e-4 / 3.3e-4, Pacejka 2.6e-4 / 2.0e-4, Dugoff
+/// 3.6e-4 / 3.8e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
+/// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s) and the unsaturated linear tyre
+/// needs a shorter step than the period. So 10 ms.
 pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.01;
 /// Default controller sample period with the ATIIM contact-temperature estimate, s: its output
 /// follows the instantaneous slide speed (the flash temperature), which the hold across the period
-/// resolves less well: ATIIM-Pacejka on the same lane change is 1.1e-4 / 1.1e-4 rad/s at 5 ms and
-/// 3.4e-4 / 6.9e-4 rad/s at 10 ms (bicycle / 4-DOF).
+/// resolves less well: ATIIM-Pacejka on the same lane change is 1.3e-4 / 1.4e-4 rad/s at 5 ms and
+/// 4.4e-4 / 7.6e-4 rad/s at 10 ms (bicycle / 4-DOF).
 pub const DEFAULT_CONTROL_PERIOD_THERMAL_S: f64 = 0.005;
 
 /// The linearised model at steady straight running at one speed.
