@@ -126,6 +126,24 @@ fn sampled_control_converges_at_second_order_in_the_period() {
     }
 }
 
+/// A run that brakes to a stop reaches the regularised brake torque's stiff range (up to
+/// `TORQUE_RATE_MAX` = 400 1/s below the regularisation wheel speed), which the linearisation at
+/// free rolling does not see: the spec layer then divides the 10 ms period into two 5 ms steps
+/// (h x 400 = 2), and the car stops. (At 10 ms a steered stop creeps on at 0.14 m/s:
+/// tests/bicycle_physics.rs, `standstill_start_and_brake_to_standstill`.) A run that keeps its
+/// speed keeps the 10 ms step.
+#[test]
+fn a_stop_takes_the_brake_torque_rate_into_the_default_step() {
+    let stop = "kind = \"straight\"\nspeed_schedule = [[0.0, 10.0], [2.0, 10.0], [6.0, 0.0]]";
+    let base = config("stop", "pacejka", "bicycle", 0.15, stop, "duration_s = 10.0\n");
+    assert_eq!((base.settings.step_s, base.settings.control_period_s), (0.005, 0.01));
+    let out = run(&base, None, None);
+    let end = out.rows.last().unwrap();
+    assert!(end.obs.kin.speed_mps() < 0.05, "v = {}", end.obs.kin.speed_mps());
+    let cruise = dlc("no-stop", "pacejka", "bicycle", 10.0, 0.15);
+    assert_eq!((cruise.settings.step_s, cruise.settings.control_period_s), (0.01, 0.01));
+}
+
 /// Speeds and frictions of `maneuvers/bench/dlc_sweep_1000.toml`.
 fn sweep_grid() -> (Vec<f64>, Vec<f64>) {
     ((0..40).map(|i| 8.0 + 0.2 * i as f64).collect(), (0..25).map(|i| 0.10 + 0.02 * i as f64).collect())

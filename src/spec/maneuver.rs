@@ -791,6 +791,18 @@ impl ManeuverFile {
                 if !rk4 {
                     return Ok((cp, cp, false));
                 }
+                // Below the regularisation wheel speed omega_1 the brake and rolling-resistance
+                // torques are stiff, up to TORQUE_RATE_MAX (src/vehicle/wheel.rs), a rate the
+                // linearisation at free rolling does not see and the exponential RK4 leaves
+                // explicit: a manoeuvre whose speed range reaches twice that speed (a stop) takes
+                // it into the step's bound.
+                let share = vehicle.brake_front_share.max(1.0 - vehicle.brake_front_share);
+                let omega1 = 1.5 * vehicle.brake_torque_max_nm * share
+                    / (2.0 * vehicle.wheel_inertia_kgm2 * crate::vehicle::wheel::TORQUE_RATE_MAX);
+                if lo < 2.0 * omega1 * vehicle.tyre.rolling_radius_m {
+                    let lambda = lambda.max(crate::vehicle::wheel::TORQUE_RATE_MAX);
+                    return Ok((default_step_s(cp, lambda), cp, false));
+                }
                 let h = default_step_s(cp, lambda);
                 // Plain RK4 would need several steps per period: the exponential one may take fewer.
                 let fewer = (1..(cp / h).round() as usize).map(|n| cp / n as f64).find(|&he| stable(EXP_MARGIN * he));
