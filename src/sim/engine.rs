@@ -9,10 +9,11 @@
 //!    whole number of steps, on its own clock: the period does not follow the step): the
 //!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the end of the
 //!    coming control period*, t + T_c, along the tangent at t (x_k + T_c f(x_k); the slope is the
-//!    coming step's first RK4 stage, so the prediction costs no model evaluation). Their outputs ramp linearly across
-//!    the period from their values at t to the new ones at t + T_c (a predicted first-order hold:
-//!    the inputs are continuous, and the sampled loop converges to the continuous-time one at
-//!    second order in T_c, with a far smaller constant than a held value). The steering rate and
+//!    coming step's first RK4 stage, so the prediction costs no model evaluation). Their outputs
+//!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
+//!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
+//!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
+//!    see a staircase steer; errors per provider: `super::stability`). The steering rate and
 //!    lock limits apply to the ramp's end; the PID integrates its error by the trapezoidal rule.
 //!    The contact-temperature estimate is advanced over the period from the tyres' operating
 //!    conditions at the predicted t + T_c, and its output ramps likewise.
