@@ -138,8 +138,15 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     let mut plausibility = Plausibility::for_run(cfg);
     // Rows are kept only when someone reads them (the time series or the steady-state means); the
     // plausibility checks see every recorded row either way.
-    let keep: &mut dyn Observer =
-        if cfg.output.timeseries || !windows.is_empty() { &mut recorder } else { &mut NoOutput };
+    let keep: &mut dyn Observer = if cfg.output.timeseries || !windows.is_empty() {
+        // Room for every row the run can record (its longest duration), capped at a million.
+        let s = &cfg.settings;
+        let rows = (s.duration_s / s.output_interval_s.max(s.step_s)).ceil().clamp(0.0, 1e6) as usize + 2;
+        recorder = Recorder::with_capacity(rows);
+        &mut recorder
+    } else {
+        &mut NoOutput
+    };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
     let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
     if let Some(n) = note {

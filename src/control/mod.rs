@@ -1,4 +1,5 @@
-//! Controllers sampled by the engine once per step and held over it: the PID speed controller and
+//! Controllers sampled by the engine once per control period, their outputs ramped across it
+//! (`crate::sim::engine`): the PID speed controller and
 //! the path-following driver. They see only the vehicle's kinematics, never its internal state.
 
 pub mod driver;

@@ -35,11 +35,13 @@ pub struct Pid {
     pub out_max: f64,
     integral: f64,
     prev_measurement: Option<f64>,
+    /// Error at the previous sample (the trapezoidal integral's other end).
+    prev_error: Option<f64>,
 }
 
 impl Pid {
     pub fn new(params: PidParams, out_min: f64, out_max: f64) -> Self {
-        Self { params, out_min, out_max, integral: 0.0, prev_measurement: None }
+        Self { params, out_min, out_max, integral: 0.0, prev_measurement: None, prev_error: None }
     }
 
     /// Start with the integral preloaded so that the output equals `u0` at zero error (bumpless start).
@@ -58,7 +60,9 @@ impl Pid {
             _ => 0.0,
         };
         self.prev_measurement = Some(measurement);
-        let candidate = self.integral + e * h;
+        // Trapezoidal integral over the sample interval (the first sample: the rectangle).
+        let candidate = self.integral + 0.5 * (e + self.prev_error.unwrap_or(e)) * h;
+        self.prev_error = Some(e);
         let u_try = p.kp * e + p.ki * candidate + p.kd * d;
         let winding_up = (u_try > self.out_max && e > 0.0) || (u_try < self.out_min && e < 0.0);
         if !winding_up {
@@ -71,6 +75,7 @@ impl Pid {
     pub fn reset(&mut self) {
         self.integral = 0.0;
         self.prev_measurement = None;
+        self.prev_error = None;
     }
 }
 

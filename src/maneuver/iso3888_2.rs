@@ -394,8 +394,17 @@ impl Maneuver for Iso3888_2 {
         let (t0, prev) = self.previous.unwrap_or((t, corners));
         self.previous = Some((t, corners));
         let mut strikes: Vec<(f64, usize, usize, usize, f64, f64)> = Vec::new();
+        // The x range the body swept in this step: a gate outside it cannot be struck (the swept
+        // segments' clipping to the gate's x range would be empty), so most steps test no gate.
+        let (x_lo, x_hi) = prev
+            .iter()
+            .chain(corners.iter())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
         for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate() {
             for (gi, g) in self.gates.iter().enumerate() {
+                if g.x1_m < x_lo || g.x0_m > x_hi {
+                    continue;
+                }
                 for side in 0..2 {
                     if self.struck.contains(&(gi, side)) {
                         continue;

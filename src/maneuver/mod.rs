@@ -149,12 +149,13 @@ pub struct SteadyWindow {
 pub trait Maneuver: Send {
     /// Where and how fast the vehicle starts.
     fn start(&self) -> Start;
-    /// Command held over the coming control period: the engine passes the middle of the period
-    /// as `t` and the kinematics predicted for that instant as `kin` (see [`crate::sim::engine`]).
+    /// Command for the end of the coming control period: the engine passes that instant as `t` and
+    /// the kinematics predicted for it as `kin`, and ramps the inputs to the command across the
+    /// period (see [`crate::sim::engine`]).
     fn command(&mut self, t: f64, kin: &Kinematics) -> Command;
     /// The steer angle as a known function of time, rad, where the manoeuvre prescribes one
     /// (open loop; already within the steering rate limit): the engine then evaluates it at every
-    /// integration stage instead of holding [`Command::steer_rad`] over the control period.
+    /// integration stage instead of ramping to [`Command::steer_rad`] across the control period.
     /// `None` (the default) for feedback steering.
     fn steer_at(&self, _t: f64) -> Option<f64> {
         None

@@ -7,14 +7,16 @@
 //!
 //! 1. [`Simulation::sample_controls`], at every controller sample (every `control_period_s`, a
 //!    whole number of steps, on its own clock: the period does not follow the step): the
-//!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the middle of
-//!    the coming control period*, extrapolated linearly from the last two samples:
-//!    x_k + (x_k - x_{k-1}) / 2 (samples only, so at a fixed period the prediction converges with
-//!    the integration, at fourth order in the step). Their outputs are held over the period
-//!    (zero-order hold); the hold acts like a delay of T_c / 2, which the prediction cancels, so
-//!    the sampled loop converges to the continuous-time one at second order in T_c instead of first. The steering
-//!    rate and lock limits apply to the held steer. The contact-temperature estimate is updated at
-//!    the same instants from the tyres' operating conditions.
+//!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the end of the
+//!    coming control period*, t + T_c, along the tangent at t (x_k + T_c f(x_k); the slope is the
+//!    coming step's first RK4 stage, so the prediction costs no model evaluation). Their outputs
+//!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
+//!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
+//!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
+//!    see a staircase steer; errors per provider: `super::stability`). The steering rate and
+//!    lock limits apply to the ramp's end; the PID integrates its error by the trapezoidal rule.
+//!    The contact-temperature estimate is advanced over the period from the tyres' operating
+//!    conditions at the predicted t + T_c, and its output ramps likewise.
 //! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
 //!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
@@ -40,7 +42,7 @@ use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::limit_steer;
 use crate::control::{Pid, PidParams};
 use crate::maneuver::{Event, EventKind, Maneuver};
-use crate::vehicle::{Environment, Inputs, Kinematics, VehicleModel};
+use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
 pub const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
@@ -177,6 +179,33 @@ fn max_opt(a: Option<f64>, v: f64) -> Option<f64> {
     Some(a.map_or(v, |a| a.max(v)))
 }
 
+/// The controller outputs that ramp across a control period (first-order hold).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ramped {
+    steer_rad: f64,
+    /// Drive (positive) or brake (negative) torque, N m.
+    torque_nm: f64,
+    contact_temp_c: [f64; 4],
+}
+
+impl Ramped {
+    /// The inputs at fraction `w` (0 at `from`, 1 at `to`) of the ramp.
+    fn lerp(from: &Ramped, to: &Ramped, w: f64) -> Inputs {
+        let l = |a: f64, b: f64| a + w * (b - a);
+        let tq = l(from.torque_nm, to.torque_nm);
+        let mut c = from.contact_temp_c;
+        for (c, b) in c.iter_mut().zip(to.contact_temp_c) {
+            *c = l(*c, b);
+        }
+        Inputs {
+            steer_rad: l(from.steer_rad, to.steer_rad),
+            drive_torque_nm: tq.max(0.0),
+            brake_torque_nm: (-tq).max(0.0),
+            contact_temp_c: c,
+        }
+    }
+}
+
 /// One run in progress: the steppable engine (see the module docs).
 pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     model: &'a M,
@@ -193,9 +222,16 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     out_every: u64,
     ctrl_every: u64,
     x: SVector<f64, N>,
-    /// State at the previous controller sample (the predictor's secant; `None` before the first).
-    x_sample: Option<SVector<f64, N>>,
+    /// Inputs at the current instant (the ramps' values at the last step's start).
     u: Inputs,
+    /// The control period's ramps: time of its start, s, and the inputs at its start and end
+    /// (steer, signed wheel torque: drive positive, and the contact temperatures).
+    ramp_t0: f64,
+    ramp_from: Ramped,
+    ramp_to: Ramped,
+    /// The first stage's derivative (and observation, when a row is due) of the coming step,
+    /// computed by the controller sample for its prediction.
+    pending_k1: Option<(SVector<f64, N>, Option<Observation>)>,
     pid: Pid,
     pid_active: bool,
     contacts: [TyreContact; 4],
@@ -235,6 +271,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let mut watch = Watch::default();
         watch.check(model, &x, &u, &env, 0.0, &mut events);
         let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
+        // The PID starts preloaded: its output at zero error is the preload torque.
+        let preload = controls.preload_nm.clamp(-controls.brake_max_nm, controls.drive_max_nm);
+        let start_inputs = Ramped { steer_rad: 0.0, torque_nm: preload, contact_temp_c: [env.surface_temp_c; 4] };
         Self {
             model,
             env,
@@ -249,8 +288,11 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             out_every,
             ctrl_every,
             x,
-            x_sample: None,
             u,
+            ramp_t0: 0.0,
+            ramp_from: start_inputs,
+            ramp_to: start_inputs,
+            pending_k1: None,
             pid,
             pid_active: true,
             contacts: [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4],
@@ -285,8 +327,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         &self.x
     }
 
-    /// Inputs held since the last controller sample (the steer of an open-loop profile is the
-    /// profile's value at that sample).
+    /// Inputs at the start of the last step taken (the controller ramps' values then; the steer
+    /// of an open-loop profile is the profile's value then).
     pub fn inputs(&self) -> &Inputs {
         &self.u
     }
@@ -313,57 +355,83 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         }
         let t = self.time_s();
         let kin = self.model.kinematics(&self.x);
-        if self.k % self.ctrl_every == 0 {
-            self.sample_controls(t);
-        }
         let record = self.k % self.out_every == 0;
+        if self.k % self.ctrl_every == 0 {
+            self.sample_controls(t, record);
+        }
         let next = self.advance(t, &kin, record);
         self.k += 1;
         self.end = self.check_end(next, &kin);
         self.end
     }
 
+    /// The inputs at time `ts` within the current control period: the ramps, and an open-loop
+    /// steer profile's value at `ts` where the manoeuvre prescribes one.
+    fn inputs_at(&self, ts: f64) -> Inputs {
+        let mut u = Ramped::lerp(&self.ramp_from, &self.ramp_to, (ts - self.ramp_t0) / self.hc);
+        if let Some(d) = self.maneuver.steer_at(ts) {
+            let lock = self.controls.steer_max_rad;
+            u.steer_rad = d.clamp(-lock, lock);
+        }
+        u
+    }
+
     /// Phase 1: sample the manoeuvre, the PID and the contact-temperature estimate at time `t`
-    /// from the state predicted at t + T_c / 2, and hold their outputs (see the module docs).
-    fn sample_controls(&mut self, t: f64) {
+    /// from the state predicted one control period ahead, and ramp their outputs across the
+    /// period (see the module docs). The derivative at `t` the prediction needs is the coming
+    /// step's first stage: it is kept for [`Self::advance`] (with the observation when `record`).
+    fn sample_controls(&mut self, t: f64, record: bool) {
         let c = self.controls;
         let hc = self.hc;
-        // Linear extrapolation from the previous sample (none at the first: the start is steady).
-        let x_pred = match self.x_sample {
-            Some(prev) => self.x + (self.x - prev) * 0.5,
-            None => self.x,
+        // The inputs at t: the end of the previous ramps (the start's values at the first sample).
+        let u0 = Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0);
+        let u0 = match self.maneuver.steer_at(t) {
+            Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
+            None => u0,
         };
-        self.x_sample = Some(self.x);
-        let kin = self.model.kinematics(&x_pred);
-        let cmd = self.maneuver.command(t + 0.5 * hc, &kin);
-        self.u.steer_rad = match self.maneuver.steer_at(t) {
+        let (k1, obs) = if record {
+            let (k1, obs) = self.model.derivatives_observed(&self.x, &u0, &self.env);
+            (k1, Some(obs))
+        } else {
+            (self.model.derivatives(&self.x, &u0, &self.env), None)
+        };
+        self.pending_k1 = Some((k1, obs));
+        // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
+        // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
+        // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
+        // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs.
+        let x_end = self.x + k1 * hc;
+        let kin = self.model.kinematics(&x_end);
+        let cmd = self.maneuver.command(t + hc, &kin);
+        let from = self.ramp_to;
+        let steer = match self.maneuver.steer_at(t + hc) {
             Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
-            None => limit_steer(self.u.steer_rad, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc),
+            None => limit_steer(from.steer_rad, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc),
         };
-        self.speed_target = match cmd.speed_target_mps {
+        let torque = match cmd.speed_target_mps {
             Some(v) => {
                 if !self.pid_active {
                     self.pid.reset();
                     self.pid_active = true;
                 }
-                let torque = self.pid.update(v, kin.vx_mps, hc);
-                self.u.drive_torque_nm = torque.max(0.0);
-                self.u.brake_torque_nm = (-torque).max(0.0);
                 self.st.max_verr = max_opt(self.st.max_verr, (v - kin.vx_mps).abs());
-                v
+                self.speed_target = v;
+                self.pid.update(v, kin.vx_mps, hc)
             }
             None => {
                 self.pid_active = false;
-                self.u.drive_torque_nm = 0.0;
-                self.u.brake_torque_nm = 0.0;
-                f64::NAN
+                self.speed_target = f64::NAN;
+                0.0
             }
         };
+        let mut to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: from.contact_temp_c };
         if self.contact.needs_conditions() {
-            self.model.tyre_contacts(&x_pred, &self.u, &self.env, &mut self.contacts[..M::TYRES]);
+            let u_end = Ramped::lerp(&from, &to, 1.0);
+            self.model.tyre_contacts(&x_end, &u_end, &self.env, &mut self.contacts[..M::TYRES]);
         }
         self.contact.update(hc, &self.contacts[..M::TYRES], &mut self.temps[..M::TYRES]);
-        self.u.contact_temp_c = self.temps;
+        to.contact_temp_c = self.temps;
+        (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
         self.path_error = self.maneuver.path_error_m();
         if let Some(e) = self.path_error {
             self.st.max_dev = max_opt(self.st.max_dev, e.abs());
@@ -372,23 +440,21 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
 
     /// Phase 2: one integration step from time `t` (the state's kinematics `kin`), recording the
     /// step's start as an output row first when `record` (the row's observation comes from the
-    /// same model evaluation as the first stage, k1); updates the running figures of the step's
+    /// same model evaluation as the first stage, k1, computed by the controller sample when there
+    /// was one); the inputs at every stage are the ramps' values at the stage time; updates the running figures of the step's
     /// start. Returns the new state or why the solver gave up.
     fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
-        let (model, env, u, h) = (self.model, self.env, self.u, self.h);
-        let lock = self.controls.steer_max_rad;
-        let maneuver: &dyn Maneuver = &*self.maneuver;
-        // The held inputs, with an open-loop steer profile's value at the stage time.
-        let f = |ts: f64, s: &SVector<f64, N>| match maneuver.steer_at(ts) {
-            Some(d) => model.derivatives(s, &Inputs { steer_rad: d.clamp(-lock, lock), ..u }, &env),
-            None => model.derivatives(s, &u, &env),
+        let (model, env, h) = (self.model, self.env, self.h);
+        let inputs = self.inputs_at(t);
+        let (k1, obs) = match self.pending_k1.take() {
+            Some((k1, obs)) if obs.is_some() || !record => (k1, obs),
+            _ if record => {
+                let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
+                (k1, Some(obs))
+            }
+            _ => (model.derivatives(&self.x, &inputs, &env), None),
         };
-        let k1 = if record {
-            let inputs = match maneuver.steer_at(t) {
-                Some(d) => Inputs { steer_rad: d.clamp(-lock, lock), ..u },
-                None => u,
-            };
-            let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
+        if let Some(obs) = obs {
             let row = Row {
                 t_s: t,
                 obs,
@@ -398,10 +464,10 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             };
             self.observer.record(&row);
             self.last_row = Some(row);
-            k1
-        } else {
-            f(t, &self.x)
-        };
+        }
+        self.u = inputs;
+        let this = &*self;
+        let f = |ts: f64, s: &SVector<f64, N>| model.derivatives(s, &this.inputs_at(ts), &env);
         let next = match self.method {
             Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
             Method::Rk4Exp => {

@@ -30,6 +30,13 @@ pub struct Recorder {
     pub rows: Vec<Row>,
 }
 
+impl Recorder {
+    /// A recorder with room for `rows` rows (no reallocation while a run of that many records).
+    pub fn with_capacity(rows: usize) -> Self {
+        Self { rows: Vec::with_capacity(rows) }
+    }
+}
+
 impl Observer for Recorder {
     fn record(&mut self, row: &Row) {
         self.rows.push(*row);

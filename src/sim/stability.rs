@@ -34,11 +34,19 @@ pub const RK4_REAL_BOUND: f64 = 2.785;
 /// h |lambda| of the default step.
 pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// Default controller sample period, s. The sampling, not the step, dominates the error of the
-/// closed-loop runs: on the ISO 3888-2 lane change on ice (sedan, 10 m/s, mu 0.15) the largest
-/// yaw-rate difference from a 0.25 ms run is 0.8e-4 (Pacejka), 2.6e-4 (Dugoff) and 3.5e-4 rad/s
-/// (polynomial) at 5 ms, and 1.3e-4, 5.1e-4, 7.9e-4 rad/s at 10 ms, whatever the step; 5 ms keeps
-/// every provider within the 5e-4 rad/s guard of tests/accuracy.rs.
-pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.005;
+/// closed-loop runs. With the engine's predicted first-order hold (`super::engine`), on the
+/// ISO 3888-2 lane change on ice (sedan, 10 m/s held, mu 0.15) the largest yaw-rate difference
+/// from a step = period = 0.25 ms run at step = period = 10 ms is, bicycle / 4-DOF:
+/// linear 1.3e-4 / 1.4e-4, polynomial 3.7e-4 / 3.3e-4, Pacejka 2.6e-4 / 2.0e-4, Dugoff
+/// 3.6e-4 / 3.8e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
+/// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s) and the unsaturated linear tyre
+/// needs a shorter step than the period. So 10 ms.
+pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.01;
+/// Default controller sample period with the ATIIM contact-temperature estimate, s: its output
+/// follows the instantaneous slide speed (the flash temperature), which the hold across the period
+/// resolves less well: ATIIM-Pacejka on the same lane change is 1.3e-4 / 1.4e-4 rad/s at 5 ms and
+/// 4.4e-4 / 7.6e-4 rad/s at 10 ms (bicycle / 4-DOF).
+pub const DEFAULT_CONTROL_PERIOD_THERMAL_S: f64 = 0.005;
 
 /// The linearised model at steady straight running at one speed.
 pub struct Analysis {

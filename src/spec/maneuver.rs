@@ -20,8 +20,8 @@
 //! preview_time_s = 0.55
 //! [integrator]
 //! method = "rk4"                        # or dopri5, dop853
-//! control_period_s = 0.005              # controller sample period (default 0.005 s)
-//! # step_s = 0.005                      # default: from the vehicle's fastest mode
+//! control_period_s = 0.01               # controller sample period (default 0.01 s; 0.005 s with ATIIM contact)
+//! # step_s = 0.01                       # default: from the vehicle's fastest mode
 //! [output]
 //! interval_s = 0.01
 //! ```
@@ -416,8 +416,8 @@ pub struct IntegratorSection {
     /// are those of the fastest remaining mode.
     #[serde(default)]
     pub step_s: Option<f64>,
-    /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.005 s, or
-    /// the whole multiple of a given step_s nearest to it).
+    /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.01 s, 0.005 s
+    /// with the ATIIM contact estimate, or the whole multiple of a given step_s nearest to it).
     #[serde(default)]
     pub control_period_s: Option<f64>,
     /// Relative and absolute tolerance of the adaptive methods.
@@ -742,8 +742,13 @@ impl ManeuverFile {
         maneuver: &ManeuverConfig,
         rk4: bool,
     ) -> Result<(f64, f64, bool)> {
-        use crate::sim::stability::{analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_H_LAMBDA, EXP_MARGIN};
+        use crate::sim::stability::{
+            analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_CONTROL_PERIOD_THERMAL_S, DEFAULT_H_LAMBDA,
+            EXP_MARGIN,
+        };
         let i = &self.integrator;
+        let default_cp =
+            if self.contact.model == "atiim" { DEFAULT_CONTROL_PERIOD_THERMAL_S } else { DEFAULT_CONTROL_PERIOD_S };
         let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
@@ -778,13 +783,25 @@ impl ManeuverFile {
                         ),
                     ));
                 }
-                let cp = i.control_period_s.unwrap_or(h * (DEFAULT_CONTROL_PERIOD_S / h).round().max(1.0));
+                let cp = i.control_period_s.unwrap_or(h * (default_cp / h).round().max(1.0));
                 Ok((h, cp, exp))
             }
             None => {
-                let cp = i.control_period_s.unwrap_or(DEFAULT_CONTROL_PERIOD_S);
+                let cp = i.control_period_s.unwrap_or(default_cp);
                 if !rk4 {
                     return Ok((cp, cp, false));
+                }
+                // Below the regularisation wheel speed omega_1 the brake and rolling-resistance
+                // torques are stiff, up to TORQUE_RATE_MAX (src/vehicle/wheel.rs), a rate the
+                // linearisation at free rolling does not see and the exponential RK4 leaves
+                // explicit: a manoeuvre whose speed range reaches twice that speed (a stop) takes
+                // it into the step's bound.
+                let share = vehicle.brake_front_share.max(1.0 - vehicle.brake_front_share);
+                let omega1 = 1.5 * vehicle.brake_torque_max_nm * share
+                    / (2.0 * vehicle.wheel_inertia_kgm2 * crate::vehicle::wheel::TORQUE_RATE_MAX);
+                if lo < 2.0 * omega1 * vehicle.tyre.rolling_radius_m {
+                    let lambda = lambda.max(crate::vehicle::wheel::TORQUE_RATE_MAX);
+                    return Ok((default_step_s(cp, lambda), cp, false));
                 }
                 let h = default_step_s(cp, lambda);
                 // Plain RK4 would need several steps per period: the exponential one may take fewer.
