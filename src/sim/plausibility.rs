@@ -35,7 +35,7 @@ use crate::maneuver::{Event, EventKind};
 use crate::spec::maneuver::ManeuverConfig;
 use crate::spec::vehicle::GRAVITY;
 use crate::spec::RunConfig;
-use crate::tyre::{TyreInput, TyreModel};
+use crate::tyre::{Prepared, TyreInput, TyreModel};
 use crate::vehicle::Environment;
 
 /// Largest plausible |F| / (mu Fz) of an axle.
@@ -96,6 +96,10 @@ pub struct Plausibility {
     onsets: [u32; 3],
     worst: [Worst; 3],
     events: Vec<Event>,
+    /// The provider's coefficients prepared per tyre slot of a row (`fz_n` order) at the load
+    /// last seen there ([`TyreModel::prepare`]); re-prepared when the load changes, so a model
+    /// with static loads prepares each tyre once.
+    prepared: [Option<Prepared>; 4],
 }
 
 impl Plausibility {
@@ -110,6 +114,7 @@ impl Plausibility {
             onsets: [0; 3],
             worst: [Worst::default(); 3],
             events: Vec::new(),
+            prepared: [None; 4],
         }
     }
 
@@ -119,11 +124,12 @@ impl Plausibility {
     }
 
     /// The friction bound of axle `axle` (N) and its tyres' load (N) at `row`.
-    fn axle_bound(&self, row: &Row, axle: usize) -> (f64, f64) {
+    fn axle_bound(&mut self, row: &Row, axle: usize) -> (f64, f64) {
         let o = &row.obs;
         let mut bound = 0.0;
         let mut load = 0.0;
-        for &fz in &o.fz_n[2 * axle..2 * axle + 2] {
+        for slot in 2 * axle..2 * axle + 2 {
+            let fz = o.fz_n[slot];
             if fz.is_nan() || fz <= 0.0 {
                 continue;
             }
@@ -137,7 +143,13 @@ impl Plausibility {
                 surface_temp_c: self.env.surface_temp_c,
                 contact_temp_c: o.contact_temp_axle_c[axle],
             };
-            let mu = self.tyre.peak_friction(&input);
+            if !matches!(&self.prepared[slot], Some(p) if p.matches_load(&input)) {
+                self.prepared[slot] = Some(self.tyre.prepare(&input));
+            }
+            let mu = match &self.prepared[slot] {
+                Some(p) => self.tyre.peak_friction_prepared(p, &input),
+                None => self.tyre.peak_friction(&input),
+            };
             bound += if mu.is_finite() { mu } else { self.env.mu } * fz;
             load += fz;
         }

@@ -227,7 +227,8 @@ mod tests {
         out
     }
 
-    /// Prepared forces equal the unprepared ones bit for bit, for the Magic Formula and its ATIIM
+    /// Prepared forces and peak friction equal the unprepared ones bit for bit, for the Magic Formula
+    /// and its ATIIM
     /// modification: at the prepared load and surface (heated or not), at other loads on the same
     /// surface (load transfer), a lifted wheel, and on another surface or camber (the fallback).
     #[test]
@@ -269,6 +270,8 @@ mod tests {
                                     "{} {i:?}: {a:?} vs {b:?}",
                                     t.name()
                                 );
+                                let (pa, pb) = (t.peak_friction_prepared(&prepared, &i), t.peak_friction(&i));
+                                assert_eq!(pa.to_bits(), pb.to_bits(), "{} peak {i:?}: {pa} vs {pb}", t.name());
                                 n += 1;
                             }
                         }

@@ -166,6 +166,13 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
         self.forces(input)
     }
 
+    /// [`Self::peak_friction`] of `input` using what `prepared` (made by this instance's
+    /// [`Self::prepare`]) holds for it, the same value bit for bit (an input it does not match is
+    /// evaluated in full). Default: [`Self::peak_friction`].
+    fn peak_friction_prepared(&self, _prepared: &Prepared, input: &TyreInput) -> f64 {
+        self.peak_friction(input)
+    }
+
     /// Whether [`Self::departure`] can report anything for this provider (false: the vehicle
     /// models need not ask). Default: false.
     fn reports_departures(&self) -> bool {

@@ -873,6 +873,17 @@ impl TyreModel for PacejkaTyre {
         self.peak_friction_scaled(i, &Scale::ONE)
     }
 
+    fn peak_friction_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> f64 {
+        match &prepared.pacejka {
+            // (an active prepared input with the same load and friction: `i` is active too)
+            Some(p) if prepared.matches_load(i) => {
+                let (a, _) = self.file_angles(i);
+                self.bound(p, i.fz_n, i.kappa, a) / i.fz_n
+            }
+            _ => self.peak_friction(i),
+        }
+    }
+
     /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
         self.longitudinal_stiffness_scaled(i, &Scale::ONE)
