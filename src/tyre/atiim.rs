@@ -227,10 +227,10 @@ mod tests {
         out
     }
 
-    /// Prepared forces and peak friction equal the unprepared ones bit for bit, for the Magic Formula
-    /// and its ATIIM
-    /// modification: at the prepared load and surface (heated or not), at other loads on the same
-    /// surface (load transfer), a lifted wheel, and on another surface or camber (the fallback).
+    /// Prepared forces and peak friction equal the unprepared ones bit for bit, for the Magic
+    /// Formula and its ATIIM modification: at the prepared load and surface (heated or not), at
+    /// other loads on the same surface (load transfer), a lifted wheel, and on another surface or
+    /// camber (the fallback).
     #[test]
     fn prepared_forces_change_no_bit() {
         let law = MeltLaw {
