@@ -113,8 +113,7 @@ impl Summary {
 }
 
 /// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum EndReason {
     /// The manoeuvre finished (its own end rule).
     Completed,
@@ -149,6 +148,13 @@ impl EndReason {
     /// Divergence and spin-out are failures of the run.
     pub fn failed(self) -> bool {
         matches!(self, EndReason::SpinOut | EndReason::Diverged)
+    }
+}
+
+/// Serialised as [`EndReason::as_str`], the one list of the names.
+impl Serialize for EndReason {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
     }
 }
 
