@@ -134,6 +134,9 @@ pub fn cli_discover(
                 let ps = report::params_text(&st.params, &st.intervals);
                 println!("accepted {}: {ps} ({})", effects::label(&st.effect, &st.form), st.evidence);
             }
+            for x in &d.dropped {
+                println!("dropped {} (round {}): {}", effects::label(&x.effect, &x.form), x.dropped_round, x.reason);
+            }
             for (i, f) in d.folds.iter().enumerate() {
                 let [b, a] = [f.baseline_noise_ratio, f.final_noise_ratio];
                 println!(

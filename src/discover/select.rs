@@ -313,6 +313,22 @@ pub struct Fold {
     pub final_noise_ratio: [f64; 2],
 }
 
+/// An effect named in an earlier round and dropped after a later round's joint refit, because
+/// the intervals of its parameters (estimated jointly with every effect then accepted) all
+/// contain their no-effect values: a later effect explains what it stood in for.
+#[derive(Debug, Clone, Serialize)]
+pub struct Dropped {
+    pub effect: String,
+    pub form: String,
+    /// The round it was accepted in and the round after whose refit it was dropped.
+    pub accepted_round: usize,
+    pub dropped_round: usize,
+    /// Its parameters after the joint refit, with their intervals.
+    pub params: Vec<(String, f64, String)>,
+    pub intervals: Vec<Interval>,
+    pub reason: String,
+}
+
 /// An accepted effect with its final parameters (after any joint refit) and their intervals.
 #[derive(Debug, Clone)]
 pub struct FinalEffect {
@@ -373,6 +389,9 @@ pub struct Discovery {
     /// joint refit moved them (see [`fit_jointly`]).
     pub final_effects: Vec<FinalEffect>,
     pub rejected: Vec<Trial>,
+    /// Effects named in an earlier round and dropped after a later joint refit (see [`Dropped`]);
+    /// they are no longer in `named` nor in `final_effects`.
+    pub dropped: Vec<Dropped>,
     pub named: Vec<String>,
     pub verdict: Verdict,
     /// The split used (per run and sample: true when held out); see [`Dataset::stratified`].
@@ -409,18 +428,22 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
         fit_cost(model, data, &p)
     };
     // The simplex starts from the best of the start value and the effect's start points, so
-    // that it begins in the right basin.
-    let mut x0: Vec<f64> = e.params().iter().map(|d| d.start).collect();
-    let mut best = cost(&x0);
-    for s in e.starts() {
-        let c = cost(&s);
-        if c < best {
-            best = c;
-            x0 = s;
+    // that it begins in the right basin; an effect with several basins
+    // ([`Effect::fit_passes`]) gets a simplex from each of its best few starts, the best kept.
+    let x0: Vec<f64> = e.params().iter().map(|d| d.start).collect();
+    let mut ranked: Vec<(f64, Vec<f64>)> = std::iter::once(x0).chain(e.starts()).map(|s| (cost(&s), s)).collect();
+    // Stable: ties keep the start value first.
+    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<(f64, Vec<f64>, EffectParams)> = None;
+    for (_, s) in ranked.into_iter().take(e.fit_passes()) {
+        let (mut vals, p) = fit_jointly(model, data, base, &[(e, s)]);
+        let c = fit_cost(model, data, &p);
+        if best.as_ref().is_none_or(|b| c < b.0) {
+            best = Some((c, vals.remove(0), p));
         }
     }
-    let (mut vals, p) = fit_jointly(model, data, base, &[(e, x0)]);
-    (vals.remove(0), p)
+    let (_, vals, p) = best.expect("one start at least");
+    (vals, p)
 }
 
 /// Fit the parameters of `effects` together (all of them free at once) from their given values,
@@ -504,6 +527,9 @@ pub fn discover_with(
     let mut named = Vec::new();
     let mut left: Vec<Effect> = candidates.to_vec();
     let mut accepted: Vec<(Effect, Vec<f64>)> = Vec::new();
+    // The round each accepted effect was accepted in.
+    let mut accepted_round: Vec<usize> = Vec::new();
+    let mut dropped = Vec::new();
     let mut round = 0;
     while !left.is_empty() {
         round += 1;
@@ -580,6 +606,7 @@ pub fn discover_with(
         say(format!("round {round}: accepted {} ({:.1} s)", e.label(), t0.elapsed().as_secs_f64()));
         // The polished values of every accepted effect and of the new one.
         accepted.push((e, Vec::new()));
+        accepted_round.push(round);
         for (a, v) in accepted.iter_mut().zip(polished) {
             a.1 = v;
         }
@@ -616,6 +643,38 @@ pub fn discover_with(
                 }
                 current = sj;
                 p = pj;
+            }
+            // An effect named earlier whose intervals, now estimated jointly with the new one,
+            // all contain their no-effect values is dropped, and the rest refitted without it.
+            let (vals, ivs) = refine(model, data, &base, &accepted);
+            let last = accepted.len() - 1;
+            let gone: Vec<usize> = (0..last).filter(|&i| !significant(accepted[i].0, &ivs[i])).collect();
+            if !gone.is_empty() {
+                for &i in gone.iter().rev() {
+                    let (de, _) = accepted.remove(i);
+                    let r0 = accepted_round.remove(i);
+                    named.remove(i);
+                    k_params -= de.params().len();
+                    say(format!("round {round}: dropped {} (its intervals contain the no-effect values)", de.label()));
+                    dropped.push(Dropped {
+                        effect: de.name().to_string(),
+                        form: de.form().to_string(),
+                        accepted_round: r0,
+                        dropped_round: round,
+                        params: triples(de, &vals[i]),
+                        intervals: ivs[i].clone(),
+                        reason: format!(
+                            "after the joint refit with {}, every 95 % interval of its parameters contains the no-effect value",
+                            e.label()
+                        ),
+                    });
+                }
+                let (vals, pj) = fit_jointly(model, data, &base, &accepted);
+                for (a, v) in accepted.iter_mut().zip(vals) {
+                    a.1 = v;
+                }
+                p = pj;
+                current = score(data, &simulate_all(model, data, &p));
             }
         }
         // Both forms of a named effect leave the pool together.
@@ -680,6 +739,7 @@ pub fn discover_with(
         steps,
         final_effects,
         rejected,
+        dropped,
         named,
         verdict,
         held: data.held.clone(),
