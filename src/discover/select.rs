@@ -479,6 +479,21 @@ pub fn fit_jointly(
     (split(&x), apply_all(base, effects, &x))
 }
 
+/// The effects of `accepted` (all but the last, the newest) that are no longer significant when
+/// their intervals are estimated jointly with all of them ([`refine`]): their indices, with the
+/// polished values and the intervals of every effect.
+pub fn redundant(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    accepted: &[(Effect, Vec<f64>)],
+) -> (Vec<Vec<f64>>, Vec<Vec<Interval>>, Vec<usize>) {
+    let (vals, ivs) = refine(model, data, base, accepted);
+    let last = accepted.len().saturating_sub(1);
+    let gone = (0..last).filter(|&i| !significant(accepted[i].0, &ivs[i])).collect();
+    (vals, ivs, gone)
+}
+
 /// Run the greedy discovery over `candidates` from the plain bicycle baseline.
 pub fn discover(model: &ReplayModel, data: &Dataset, candidates: &[Effect]) -> Discovery {
     discover_from(model, data, EffectParams::default(), candidates)
@@ -646,9 +661,7 @@ pub fn discover_with(
             }
             // An effect named earlier whose intervals, now estimated jointly with the new one,
             // all contain their no-effect values is dropped, and the rest refitted without it.
-            let (vals, ivs) = refine(model, data, &base, &accepted);
-            let last = accepted.len() - 1;
-            let gone: Vec<usize> = (0..last).filter(|&i| !significant(accepted[i].0, &ivs[i])).collect();
+            let (vals, ivs, gone) = redundant(model, data, &base, &accepted);
             if !gone.is_empty() {
                 for &i in gone.iter().rev() {
                     let (de, _) = accepted.remove(i);
