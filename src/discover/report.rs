@@ -204,6 +204,14 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "significant": fe.significant,
         })).collect::<Vec<_>>(),
         "folds": d.folds,
+        "jackknife": d.jackknife.as_ref().map(|j| json!({
+            "runs_left_out": j.runs_left_out,
+            "effects": j.effects.iter().map(|e| json!({
+                "effect": e.effect, "form": e.form,
+                "params": params_json(&e.params, &e.intervals),
+                "leave_one_out": e.leave_one_out,
+            })).collect::<Vec<_>>(),
+        })),
         "largest_remaining_windows": largest_windows(&windows_after, 10),
         "named_effects": d.named,
         "verdict": d.verdict,
@@ -329,6 +337,17 @@ fn markdown(
         }
         for w in w {
             let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
+        }
+    }
+    if let Some(j) = &d.jackknife {
+        let _ = writeln!(
+            s,
+            "\n## Leave-one-run-out (jackknife) intervals\n\nEach of {} fitted runs ({}) left out in turn, the final effects refitted jointly; 95 % = value +- t(0.975, n - 1) x se.\n",
+            j.runs_left_out.len(),
+            j.runs_left_out.join(", ")
+        );
+        for e in &j.effects {
+            let _ = writeln!(s, "- {}: {}", label(&e.effect, &e.form), params_text(&e.params, &e.intervals));
         }
     }
     if !d.dropped.is_empty() {
