@@ -181,6 +181,7 @@ fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
     let _ = blind(Effect::AxleStiffness);
 }
