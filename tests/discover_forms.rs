@@ -222,3 +222,44 @@ fn a_proxy_is_dropped_when_the_true_effect_makes_it_redundant() {
     assert!(ivs[0][0].contains(0.0));
     assert!((vals[1][0] - 0.7).abs() < 0.05 && (vals[1][1] - 1.0).abs() < 0.05, "{:?}", vals[1]);
 }
+
+/// The new forms' parameters are range-checked on the command line like the others: exit 2 with
+/// `--params`, the key, the value and the allowed range; and one form at a time.
+#[test]
+fn new_form_parameters_out_of_range_are_usage_errors() {
+    let dir = common::temp_dir("discover-forms-params");
+    let sedan = common::root().join("vehicles/sedan.toml");
+    let sedan = sedan.to_str().unwrap();
+    for (effect, param, needle) in [
+        ("thermal_friction", "tread_mu_per_kj=5", "tread_mu_per_kj = 5 is outside [-20, 0] 1/kJ"),
+        ("thermal_friction", "tread_heat_capacity_j_per_k=1", "outside [10, 100000] J/K"),
+        ("thermal_friction", "tread_cooling_time_s=0", "outside [0.1, 100] s"),
+        ("friction_change", "band_length_m=0", "band_length_m = 0 is outside [2, 2000] m"),
+    ] {
+        let out = dir.join("runs");
+        let (code, _, err) = common::vehsim(
+            &dir,
+            &["synth", "--vehicle", sedan, "--effect", effect, "--params", param, "--out", out.to_str().unwrap()],
+        );
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("--params") && err.contains(needle), "{err}");
+        assert!(!out.exists());
+    }
+    let (code, _, err) = common::vehsim(
+        &dir,
+        &[
+            "synth",
+            "--vehicle",
+            sedan,
+            "--effect",
+            "thermal_friction",
+            "--params",
+            "tread_cooling_time_s=2",
+            "thermal_mu_per_k=-1",
+            "--out",
+            "x",
+        ],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no form of thermal_friction has all of"), "{err}");
+}
