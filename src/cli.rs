@@ -171,6 +171,10 @@ pub enum Command {
         /// No progress and no summary (progress is shown only on a terminal anyway).
         #[arg(long)]
         quiet: bool,
+        /// Also refit the final effects with each fitted run left out and report leave-one-run-out
+        /// (jackknife) intervals beside the Jacobian ones (one joint refit per fitted run).
+        #[arg(long)]
+        jackknife: bool,
     },
     /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
     /// effect switched on (or `none`).
@@ -259,8 +263,8 @@ pub fn main() -> ExitCode {
             code(crate::bench::cli_bench(&file, &crate::bench::Options { runs, model, tyre_model, contact }, tsv))
         }
         Command::Envelope { file, out, jobs } => code(crate::envelope::cli_envelope(&file, &out, jobs)),
-        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet } => {
-            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet)
+        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife } => {
+            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet, jackknife)
         }
         Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
             crate::discover::cli_synth(&effect, &params, &vehicle, &tyre_model, seed, &out)

@@ -154,6 +154,20 @@ fn blind_thermal_friction_is_named_and_recovered() {
     let _ = blind(Effect::ThermalFriction);
 }
 
+/// The tread-temperature state among every candidate (the estimator form included).
+#[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
+fn blind_tread_state_is_named_as_thermal_friction_in_its_tread_state_form() {
+    let _ = blind(Effect::ThermalState);
+}
+
+/// A friction band on the ground among every candidate (stretch and patch included).
+#[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
+fn blind_friction_band_is_named_and_located() {
+    let _ = blind(Effect::FrictionBand);
+}
+
 #[test]
 #[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_load_transfer_is_named_and_recovered() {
@@ -167,6 +181,7 @@ fn blind_load_transfer_with_load_sensitivity_is_named_and_recovered() {
 }
 
 #[test]
+#[ignore = "slow: run with cargo test --release --test discover_blind -- --ignored"]
 fn blind_per_axle_cornering_stiffness_is_named_and_recovered() {
     let _ = blind(Effect::AxleStiffness);
 }
@@ -276,6 +291,7 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
         .arg(root.join("vehicles/sedan.toml"))
         .arg("--out")
         .arg(&out)
+        .arg("--jackknife")
         .args(&runs)
         .output()
         .unwrap();
@@ -303,6 +319,19 @@ fn synth_and_discover_from_the_command_line_write_the_report() {
     assert_eq!(report["folds"].as_array().unwrap().len(), 2);
     assert!(report["folds"][1]["final_noise_ratio"][0].as_f64().unwrap() <= 1.5);
     assert!(report["baseline_rmse"]["heldout"]["yaw_rate_radps"].as_f64().unwrap() > 0.02);
+    // Leave-one-run-out intervals beside the Jacobian ones: each of the 4 fitted runs left out
+    // once; the generating value inside.
+    let jk = &report["jackknife"];
+    assert_eq!(jk["runs_left_out"].as_array().unwrap().len(), 4, "{jk}");
+    let j0 = &jk["effects"][0]["params"][0];
+    let (lo, hi) = (j0["ci95_lo"].as_f64().unwrap(), j0["ci95_hi"].as_f64().unwrap());
+    eprintln!(
+        "jackknife bias_yaw_rate_radps: {} ({lo} to {hi}); Jacobian ({} to {})",
+        j0["value"], p0["ci95_lo"], p0["ci95_hi"]
+    );
+    assert!(lo <= 0.03 && 0.03 <= hi && j0["std_error"].as_f64().unwrap() > 0.0, "{j0}");
+    assert_eq!(report["dropped"], serde_json::json!([]));
+    assert!(std::fs::read_to_string(out.join("report.md")).unwrap().contains("jackknife"));
     assert!(out.join("report.md").exists() && out.join("effects.toml").exists());
     assert!(out.join("plots/01_sine_ice_yaw_rate.png").exists());
     assert!(Path::new(&out.join("plots/01_sine_ice_ay.svg")).exists());

@@ -568,6 +568,7 @@ fn discover_runs(
         out,
         runs,
         progress: false,
+        jackknife: false,
     };
     py.allow_threads(|| vehsim::discover::run_discover(&opts)).map(|(_, notices)| notices).map_err(py_err)
 }

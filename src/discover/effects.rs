@@ -4,6 +4,8 @@
 //! integrates, not a curve fitted to the residual.
 
 use super::model::EffectParams;
+use crate::error::Bound;
+use crate::spec::vehicle::lateral_bounds as lb;
 
 /// One parameter of an effect.
 #[derive(Debug, Clone, Copy)]
@@ -36,6 +38,36 @@ const fn pd(
     null: Option<f64>,
 ) -> ParamDef {
     ParamDef { name, unit, start, scale, lo, hi, null }
+}
+
+/// A parameter that is a `[lateral]` key of the vehicle: its name (the key without `lateral.`),
+/// unit and range come from the key's declared bound, the lower end raised to `lo` when the fit
+/// must stay off the bound's own (e.g. a lag of 0, which switches the effect off).
+const fn pdl(b: Bound, lo: Option<f64>, start: f64, scale: f64, null: Option<f64>) -> ParamDef {
+    let name = b.key.split_at(LATERAL.len()).1;
+    let lo = match lo {
+        Some(v) => v,
+        None => b.lo,
+    };
+    pd(name, unit_of(b), start, scale, lo, b.hi, null)
+}
+
+/// A parameter of its own name with the unit and range of a `[lateral]` key's bound (a factor of
+/// the same kind, such as a per-axle friction scale beside `lateral.mu_scale`).
+const fn pdr(name: &'static str, b: Bound, start: f64, scale: f64, null: Option<f64>) -> ParamDef {
+    pd(name, unit_of(b), start, scale, b.lo, b.hi, null)
+}
+
+/// The section prefix of the `[lateral]` keys.
+const LATERAL: &str = "lateral.";
+
+/// A bound's unit as reports write it (`1` when dimensionless).
+const fn unit_of(b: Bound) -> &'static str {
+    if b.unit.is_empty() {
+        "1"
+    } else {
+        b.unit
+    }
 }
 
 /// `name (form)`, or `name` for a one-form effect (form `""`).
@@ -71,11 +103,13 @@ pub enum Effect {
     TransientSlipSaturating,
     FrictionPatch,
     LoadTransferSensitive,
+    ThermalState,
+    FrictionBand,
 }
 
 impl Effect {
     /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 15] = [
+    pub const TRIED: [Effect; 17] = [
         Effect::SensorBias,
         Effect::SteerCompliance,
         Effect::SteerLag,
@@ -85,7 +119,9 @@ impl Effect {
         Effect::FrictionChange,
         Effect::FrictionStretch,
         Effect::FrictionPatch,
+        Effect::FrictionBand,
         Effect::ThermalFriction,
+        Effect::ThermalState,
         Effect::LoadTransfer,
         Effect::LoadTransferSensitive,
         Effect::AxleStiffness,
@@ -94,7 +130,7 @@ impl Effect {
     ];
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 15] = Self::TRIED;
+    pub const ALL: [Effect; 17] = Self::TRIED;
 
     /// Every name accepted on the command line.
     pub const NAMES: [&'static str; 9] = [
@@ -113,8 +149,10 @@ impl Effect {
         match self {
             Effect::TyreRelaxation | Effect::TransientSlip | Effect::TransientSlipSaturating => "tyre_relaxation",
             Effect::LoadTransfer | Effect::LoadTransferSensitive => "load_transfer",
-            Effect::ThermalFriction => "thermal_friction",
-            Effect::FrictionChange | Effect::FrictionStretch | Effect::FrictionPatch => "friction_change",
+            Effect::ThermalFriction | Effect::ThermalState => "thermal_friction",
+            Effect::FrictionChange | Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => {
+                "friction_change"
+            }
             Effect::SteerCompliance | Effect::SteerLag => "steer_compliance",
             Effect::SensorBias => "sensor_bias",
             Effect::AxleStiffness => "axle_cornering_stiffness",
@@ -134,6 +172,8 @@ impl Effect {
             Effect::FrictionPatch => "patch",
             Effect::LoadTransferSensitive => "sensitive",
             Effect::TransientSlipSaturating => "slip_saturating",
+            Effect::FrictionBand => "band",
+            Effect::ThermalState => "tread_state",
             _ => "",
         }
     }
@@ -185,6 +225,12 @@ impl Effect {
             Effect::FrictionPatch => {
                 "surface friction differs over a disc on the ground, crossed by each axle at its own time"
             }
+            Effect::FrictionBand => {
+                "surface friction differs over a band of the ground between two X, crossed by each axle at its own time"
+            }
+            Effect::ThermalState => {
+                "each axle's tread temperature, heated by frictional power and cooling towards the ice (capped at melting), lowers friction on ice"
+            }
             Effect::TransientSlip => "each axle's slip angle lags the kinematic one over its own relaxation length",
             Effect::TransientSlipSaturating => {
                 "each axle's slip angle lags over its own relaxation length, shortening as the tyre saturates"
@@ -230,7 +276,42 @@ impl Effect {
                 }
                 v
             }
+            // The band: as the stretch, in X.
+            Effect::FrictionBand => {
+                let mut v = Vec::new();
+                for x0 in [0.0, 25.0, 50.0, 75.0, 100.0, 150.0] {
+                    for len in [25.0, 50.0, 100.0] {
+                        v.push(vec![0.6, x0, len]);
+                    }
+                }
+                v
+            }
+            // The tread state: a grid of sensitivities, heat capacities (which act only through
+            // the melting cap, so the simplex cannot find them from a flat start) and cooling times.
+            Effect::ThermalState => {
+                let mut v = Vec::new();
+                for k in [-0.3, -1.0, -3.0] {
+                    for c in [100.0, 200.0, 400.0, 1000.0] {
+                        for tau in [1.5, 3.0, 6.0] {
+                            v.push(vec![k, c, tau]);
+                        }
+                    }
+                }
+                v
+            }
             _ => Vec::new(),
+        }
+    }
+
+    /// Number of simplex searches of a candidate's fit, from its best start points: 3 for the
+    /// tread state, whose heat capacity acts only through the melting cap, so that the
+    /// objective has one basin where the fitted runs reach melting and another where they do
+    /// not; else 1.
+    pub fn fit_passes(self) -> usize {
+        if self == Effect::ThermalState {
+            3
+        } else {
+            1
         }
     }
 
@@ -239,23 +320,21 @@ impl Effect {
         const ONE: Option<f64> = Some(1.0);
         const ZERO: Option<f64> = Some(0.0);
         match self {
-            Effect::TyreRelaxation => const { &[pd("relaxation_length_y_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO)] },
-            Effect::LoadTransfer => const { &[pd("load_transfer_height_m", "m", 0.5, 0.3, 0.0, 2.0, ZERO)] },
-            Effect::ThermalFriction => const { &[pd("thermal_mu_per_k", "1/K", -0.2, 0.2, -2.0, 0.0, ZERO)] },
-            Effect::FrictionChange => const { &[pd("mu_scale", "1", 0.9, 0.2, 0.05, 3.0, ONE)] },
+            Effect::TyreRelaxation => const { &[pdl(lb::RELAXATION_LENGTH, Some(0.05), 0.5, 0.5, ZERO)] },
+            Effect::LoadTransfer => const { &[pdl(lb::LOAD_TRANSFER_HEIGHT, None, 0.5, 0.3, ZERO)] },
+            Effect::ThermalFriction => const { &[pdl(lb::THERMAL_MU, None, -0.2, 0.2, ZERO)] },
+            Effect::FrictionChange => const { &[pdl(lb::MU_SCALE, None, 0.9, 0.2, ONE)] },
             Effect::FrictionStretch => {
                 const {
                     &[
-                        pd("mu_scale", "1", 0.7, 0.2, 0.05, 3.0, ONE),
+                        pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
                         pd("stretch_start_m", "m", 20.0, 20.0, 0.0, 2000.0, None),
                         pd("stretch_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
                     ]
                 }
             }
-            Effect::SteerLag => const { &[pd("steer_lag_s", "s", 0.1, 0.1, 0.005, 2.0, ZERO)] },
-            Effect::SteerCompliance => {
-                const { &[pd("steer_compliance_rad_per_kn", "rad/kN", 0.002, 0.003, 0.0, 0.1, ZERO)] }
-            }
+            Effect::SteerLag => const { &[pdl(lb::STEER_LAG, Some(0.005), 0.1, 0.1, ZERO)] },
+            Effect::SteerCompliance => const { &[pdl(lb::STEER_COMPLIANCE, None, 0.002, 0.003, ZERO)] },
             Effect::SensorBias => {
                 const {
                     &[
@@ -275,8 +354,8 @@ impl Effect {
             Effect::AxleFriction => {
                 const {
                     &[
-                        pd("mu_scale_front", "1", 1.0, 0.2, 0.05, 3.0, ONE),
-                        pd("mu_scale_rear", "1", 1.0, 0.2, 0.05, 3.0, ONE),
+                        pdr("mu_scale_front", lb::MU_SCALE, 1.0, 0.2, ONE),
+                        pdr("mu_scale_rear", lb::MU_SCALE, 1.0, 0.2, ONE),
                     ]
                 }
             }
@@ -284,7 +363,7 @@ impl Effect {
             Effect::LoadTransferSensitive => {
                 const {
                     &[
-                        pd("load_transfer_height_m", "m", 0.5, 0.3, 0.0, 2.0, ZERO),
+                        pdl(lb::LOAD_TRANSFER_HEIGHT, None, 0.5, 0.3, ZERO),
                         pd("load_sensitivity_mu", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
                         pd("load_sensitivity_stiffness", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
                     ]
@@ -293,7 +372,7 @@ impl Effect {
             Effect::FrictionPatch => {
                 const {
                     &[
-                        pd("mu_scale", "1", 0.7, 0.2, 0.05, 3.0, ONE),
+                        pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
                         pd("patch_x_m", "m", 50.0, 20.0, -5000.0, 5000.0, None),
                         pd("patch_y_m", "m", 0.0, 20.0, -5000.0, 5000.0, None),
                         pd("patch_radius_m", "m", 20.0, 10.0, 1.0, 1000.0, None),
@@ -303,8 +382,26 @@ impl Effect {
             Effect::TransientSlip | Effect::TransientSlipSaturating => {
                 const {
                     &[
-                        pd("relaxation_length_front_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO),
-                        pd("relaxation_length_rear_m", "m", 0.5, 0.5, 0.05, 10.0, ZERO),
+                        pdr("relaxation_length_front_m", RELAX_FIT, 0.5, 0.5, ZERO),
+                        pdr("relaxation_length_rear_m", RELAX_FIT, 0.5, 0.5, ZERO),
+                    ]
+                }
+            }
+            Effect::FrictionBand => {
+                const {
+                    &[
+                        pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
+                        pd("band_start_x_m", "m", 20.0, 20.0, -5000.0, 5000.0, None),
+                        pd("band_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                    ]
+                }
+            }
+            Effect::ThermalState => {
+                const {
+                    &[
+                        pd("tread_mu_per_kj", "1/kJ", -0.5, 0.5, -20.0, 0.0, ZERO),
+                        pd("tread_heat_capacity_j_per_k", "J/K", 300.0, 150.0, 10.0, 1e5, None),
+                        pd("tread_cooling_time_s", "s", 3.0, 2.0, 0.1, 100.0, None),
                     ]
                 }
             }
@@ -340,6 +437,38 @@ impl Effect {
             Effect::TransientSlip | Effect::TransientSlipSaturating => {
                 p.slip_relaxation_m = [v[0], v[1]];
                 p.slip_relaxation_saturating = self == Effect::TransientSlipSaturating;
+            }
+            Effect::FrictionBand => p.band = [v[0], v[1], v[2]],
+            Effect::ThermalState => {
+                // Friction change per kelvin = per kJ of tread heat x the heat capacity in kJ/K.
+                p.tread_mu_per_k = v[0] * v[1] * 1e-3;
+                p.tread_heat_capacity_j_per_k = v[1];
+                p.tread_cooling_s = v[2];
+            }
+        }
+    }
+}
+
+/// The range of a per-axle relaxation length: that of `lateral.relaxation_length_y_m`, its lower
+/// end raised off 0 (which switches the lag off).
+const RELAX_FIT: Bound = Bound::closed("relaxation_length", 0.05, lb::RELAXATION_LENGTH.hi, "m");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lateral_parameters_take_name_unit_and_range_from_the_declared_bounds() {
+        for b in lb::ALL {
+            assert!(b.key.starts_with(LATERAL), "{}", b.key);
+            let name = &b.key[LATERAL.len()..];
+            let defs: Vec<&ParamDef> =
+                Effect::ALL.iter().flat_map(|e| e.params().iter()).filter(|d| d.name == name).collect();
+            assert!(!defs.is_empty(), "no effect parameter for {}", b.key);
+            for d in defs {
+                assert_eq!(d.hi, b.hi, "{name}");
+                assert!(d.lo >= b.lo && d.lo < d.hi, "{name}");
+                assert_eq!(d.unit, unit_of(b), "{name}");
             }
         }
     }

@@ -241,22 +241,35 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
     apply_sidecar(run, &side, &read_input(&side)?)
 }
 
+/// The allowed ranges of the sidecar's keys: the surface friction is the manoeuvre file's own
+/// `surface.mu`; the ice temperature spans the manoeuvre's surface temperatures up to melting;
+/// the initial speed either way up to the manoeuvre's largest speed.
+pub mod sidecar_bounds {
+    use crate::contact::thermal::MELT_C;
+    use crate::error::Bound;
+    use crate::spec::maneuver::bounds as m;
+
+    pub const MU: Bound = m::MU;
+    pub const ICE_TEMP_C: Bound = Bound::closed("surface.ice_temp_c", m::TEMPERATURE_C.lo, MELT_C, "degC");
+    pub const INITIAL_VX: Bound = Bound::closed("initial.vx", -m::SPEED_MPS.hi, m::SPEED_MPS.hi, "m/s");
+}
+
 /// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
 /// ice temperature and initial speed, each checked against its allowed range.
 pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<()> {
     let s: Sidecar = parse_toml(side, text)?;
     let c = Checker::new(side);
     if let Some(mu) = s.surface.mu {
-        run.mu = c.range("surface.mu", mu, 1e-3, 2.0)?;
+        run.mu = c.bound(&sidecar_bounds::MU, mu)?;
     } else {
         run.notices.push(format!("{}: no [surface] mu; 1.0 assumed", side.display()));
     }
     if let Some(tc) = s.surface.ice_temp_c {
-        run.ice_temp_c = c.range("surface.ice_temp_c", tc, -60.0, 0.0)?;
+        run.ice_temp_c = c.bound(&sidecar_bounds::ICE_TEMP_C, tc)?;
         run.on_ice = true;
     }
     if let Some(v) = s.initial.vx {
-        run.initial_vx = c.range("initial.vx", v, -100.0, 100.0)?;
+        run.initial_vx = c.bound(&sidecar_bounds::INITIAL_VX, v)?;
     }
     Ok(())
 }

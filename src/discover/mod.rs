@@ -43,6 +43,8 @@ pub struct DiscoverOptions {
     pub runs: Vec<PathBuf>,
     /// Print progress (per round and candidate) on stderr.
     pub progress: bool,
+    /// Add leave-one-run-out (jackknife) intervals of the final effects ([`select::jackknife`]).
+    pub jackknife: bool,
 }
 
 /// Load the vehicle (with an optional tyre override) for provider `kind`.
@@ -96,8 +98,19 @@ pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> 
     let model = model::ReplayModel::new(vehicle);
     let mut data = Dataset::new(runs);
     let say = |m: &str| eprintln!("discover: {m}");
-    let d = select::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
+    let mut d = select::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
     data.held = d.held.clone();
+    if opts.jackknife {
+        let finals: Vec<(Effect, Vec<f64>)> = d
+            .final_effects
+            .iter()
+            .filter_map(|fe| Some((Effect::find(&fe.effect, &fe.form)?, fe.params.iter().map(|p| p.1).collect())))
+            .collect();
+        if opts.progress {
+            say("jackknife: refitting the final effects with each fitted run left out");
+        }
+        d.jackknife = select::jackknife(&model, &data, &base, &finals);
+    }
     report::write_all(&opts.out, opts, &model, &data, &d)?;
     Ok((d, notices))
 }
@@ -116,6 +129,7 @@ pub fn cli_discover(
     out: PathBuf,
     runs: Vec<PathBuf>,
     quiet: bool,
+    jackknife: bool,
 ) -> std::process::ExitCode {
     use std::io::IsTerminal as _;
     let kind = match tyre_kind(tyre_model) {
@@ -123,7 +137,7 @@ pub fn cli_discover(
         Err(e) => return fail(&e),
     };
     let progress = !quiet && std::io::stderr().is_terminal();
-    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs, progress };
+    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs, progress, jackknife };
     match run_discover(&opts) {
         Ok(_) if quiet => std::process::ExitCode::SUCCESS,
         Ok((d, notices)) => {
@@ -133,6 +147,9 @@ pub fn cli_discover(
             for st in &d.steps {
                 let ps = report::params_text(&st.params, &st.intervals);
                 println!("accepted {}: {ps} ({})", effects::label(&st.effect, &st.form), st.evidence);
+            }
+            for x in &d.dropped {
+                println!("dropped {} (round {}): {}", effects::label(&x.effect, &x.form), x.dropped_round, x.reason);
             }
             for (i, f) in d.folds.iter().enumerate() {
                 let [b, a] = [f.baseline_noise_ratio, f.final_noise_ratio];

@@ -4,10 +4,12 @@
 //! The forward speed is prescribed exactly (interpolated measured vx), not tracked by a PID: the
 //! discrepancy workflow must compare lateral dynamics, and a speed-tracking error would show up as a
 //! spurious residual. Tyre forces come from the vehicle's tyre provider (`crate::tyre`), each axle
-//! carrying two identical tyres. State (8): vy (m/s), r (rad/s), the front and rear axle lateral
+//! carrying two identical tyres. State (12): vy (m/s), r (rad/s), the front and rear axle lateral
 //! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
-//! angle delta_e (rad) used when the steering lag is on, and the pose X, Y (m), psi (rad) in the
-//! ground frame (used by the closed-loop lane change of `vehsim synth`).
+//! angle delta_e (rad) used when the steering lag is on, the pose X, Y (m), psi (rad) in the
+//! ground frame (used by the closed-loop lane change of `vehsim synth` and by friction changes
+//! placed on the ground), the lagged slip angles alpha_f, alpha_r (rad) of transient slip and the
+//! tread-temperature rises dT_f, dT_r (K) of the tread-state thermal form.
 //!
 //! Equations (body frame, ISO 8855, small longitudinal forces neglected):
 //!
@@ -31,12 +33,20 @@
 //!   ground (1 m logistic edge) evaluated at axle i's own position X + l_i cos psi,
 //!   Y + l_i sin psi (l_f = a, l_r = -b), from the logged pose (columns x, y, psi) when the run
 //!   has it, else from the replay's own integrated pose (starting at the origin heading +X).
+//!   Band form: the same with w_i a band across the ground, 1 over [X0, X0 + L] of axle i's own
+//!   abscissa X + l_i cos psi (any Y), 1 m logistic edges.
 //! - `thermal_friction`: on runs on ice (sidecar `ice_temp_c`), the ATIIM per-step estimator
 //!   ([`crate::contact::estimator::AtiimEstimator`], default `[contact]` tyre) tracks each axle's
 //!   contact temperature from its load, rolling speed, sliding speed vx |tan alpha| and lateral
 //!   force, and the friction falls with the rise above the ice temperature:
 //!   mu_e = mu max(1 + k_T (T_contact - T_ice), 0.1), k_T in 1/K (negative). The contact
 //!   temperature also feeds the tyre input, so temperature-dependent providers see it.
+//!   Tread-state form: on ice, each axle's tread-temperature rise dT_i (K) is a state,
+//!   d(dT_i)/dt = P_i / C - dT_i / tau_c with P_i = vx |tan alpha_i| |Fy_i| the axle's frictional
+//!   power (W), C its tread heat capacity (J/K) and tau_c the cooling time (s); it is a
+//!   first-order lag towards P_i tau_c / C, updated like the other lags, and capped at melting
+//!   (0 <= dT_i <= 0 degC - T_ice, the cap applied after every step: heat beyond it melts ice).
+//!   mu_e,i = mu max(1 + k_T dT_i, 0.1); the tyre's contact temperature is T_ice + dT_i.
 //! - `load_transfer`: lateral load transfer dFz = m ay_ss h_lt / track per axle in proportion to its
 //!   static load, with ay_ss = vx r; each tyre of an axle is evaluated at its own load, so the tyre's
 //!   load sensitivity lowers the axle force. h_lt is the effective transfer height (m).
@@ -60,6 +70,7 @@ use nalgebra::SVector;
 use super::measured::MeasuredRun;
 use crate::contact::estimator::AtiimEstimator;
 use crate::contact::spec::ContactSpec;
+use crate::contact::thermal::MELT_C;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::{limit_steer, Driver};
 use crate::maneuver::path::RefPath;
@@ -110,6 +121,16 @@ pub struct EffectParams {
     /// Friction patch on the ground: [friction scale, centre X (m), centre Y (m), radius (m)]
     /// in the run's ground frame (radius 0 = off).
     pub patch: [f64; 4],
+    /// Friction band across the ground: [friction scale, start X (m), length along X (m)] in the
+    /// run's ground frame (length 0 = off).
+    pub band: [f64; 3],
+    /// Friction change per kelvin of the tread-temperature state's rise on ice, 1/K (0 = off;
+    /// negative).
+    pub tread_mu_per_k: f64,
+    /// Heat capacity of one axle's tread/contact layer, J/K (> 0).
+    pub tread_heat_capacity_j_per_k: f64,
+    /// Cooling time constant of the tread temperature towards the ice temperature, s (> 0).
+    pub tread_cooling_s: f64,
 }
 
 impl Default for EffectParams {
@@ -132,6 +153,10 @@ impl Default for EffectParams {
             slip_relaxation_saturating: false,
             patch: [1.0, 0.0, 0.0, 0.0],
             load_sensitivity: [0.0; 2],
+            band: [1.0, 0.0, 0.0],
+            tread_mu_per_k: 0.0,
+            tread_heat_capacity_j_per_k: 300.0,
+            tread_cooling_s: 3.0,
         }
     }
 }
@@ -148,6 +173,26 @@ impl EffectParams {
         1.0 + (s - 1.0) / (1.0 + ((r - radius) / STRETCH_EDGE_M).exp())
     }
 
+    /// Friction factor of the ground band at ground abscissa X, m: 1 + (s - 1) w with w a window
+    /// of 1 over [X0, X0 + L] with logistic edges of [`STRETCH_EDGE_M`] (any Y).
+    pub fn band_factor(&self, x_m: f64) -> f64 {
+        let [s, x0, len] = self.band;
+        if len <= 0.0 {
+            return 1.0;
+        }
+        1.0 + (s - 1.0) * window(x_m - x0, x0 + len - x_m)
+    }
+
+    /// True when a friction change placed on the ground (patch or band) is on.
+    pub fn on_ground(&self) -> bool {
+        self.patch[3] > 0.0 || self.band[2] > 0.0
+    }
+
+    /// True when the tread-temperature state is on (it acts on runs on ice only).
+    pub fn tread(&self) -> bool {
+        self.tread_mu_per_k != 0.0
+    }
+
     /// True when the transient-slip form of tyre relaxation is on.
     pub fn transient_slip(&self) -> bool {
         self.slip_relaxation_m[0] > 0.0
@@ -158,10 +203,22 @@ impl EffectParams {
         if self.stretch_length_m <= 0.0 {
             return self.mu_scale;
         }
-        let edge = |z: f64| 1.0 / (1.0 + (-z / STRETCH_EDGE_M).exp());
-        let w = edge(d_m - self.stretch_start_m) * edge(self.stretch_start_m + self.stretch_length_m - d_m);
+        let w = window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
         1.0 + (self.mu_scale - 1.0) * w
     }
+}
+
+/// A window of 1 where both distances inside its two edges (m) are positive, 0 outside, with
+/// logistic edges of width [`STRETCH_EDGE_M`].
+fn window(from_start_m: f64, to_end_m: f64) -> f64 {
+    let edge = |z: f64| 1.0 / (1.0 + (-z / STRETCH_EDGE_M).exp());
+    edge(from_start_m) * edge(to_end_m)
+}
+
+/// Largest tread-temperature rise above an ice at `ice_c` (degC), K: the contact cannot exceed
+/// melting (frictional heat beyond it melts ice instead of warming the contact).
+pub fn melt_cap_k(ice_c: f64) -> f64 {
+    (MELT_C - ice_c).max(0.0)
 }
 
 /// Width of the logistic edges of a friction stretch, m.
@@ -191,9 +248,12 @@ const V_FLOOR: f64 = 1.0;
 const H_MAX: f64 = 0.01;
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.
-const LAGS: [usize; 5] = [2, 3, 4, 8, 9];
+const LAGS: [usize; NL] = [2, 3, 4, 8, 9, 10, 11];
+/// Number of lag states (the tread-temperature rises front and rear are lags too: see
+/// [`ReplayModel::body`]).
+const NL: usize = 7;
 /// State dimension.
-const NS: usize = 10;
+const NS: usize = 12;
 type State = SVector<f64, NS>;
 
 /// The replay model for one vehicle.
@@ -238,6 +298,11 @@ struct Drive {
     ice_c: f64,
     /// Contact temperature per axle, degC.
     contact_c: [f64; 2],
+    /// Whether the run is on ice (the thermal effects act on ice only).
+    on_ice: bool,
+    /// Tread-temperature rise per axle above the ice, K, capped at melting (0 unless the
+    /// tread-temperature state is on).
+    tread_rise_k: [f64; 2],
 }
 
 /// Steady-state axle forces, effective steer and slip angles of one state.
@@ -264,11 +329,16 @@ impl ReplayModel {
     /// across the axle (N, added to the left tyre, taken from the right).
     fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> f64 {
         let half = 0.5 * self.fz_axle[axle];
-        let thermal = if p.thermal_mu_per_k == 0.0 {
+        let mut thermal = if p.thermal_mu_per_k == 0.0 {
             1.0
         } else {
             lateral::thermal_friction_factor(p.thermal_mu_per_k, d.contact_c[axle] - d.ice_c)
         };
+        let mut contact_c = d.contact_c[axle];
+        if p.tread() {
+            thermal *= lateral::thermal_friction_factor(p.tread_mu_per_k, d.tread_rise_k[axle]);
+            contact_c = d.ice_c + d.tread_rise_k[axle];
+        }
         let eval = |fz: f64| {
             // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
             let z = fz / half - 1.0;
@@ -281,7 +351,7 @@ impl ReplayModel {
                 vx_mps: d.vx.abs().max(V_FLOOR),
                 mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle] * (1.0 - k_mu * z).max(0.05),
                 surface_temp_c: d.ice_c,
-                contact_temp_c: d.contact_c[axle],
+                contact_temp_c: contact_c,
             };
             if input.fz_n <= 0.0 {
                 0.0
@@ -309,16 +379,24 @@ impl ReplayModel {
     /// Steady-state axle forces, the effective steer and the slip angles for a state.
     fn forces(&self, x: &State, d: &Drive, p: &EffectParams) -> Forces {
         let v = &self.vehicle;
-        let mut patched;
-        let d = if p.patch[3] > 0.0 {
-            // Each axle at its own ground position: the logged pose, else the replay's own.
-            let [px, py, psi] = d.pose.unwrap_or([x[5], x[6], x[7]]);
-            let (s, c) = psi.sin_cos();
-            patched = *d;
-            for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
-                patched.mu_axle[i] = p.patch_factor(px + l * c, py + l * s);
+        let mut local;
+        let tread = p.tread() && d.on_ice;
+        let d = if p.on_ground() || tread {
+            local = *d;
+            if p.on_ground() {
+                // Each axle at its own ground position: the logged pose, else the replay's own.
+                let [px, py, psi] = d.pose.unwrap_or([x[5], x[6], x[7]]);
+                let (s, c) = psi.sin_cos();
+                for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
+                    let (xa, ya) = (px + l * c, py + l * s);
+                    local.mu_axle[i] = p.patch_factor(xa, ya) * p.band_factor(xa);
+                }
             }
-            &patched
+            if tread {
+                let cap = melt_cap_k(d.ice_c);
+                local.tread_rise_k = [x[10].clamp(0.0, cap), x[11].clamp(0.0, cap)];
+            }
+            &local
         } else {
             d
         };
@@ -387,10 +465,20 @@ impl ReplayModel {
 
     /// Derivatives of the body states (the lag states' entries left 0) and the inputs the lag
     /// states relax towards ([`LAGS`] order: steady-state forces, the steer, kinematic slip angles).
-    fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; 5]) {
+    fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; NL]) {
         let v = &self.vehicle;
         let f = self.forces(x, d, p);
         let [fyf, fyr] = Self::acting(x, &f, p);
+        // The tread-temperature rise of axle i relaxes at 1 / tau_c towards P_i tau_c / C, with
+        // P_i = v_slide,i |Fy_i| the frictional power of the axle (W): dT/dt = P_i / C - T / tau_c.
+        let mut rise = [0.0; 2];
+        if p.tread() && d.on_ice {
+            let vx = d.vx.abs().max(V_FLOOR);
+            for (i, fy) in [fyf, fyr].into_iter().enumerate() {
+                let power_w = slide_speed(0.0, f.alpha[i], vx) * fy.abs();
+                rise[i] = power_w * p.tread_cooling_s / p.tread_heat_capacity_j_per_k;
+            }
+        }
         let cf = f.delta_e.cos();
         let mut dx = State::zeros();
         dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
@@ -399,14 +487,14 @@ impl ReplayModel {
         dx[5] = d.vx * cp - x[0] * sp;
         dx[6] = d.vx * sp + x[0] * cp;
         dx[7] = x[1];
-        (dx, [f.fy[0], f.fy[1], d.steer, f.alpha_kin[0], f.alpha_kin[1]])
+        (dx, [f.fy[0], f.fy[1], d.steer, f.alpha_kin[0], f.alpha_kin[1], rise[0], rise[1]])
     }
 
     /// Rates k (1/s) of the lag states ([`LAGS`] order; 0 = the state is unused) at state `x`:
     /// |vx| / sigma_y, 1 / tau_s and |vx| / sigma_i (the saturating form's sigma_i at x's lagged
     /// slip angle).
-    fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; 5] {
-        let mut k = [0.0; 5];
+    fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; NL] {
+        let mut k = [0.0; NL];
         if p.sigma_y_m > 0.0 {
             k[0] = lateral::relaxation_rate(d.vx, p.sigma_y_m);
             k[1] = k[0];
@@ -420,6 +508,10 @@ impl ReplayModel {
                 let sigma = self.slip_sigma(i, x[8 + i], dfz[i], d, p);
                 k[3 + i] = lateral::relaxation_rate(d.vx, sigma);
             }
+        }
+        if p.tread() && d.on_ice {
+            k[5] = 1.0 / p.tread_cooling_s;
+            k[6] = k[5];
         }
         k
     }
@@ -449,7 +541,7 @@ impl ReplayModel {
         // The steer ramps over the step (d holds its midpoint value).
         let steer_at = |c: f64| d.steer + (c - 0.5) * h * d.steer_rate;
         u0[2] = steer_at(0.0);
-        let lags = |y: &mut State, u: &[f64; 5], c: f64| {
+        let lags = |y: &mut State, u: &[f64; NL], c: f64| {
             for (j, i) in LAGS.into_iter().enumerate() {
                 if k[j] > 0.0 {
                     y[i] = relax(x0[i], u0[j], u[j], k[j] * c * h);
@@ -562,7 +654,7 @@ impl ReplayModel {
         let mut est = Self::estimator(run, p);
         let mut contact_c = [run.ice_temp_c; 2];
         let logged = match (run.channel("x"), run.channel("y"), run.channel("psi")) {
-            (Some(x), Some(y), Some(psi)) if p.patch[3] > 0.0 => Some([x, y, psi]),
+            (Some(x), Some(y), Some(psi)) if p.on_ground() => Some([x, y, psi]),
             _ => None,
         };
         let drive_at = |k: usize, frac: f64, contact_c: [f64; 2], steer: &[f64]| {
@@ -579,8 +671,12 @@ impl ReplayModel {
                 }),
                 ice_c: run.ice_temp_c,
                 contact_c,
+                on_ice: run.on_ice,
+                tread_rise_k: [0.0; 2],
             }
         };
+        let tread = p.tread() && run.on_ice;
+        let tread_cap = melt_cap_k(run.ice_temp_c);
         let mut x = State::zeros();
         x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
         x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
@@ -606,7 +702,7 @@ impl ReplayModel {
             out.ay.push(ay + p.bias_ay_mps2);
             out.vy.push(x[0]);
             out.alpha_f.push(af);
-            out.contact_rise_k.push(contact_c[0] - run.ice_temp_c);
+            out.contact_rise_k.push(if tread { x[10] } else { contact_c[0] - run.ice_temp_c });
             if k + 1 == n {
                 break;
             }
@@ -628,6 +724,9 @@ impl ReplayModel {
                     if p.steer_lag_s > 0.0 {
                         hmax = hmax.min(0.05 * p.steer_lag_s);
                     }
+                    if tread {
+                        hmax = hmax.min(0.05 * p.tread_cooling_s);
+                    }
                     hmax
                 }
             };
@@ -644,6 +743,11 @@ impl ReplayModel {
                 } else {
                     self.step(&x, &dj, p, h)
                 };
+                if tread {
+                    // The melting cap: heat beyond it melts ice, the contact stays at 0 degC.
+                    x[10] = x[10].clamp(0.0, tread_cap);
+                    x[11] = x[11].clamp(0.0, tread_cap);
+                }
             }
             if !x.iter().all(|v| v.is_finite()) || x[0].abs() > 1e3 || x[1].abs() > 1e2 {
                 out.ok = false;

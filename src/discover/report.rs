@@ -96,18 +96,19 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     let mut put = |k: &str, v: f64| {
         lateral.insert(k.into(), toml::Value::Float(v));
     };
-    for st in &d.steps {
+    // The effects still named at the end (a dropped one has a step but no final effect).
+    for st in &d.final_effects {
         match (st.effect.as_str(), st.form.as_str()) {
             ("steer_compliance", "force") => put("steer_compliance_rad_per_kn", p.steer_compliance_rad_per_kn),
             ("steer_compliance", "lag") => put("steer_lag_s", p.steer_lag_s),
             ("friction_change", "global") => put("mu_scale", p.mu_scale),
             ("tyre_relaxation", "") => put("relaxation_length_y_m", p.sigma_y_m),
             ("load_transfer", "") => put("load_transfer_height_m", p.load_transfer_height_m),
-            ("thermal_friction", _) => put("thermal_mu_per_k", p.thermal_mu_per_k),
+            ("thermal_friction", "") => put("thermal_mu_per_k", p.thermal_mu_per_k),
             ("yaw_inertia", _) => inertia = Some(p.yaw_inertia_scale),
             // A friction stretch belongs to the road, sensor offsets to the instruments: neither
             // is a property of the vehicle. Per-axle stiffness and friction scales are vehicle
-            // properties that the spec has no key for yet.
+            // properties that the spec has no key for yet, as is the tread-temperature state.
             (other, form) => not_in_spec.push(label(other, form)),
         }
     }
@@ -178,6 +179,12 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "params": params_json(&t.params, &t.intervals),
             "reason": t.reason,
         })).collect::<Vec<_>>(),
+        "dropped": d.dropped.iter().map(|x| json!({
+            "effect": x.effect, "form": x.form,
+            "accepted_round": x.accepted_round, "dropped_round": x.dropped_round,
+            "params": params_json(&x.params, &x.intervals),
+            "reason": x.reason,
+        })).collect::<Vec<_>>(),
         "per_run": data.runs.iter().enumerate().map(|(i, r)| {
             let rms = |sim: &[f64], meas: &[f64]| (sim.iter().zip(meas).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / meas.len().max(1) as f64).sqrt();
             json!({
@@ -197,6 +204,14 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "significant": fe.significant,
         })).collect::<Vec<_>>(),
         "folds": d.folds,
+        "jackknife": d.jackknife.as_ref().map(|j| json!({
+            "runs_left_out": j.runs_left_out,
+            "effects": j.effects.iter().map(|e| json!({
+                "effect": e.effect, "form": e.form,
+                "params": params_json(&e.params, &e.intervals),
+                "leave_one_out": e.leave_one_out,
+            })).collect::<Vec<_>>(),
+        })),
         "largest_remaining_windows": largest_windows(&windows_after, 10),
         "named_effects": d.named,
         "verdict": d.verdict,
@@ -322,6 +337,31 @@ fn markdown(
         }
         for w in w {
             let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
+        }
+    }
+    if let Some(j) = &d.jackknife {
+        let _ = writeln!(
+            s,
+            "\n## Leave-one-run-out (jackknife) intervals\n\nEach of {} fitted runs ({}) left out in turn, the final effects refitted jointly; 95 % = value +- t(0.975, n - 1) x se.\n",
+            j.runs_left_out.len(),
+            j.runs_left_out.join(", ")
+        );
+        for e in &j.effects {
+            let _ = writeln!(s, "- {}: {}", label(&e.effect, &e.form), params_text(&e.params, &e.intervals));
+        }
+    }
+    if !d.dropped.is_empty() {
+        let _ = writeln!(s, "\n## Named, then dropped\n");
+        for x in &d.dropped {
+            let _ = writeln!(
+                s,
+                "- {} (accepted in round {}, dropped in round {}): {}; {}",
+                label(&x.effect, &x.form),
+                x.accepted_round,
+                x.dropped_round,
+                params_text(&x.params, &x.intervals),
+                x.reason
+            );
         }
     }
     let _ = writeln!(s, "\n## Candidates tried and rejected\n");

@@ -62,6 +62,8 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::FrictionChange => vec![0.7],
         Effect::FrictionStretch => vec![0.5, 40.0, 50.0],
         Effect::FrictionPatch => vec![0.5, 60.0, 0.0, 25.0],
+        Effect::FrictionBand => vec![0.5, 50.0, 40.0],
+        Effect::ThermalState => vec![-0.75, 200.0, 4.0],
         Effect::LoadTransferSensitive => vec![0.6, 0.3, 0.2],
         Effect::SteerCompliance => vec![0.004],
         Effect::SteerLag => vec![0.12],
