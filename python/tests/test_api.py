@@ -145,7 +145,11 @@ def test_sweep_keeps_invalid_combinations_and_refuses_all_invalid():
 
 def test_sweep_releases_the_gil():
     """While a sweep runs in another thread, this thread keeps running Python code."""
-    grid = {"surface.mu": [0.1, 0.15, 0.2, 0.3], "maneuver.speed_mps": [8.0, 9.0, 10.0, 11.0]}
+    # 64 runs: long enough (about 1 s) to tell, however fast the engine gets within reason
+    grid = {
+        "surface.mu": [0.1, 0.125, 0.15, 0.175, 0.2, 0.25, 0.3, 0.35],
+        "maneuver.speed_mps": [7.0, 7.5, 8.0, 8.5, 9.0, 10.0, 11.0, 12.0],
+    }
     done = threading.Event()
     t0 = time.perf_counter()
     worker = threading.Thread(target=lambda: (vehsim.sweep(SINE, grid, jobs=1, duration_s=120.0), done.set()))
