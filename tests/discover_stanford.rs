@@ -40,4 +40,10 @@ fn stanford_lap_converts_and_discovery_runs() {
     for s in &d.steps {
         assert!(s.heldout_rmse_after.yaw_rate_radps < s.heldout_rmse_before.yaw_rate_radps);
     }
+    // Every effect named is significant in the final joint fit (on this lap the sensitive load
+    // transfer was accepted in round 3 and loses its interval in the final fit: it is dropped).
+    let finals: Vec<&str> = d.final_effects.iter().map(|f| f.effect.as_str()).collect();
+    assert_eq!(finals, d.named.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(d.final_effects.iter().all(|f| f.significant), "{:?}", d.final_effects);
+    assert!(!d.named.is_empty());
 }

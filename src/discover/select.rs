@@ -695,17 +695,45 @@ pub fn discover_with(
         // Both forms of a named effect leave the pool together.
         left.retain(|x| x.name() != e.name());
     }
-    // The final values and intervals, all accepted effects polished together.
-    let final_iv = if accepted.is_empty() {
-        Vec::new()
-    } else {
+    // The final values and intervals, all accepted effects polished together. The final set
+    // answers to the rule of every round, the newest effect included: an effect whose intervals,
+    // estimated jointly with all the others, contain their no-effect values (or cannot be
+    // estimated: a singular Jacobian) is not named. The newest such effect is dropped and the
+    // rest refitted, until every remaining one is significant.
+    let final_iv = loop {
+        if accepted.is_empty() {
+            break Vec::new();
+        }
         let (vals, iv) = refine(model, data, &base, &accepted);
         for (a, v) in accepted.iter_mut().zip(vals) {
             a.1 = v;
         }
         p = apply_flat(&base, &accepted);
         current = score(data, &simulate_all(model, data, &p));
-        iv
+        let Some(i) = (0..accepted.len()).rev().find(|&i| !significant(accepted[i].0, &iv[i])) else {
+            break iv;
+        };
+        let (de, v) = accepted.remove(i);
+        let r0 = accepted_round.remove(i);
+        named.remove(i);
+        say(format!("final: dropped {} (its intervals contain the no-effect values)", de.label()));
+        dropped.push(Dropped {
+            effect: de.name().to_string(),
+            form: de.form().to_string(),
+            accepted_round: r0,
+            dropped_round: round,
+            params: triples(de, &v),
+            intervals: iv[i].clone(),
+            reason: "in the final joint fit of every named effect, every 95 % interval of its parameters contains \
+                     the no-effect value (or none could be estimated)"
+                .to_string(),
+        });
+        if !accepted.is_empty() {
+            let (vals, _) = fit_jointly(model, data, &base, &accepted);
+            for (a, v) in accepted.iter_mut().zip(vals) {
+                a.1 = v;
+            }
+        }
     };
     let final_effects = accepted
         .iter()
