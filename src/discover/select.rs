@@ -341,9 +341,9 @@ pub struct FinalEffect {
     pub significant: bool,
 }
 
-/// What the discovery concludes about the data (serialised, and printed, as its snake_case name).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// What the discovery concludes about the data (serialised, and printed, as [`Verdict::as_str`],
+/// the one list of its names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Verdict {
     /// Nothing named, and the baseline already leaves every fold's held-out residuals within
     /// [`EXPLAINED_NOISE_RATIO`] times the noise.
@@ -369,6 +369,12 @@ impl Verdict {
     /// True when the final model leaves the data at the noise (explained or nothing missing).
     pub fn at_noise(self) -> bool {
         matches!(self, Verdict::NothingMissing | Verdict::Explained)
+    }
+}
+
+impl Serialize for Verdict {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
     }
 }
 
