@@ -96,9 +96,10 @@ pub struct Plausibility {
     onsets: [u32; 3],
     worst: [Worst; 3],
     events: Vec<Event>,
-    /// The provider's coefficients prepared per tyre slot of a row (`fz_n` order) at the load
-    /// last seen there ([`TyreModel::prepare`]); re-prepared when the load changes, so a model
-    /// with static loads prepares each tyre once.
+    /// The provider's coefficients prepared per tyre slot of a row (`fz_n` order) at the first
+    /// load seen there ([`TyreModel::prepare`]): a model with static loads uses them whole; one
+    /// with load transfer uses their load-independent part. Re-prepared only if the surface
+    /// (friction, camber) changes.
     prepared: [Option<Prepared>; 4],
 }
 
@@ -143,7 +144,7 @@ impl Plausibility {
                 surface_temp_c: self.env.surface_temp_c,
                 contact_temp_c: o.contact_temp_axle_c[axle],
             };
-            if !matches!(&self.prepared[slot], Some(p) if p.matches_load(&input)) {
+            if !matches!(&self.prepared[slot], Some(p) if p.matches_surface(&input)) {
                 self.prepared[slot] = Some(self.tyre.prepare(&input));
             }
             let mu = match &self.prepared[slot] {

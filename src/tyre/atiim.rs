@@ -189,6 +189,10 @@ impl TyreModel for AtiimPacejkaTyre {
         self.base.peak_friction_scaled(i, &self.law.scale_for(i))
     }
 
+    fn peak_friction_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> f64 {
+        self.base.peak_friction_prepared_scaled(prepared, i, &self.law.scale_for(i))
+    }
+
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
         self.base.longitudinal_stiffness_scaled(i, &self.law.scale_for(i))
     }

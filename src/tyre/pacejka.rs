@@ -780,33 +780,51 @@ impl PacejkaTyre {
         }
     }
 
+    /// The pure-slip coefficients of `i` (file camber `g`) with the modifier `m`, from what
+    /// `prepared` (made by [`Self::prepare_scaled`] of this instance) holds for it: its load part
+    /// at the same load and surface, its surface part at another load, else computed in full;
+    /// `None` when `i` is inactive. The same values bit for bit as [`Self::pure`].
+    #[inline]
+    fn prepared_pure<'a>(
+        &self,
+        prepared: &'a super::Prepared,
+        i: &TyreInput,
+        g: f64,
+        m: &Scale,
+        own: &'a mut Option<Pure>,
+    ) -> Option<&'a Pure> {
+        match (&prepared.pacejka, &prepared.surface) {
+            // (an active prepared input with the same load and friction: `i` is active too)
+            (Some(p), _) if prepared.matches_load(i) => {
+                Some(if *m == Scale::ONE { p } else { own.insert(p.scaled(m)) })
+            }
+            _ if inactive(i) => None,
+            (_, Some(s)) if prepared.matches_surface(i) => Some(own.insert(self.at_load(s, i.fz_n, m))),
+            _ => Some(own.insert(self.pure(i.fz_n, i.mu_surface, g, m))),
+        }
+    }
+
     /// [`Self::forces_scaled`] using the coefficients `prepared` holds for `i` (made by
     /// [`Self::prepare_scaled`] of this instance), the same values bit for bit.
     #[inline]
     pub fn forces_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> TyreForces {
         let (a, g) = self.file_angles(i);
-        let own;
-        let p = match (&prepared.pacejka, &prepared.surface) {
-            // (an active prepared input with the same load and friction: `i` is active too)
-            (Some(p), _) if prepared.matches_load(i) => {
-                if *m == Scale::ONE {
-                    p
-                } else {
-                    own = p.scaled(m);
-                    &own
-                }
-            }
-            _ if inactive(i) => return TyreForces::default(),
-            (_, Some(s)) if prepared.matches_surface(i) => {
-                own = self.at_load(s, i.fz_n, m);
-                &own
-            }
-            _ => {
-                own = self.pure(i.fz_n, i.mu_surface, g, m);
-                &own
-            }
-        };
-        self.forces_from(p, i, a, g)
+        let mut own = None;
+        match self.prepared_pure(prepared, i, g, m, &mut own) {
+            Some(p) => self.forces_from(p, i, a, g),
+            None => TyreForces::default(),
+        }
+    }
+
+    /// [`Self::peak_friction_scaled`] using the coefficients `prepared` holds for `i` (made by
+    /// [`Self::prepare_scaled`] of this instance), the same value bit for bit.
+    pub fn peak_friction_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> f64 {
+        let (a, g) = self.file_angles(i);
+        let mut own = None;
+        match self.prepared_pure(prepared, i, g, m, &mut own) {
+            Some(p) => self.bound(p, i.fz_n, i.kappa, a) / i.fz_n,
+            None => 0.0,
+        }
     }
 
     /// [`TyreModel::peak_friction`] with the modifier `m` applied.
@@ -880,7 +898,7 @@ impl TyreModel for PacejkaTyre {
                 let (a, _) = self.file_angles(i);
                 self.bound(p, i.fz_n, i.kappa, a) / i.fz_n
             }
-            _ => self.peak_friction(i),
+            _ => self.peak_friction_prepared_scaled(prepared, i, &Scale::ONE),
         }
     }
 
