@@ -73,6 +73,24 @@
 //! # }
 //! ```
 
+/// `Serialize` and `Display` for an enum through its `as_str(self) -> &'static str`, the one list
+/// of its names (outcomes and event kinds written to result files).
+macro_rules! named_by_as_str {
+    ($t:ty) => {
+        impl serde::Serialize for $t {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+                s.serialize_str(self.as_str())
+            }
+        }
+
+        impl std::fmt::Display for $t {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+    };
+}
+
 pub mod batch;
 pub(crate) mod bench;
 #[doc(hidden)] // the binary's glue: `main` and the argument definitions (for `--help` tests)

@@ -101,17 +101,7 @@ impl EventKind {
     }
 }
 
-impl Serialize for EventKind {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(self.as_str())
-    }
-}
-
-impl std::fmt::Display for EventKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
+named_by_as_str!(EventKind);
 
 /// A manoeuvre's verdict at the end of a run.
 #[derive(Debug, Clone, PartialEq, Default)]

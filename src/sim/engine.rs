@@ -33,7 +33,6 @@
 
 use nalgebra::SVector;
 use serde::Serialize;
-use std::fmt;
 
 use super::integrator::{rk4_exp_step_t, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
@@ -151,18 +150,7 @@ impl EndReason {
     }
 }
 
-/// Serialised as [`EndReason::as_str`], the one list of the names.
-impl Serialize for EndReason {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(self.as_str())
-    }
-}
-
-impl fmt::Display for EndReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
+named_by_as_str!(EndReason);
 
 /// Is the angle of (vx, |vy|) from the x axis, in [0, pi], larger than that of (cx, sy) (a unit
 /// vector in the same half plane)? Cross-product test: no trigonometry per step.
