@@ -219,19 +219,13 @@ pub enum RunStatus {
     Invalid,
 }
 
+choice_names!(RunStatus {
+    Ok => "ok",
+    Failed => "failed",
+    Invalid => "invalid",
+});
+
 impl RunStatus {
-    /// Every status, in declaration order.
-    pub const ALL: [RunStatus; 3] = [RunStatus::Ok, RunStatus::Failed, RunStatus::Invalid];
-
-    /// The name written to summary.csv.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            RunStatus::Ok => "ok",
-            RunStatus::Failed => "failed",
-            RunStatus::Invalid => "invalid",
-        }
-    }
-
     /// The status of a run that ended with `summary`.
     pub fn of(summary: &Summary) -> Self {
         if summary.failed() {
@@ -603,7 +597,7 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
                 format!("line {}: run {idx} does not belong to shard {k} of {n}", i + 2),
             ));
         }
-        let has_folder = RunStatus::ALL.iter().any(|s| s.as_str() == status && s.ran());
+        let has_folder = RunStatus::parse(status).is_some_and(RunStatus::ran);
         if has_folder {
             let rd = d.join(run_folder(idx));
             let real_dir = std::fs::symlink_metadata(&rd).is_ok_and(|m| m.is_dir());

@@ -73,6 +73,35 @@
 //! # }
 //! ```
 
+/// The names of a closed set of choices (spec keywords, flag values, result strings), each written
+/// once: generates `ALL` (declaration order), `as_str`, `parse` and `allowed` (comma-separated, for
+/// messages) for a unit-variant enum from its `Variant => "name"` list.
+macro_rules! choice_names {
+    ($t:ident { $($v:ident => $s:literal),+ $(,)? }) => {
+        impl $t {
+            /// Every value, in declaration order.
+            pub const ALL: &'static [$t] = &[$($t::$v),+];
+
+            /// The value's name in spec and result files.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $($t::$v => $s),+
+                }
+            }
+
+            /// The value named `name`, if any.
+            pub fn parse(name: &str) -> Option<Self> {
+                Self::ALL.iter().copied().find(|k| k.as_str() == name)
+            }
+
+            /// Every name, comma-separated (for messages).
+            pub fn allowed() -> String {
+                Self::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
+            }
+        }
+    };
+}
+
 /// `Serialize` and `Display` for an enum through its `as_str(self) -> &'static str`, the one list
 /// of its names (outcomes and event kinds written to result files).
 macro_rules! named_by_as_str {

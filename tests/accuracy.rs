@@ -87,7 +87,7 @@ fn diff(a: &RunOutput, b: &RunOutput) -> (f64, f64, usize) {
 #[test]
 fn defaults_match_the_fine_reference_for_every_model_and_provider() {
     for model in ["bicycle", "roll4dof"] {
-        for tyre in vehsim::tyre::TyreModelKind::ALLOWED {
+        for tyre in vehsim::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
             let base = dlc(&format!("{model}-{tyre}"), tyre, model, 10.0, 0.15);
             let (h, tc) = (base.settings.step_s, base.settings.control_period_s);
             let d = run(&base, None, None);
@@ -292,7 +292,7 @@ fn explore() {
         .collect();
     let models = std::env::var("VEHSIM_EXPLORE_MODELS").unwrap_or("bicycle".into());
     for model in models.split(',') {
-        for tyre in vehsim::tyre::TyreModelKind::ALLOWED {
+        for tyre in vehsim::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
             let base = dlc(&format!("explore-{model}-{tyre}"), tyre, model, 10.0, 0.15);
             let reference = reference(&base);
             for &(h, tc) in &pairs {

@@ -110,21 +110,31 @@ fn bad_flags_are_usage_errors() {
     assert_eq!(code, 0, "{err}");
 }
 
-/// The name lists kept for messages agree with the enums, and every name parses back to its kind.
+/// Every choice's names, as users write them: the spelling is the file format (spec keywords,
+/// summary.csv values), so a renamed variant must not rename its string. Each name parses back to
+/// its value, and `allowed` lists them in order.
 #[test]
-fn choice_names_match_their_enums() {
+fn choice_names_are_the_file_format() {
+    use vehsim::contact::estimator::Statistic;
+    use vehsim::contact::spec::{ContactModelKind, PressureSource};
     use vehsim::spec::maneuver::{ManeuverKind, VehicleModelKind};
     use vehsim::tyre::TyreModelKind;
-    let tyre: Vec<&str> = TyreModelKind::ALL.iter().map(|k| k.as_str()).collect();
-    assert_eq!(tyre, TyreModelKind::ALLOWED);
-    let vehicle: Vec<&str> = VehicleModelKind::ALL.iter().map(|k| k.as_str()).collect();
-    assert_eq!(vehicle, VehicleModelKind::ALLOWED);
-    for k in ManeuverKind::ALL {
-        assert_eq!(ManeuverKind::parse(k.as_str()), Some(*k));
+    macro_rules! names {
+        ($t:ty, $expected:expr) => {{
+            let names: Vec<&str> = <$t>::ALL.iter().map(|k| k.as_str()).collect();
+            assert_eq!(names, $expected, stringify!($t));
+            for k in <$t>::ALL {
+                assert_eq!(<$t>::parse(k.as_str()), Some(*k));
+            }
+            assert_eq!(<$t>::parse("no_such_name"), None);
+            assert_eq!(<$t>::allowed(), $expected.join(", "));
+        }};
     }
-    assert_eq!(ManeuverKind::allowed(), "iso3888_2, sine_steer, step_steer, straight, constant_radius");
-    let statuses: Vec<&str> = vehsim::batch::RunStatus::ALL.iter().map(|s| s.as_str()).collect();
-    assert_eq!(statuses, ["ok", "failed", "invalid"]);
-    let contact: Vec<&str> = vehsim::contact::spec::ContactModelKind::ALL.iter().map(|k| k.as_str()).collect();
-    assert_eq!(contact, ["isothermal", "atiim"]);
+    names!(TyreModelKind, ["linear", "polynomial", "pacejka", "dugoff", "dugoff_thermal", "atiim_pacejka"]);
+    names!(VehicleModelKind, ["bicycle", "roll4dof"]);
+    names!(ManeuverKind, ["iso3888_2", "sine_steer", "step_steer", "straight", "constant_radius"]);
+    names!(vehsim::batch::RunStatus, ["ok", "failed", "invalid"]);
+    names!(ContactModelKind, ["isothermal", "atiim"]);
+    names!(PressureSource, ["synth", "csv", "image"]);
+    names!(Statistic, ["max", "mean"]);
 }

@@ -580,7 +580,7 @@ fn _vehsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(atiim_scenario, m)?)?;
     m.add_function(wrap_pyfunction!(discover_runs, m)?)?;
     m.add_class::<NativeTyre>()?;
-    m.add("TYRE_MODELS", TyreModelKind::ALLOWED.to_vec())?;
+    m.add("TYRE_MODELS", TyreModelKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>())?;
     m.add("TIMESERIES_COLUMNS", run::COLUMNS.to_vec())?;
     Ok(())
 }

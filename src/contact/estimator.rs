@@ -176,19 +176,12 @@ pub enum Statistic {
     Mean,
 }
 
+choice_names!(Statistic {
+    Max => "max",
+    Mean => "mean",
+});
+
 impl Statistic {
-    /// Names accepted in spec files.
-    pub const ALLOWED: &'static str = "max, mean";
-
-    /// Parse a spec name.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "max" => Some(Statistic::Max),
-            "mean" => Some(Statistic::Mean),
-            _ => None,
-        }
-    }
-
     /// This statistic of a patch solution, K.
     pub fn of(self, s: &super::model::PatchSummary) -> f64 {
         match self {

@@ -296,18 +296,10 @@ pub enum ContactModelKind {
     Atiim,
 }
 
-impl ContactModelKind {
-    /// Every model, in declaration order.
-    pub const ALL: &'static [ContactModelKind] = &[ContactModelKind::Isothermal, ContactModelKind::Atiim];
-
-    /// The name used in spec files.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ContactModelKind::Isothermal => "isothermal",
-            ContactModelKind::Atiim => "atiim",
-        }
-    }
-}
+choice_names!(ContactModelKind {
+    Isothermal => "isothermal",
+    Atiim => "atiim",
+});
 
 impl Default for ContactSpec {
     fn default() -> Self {
@@ -353,7 +345,7 @@ impl ContactSpec {
                 Error::key(
                     file,
                     "contact.statistic",
-                    format!("unknown statistic '{st}'; allowed: {}", Statistic::ALLOWED),
+                    format!("unknown statistic '{st}'; allowed: {}", Statistic::allowed()),
                 )
             })?;
         }
@@ -371,11 +363,11 @@ impl ContactSpec {
 
     /// The contact model `model` names (`file`, the manoeuvre file, is named in the error).
     pub fn kind(&self, file: &Path) -> Result<ContactModelKind> {
-        ContactModelKind::ALL.iter().copied().find(|k| k.as_str() == self.model).ok_or_else(|| {
+        ContactModelKind::parse(&self.model).ok_or_else(|| {
             Error::key(
                 file,
                 "contact.model",
-                format!("unknown model '{}'; expected \"isothermal\" or \"atiim\"", self.model),
+                format!("unknown model '{}'; allowed: {}", self.model, ContactModelKind::allowed()),
             )
         })
     }
@@ -445,19 +437,11 @@ pub enum PressureSource {
     Image,
 }
 
-impl PressureSource {
-    /// Every source, in declaration order.
-    pub const ALL: &'static [PressureSource] = &[PressureSource::Synth, PressureSource::Csv, PressureSource::Image];
-
-    /// The name used in scenario files.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            PressureSource::Synth => "synth",
-            PressureSource::Csv => "csv",
-            PressureSource::Image => "image",
-        }
-    }
-}
+choice_names!(PressureSource {
+    Synth => "synth",
+    Csv => "csv",
+    Image => "image",
+});
 
 /// Raw `[pressure]` table of a scenario.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
@@ -577,11 +561,11 @@ impl ScenarioSpec {
         ck.range("operating.ice_temp_c", o.ice_temp_c, -40.0, 0.0)?;
         let params = self.tyre.params(file, "tyre.", o.ice_temp_c)?;
         let p = &self.pressure;
-        let source = PressureSource::ALL.iter().copied().find(|k| k.as_str() == p.source).ok_or_else(|| {
+        let source = PressureSource::parse(&p.source).ok_or_else(|| {
             Error::key(
                 file,
                 "pressure.source",
-                format!("unknown source '{}'; expected \"synth\", \"csv\" or \"image\"", p.source),
+                format!("unknown source '{}'; allowed: {}", p.source, PressureSource::allowed()),
             )
         })?;
         let mut grid = match source {

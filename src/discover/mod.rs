@@ -59,11 +59,8 @@ pub fn load_vehicle(path: &Path, tyre: Option<&Path>, kind: TyreModelKind) -> Re
 
 /// Parse a tyre-provider name.
 pub fn tyre_kind(name: &str) -> Result<TyreModelKind> {
-    TyreModelKind::ALL.iter().copied().find(|k| k.as_str() == name).ok_or_else(|| {
-        Error::usage(
-            "--tyre-model",
-            format!("'{name}' is not a tyre provider; allowed: {}", TyreModelKind::ALLOWED.join(", ")),
-        )
+    TyreModelKind::parse(name).ok_or_else(|| {
+        Error::usage("--tyre-model", format!("'{name}' is not a tyre provider; allowed: {}", TyreModelKind::allowed()))
     })
 }
 

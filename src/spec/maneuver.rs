@@ -299,37 +299,13 @@ pub enum ManeuverKind {
     ConstantRadius,
 }
 
-impl ManeuverKind {
-    /// Every kind, in declaration order.
-    pub const ALL: &'static [ManeuverKind] = &[
-        ManeuverKind::Iso3888_2,
-        ManeuverKind::SineSteer,
-        ManeuverKind::StepSteer,
-        ManeuverKind::Straight,
-        ManeuverKind::ConstantRadius,
-    ];
-
-    /// The name used in spec files.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ManeuverKind::Iso3888_2 => "iso3888_2",
-            ManeuverKind::SineSteer => "sine_steer",
-            ManeuverKind::StepSteer => "step_steer",
-            ManeuverKind::Straight => "straight",
-            ManeuverKind::ConstantRadius => "constant_radius",
-        }
-    }
-
-    /// The kind named `name`, if any.
-    pub fn parse(name: &str) -> Option<Self> {
-        Self::ALL.iter().copied().find(|k| k.as_str() == name)
-    }
-
-    /// Every name, comma-separated (for messages).
-    pub fn allowed() -> String {
-        Self::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
-    }
-}
+choice_names!(ManeuverKind {
+    Iso3888_2 => "iso3888_2",
+    SineSteer => "sine_steer",
+    StepSteer => "step_steer",
+    Straight => "straight",
+    ConstantRadius => "constant_radius",
+});
 
 impl std::fmt::Display for ManeuverKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -346,18 +322,10 @@ pub enum VehicleModelKind {
     Roll4Dof,
 }
 
-impl VehicleModelKind {
-    pub const ALLOWED: &'static [&'static str] = &["bicycle", "roll4dof"];
-    /// Every model, in the order of [`Self::ALLOWED`].
-    pub const ALL: &'static [VehicleModelKind] = &[VehicleModelKind::Bicycle, VehicleModelKind::Roll4Dof];
-
-    pub fn as_str(self) -> &'static str {
-        match self {
-            VehicleModelKind::Bicycle => "bicycle",
-            VehicleModelKind::Roll4Dof => "roll4dof",
-        }
-    }
-}
+choice_names!(VehicleModelKind {
+    Bicycle => "bicycle",
+    Roll4Dof => "roll4dof",
+});
 
 impl ManeuverSpec {
     /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
@@ -662,11 +630,11 @@ impl ManeuverFile {
         self.contact.build(path, 4, self.surface.temperature_c)?;
         let vehicle_model = match self.vehicle_model.as_deref() {
             None => VehicleModelKind::Bicycle,
-            Some(name) => VehicleModelKind::ALL.iter().copied().find(|k| k.as_str() == name).ok_or_else(|| {
+            Some(name) => VehicleModelKind::parse(name).ok_or_else(|| {
                 Error::key(
                     path,
                     "vehicle_model",
-                    format!("unknown vehicle model '{name}'; allowed: {}", VehicleModelKind::ALLOWED.join(", ")),
+                    format!("unknown vehicle model '{name}'; allowed: {}", VehicleModelKind::allowed()),
                 )
             })?,
         };

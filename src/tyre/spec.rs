@@ -52,42 +52,19 @@ pub enum TyreModelKind {
     AtiimPacejka,
 }
 
-impl TyreModelKind {
-    /// Every provider name accepted in spec files, for error messages.
-    pub const ALLOWED: &'static [&'static str] =
-        &["linear", "polynomial", "pacejka", "dugoff", "dugoff_thermal", "atiim_pacejka"];
-
-    /// Every provider, in the order of [`Self::ALLOWED`].
-    pub const ALL: &'static [TyreModelKind] = &[
-        TyreModelKind::Linear,
-        TyreModelKind::Polynomial,
-        TyreModelKind::Pacejka,
-        TyreModelKind::Dugoff,
-        TyreModelKind::DugoffThermal,
-        TyreModelKind::AtiimPacejka,
-    ];
-
-    /// The name used in spec files.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            TyreModelKind::Linear => "linear",
-            TyreModelKind::Polynomial => "polynomial",
-            TyreModelKind::Pacejka => "pacejka",
-            TyreModelKind::Dugoff => "dugoff",
-            TyreModelKind::DugoffThermal => "dugoff_thermal",
-            TyreModelKind::AtiimPacejka => "atiim_pacejka",
-        }
-    }
-}
+choice_names!(TyreModelKind {
+    Linear => "linear",
+    Polynomial => "polynomial",
+    Pacejka => "pacejka",
+    Dugoff => "dugoff",
+    DugoffThermal => "dugoff_thermal",
+    AtiimPacejka => "atiim_pacejka",
+});
 
 impl FromStr for TyreModelKind {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|k| k.as_str() == s)
-            .ok_or_else(|| format!("unknown tyre model '{s}'; allowed: {}", Self::ALLOWED.join(", ")))
+        Self::parse(s).ok_or_else(|| format!("unknown tyre model '{s}'; allowed: {}", Self::allowed()))
     }
 }
 
