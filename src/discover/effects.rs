@@ -79,6 +79,21 @@ pub fn label(name: &str, form: &str) -> String {
     }
 }
 
+/// Where an effect's fitted value belongs in a vehicle spec file ([`Effect::in_vehicle_spec`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InVehicleSpec {
+    /// A `[lateral]` key: the effect's one parameter, named as the key (its bound is the key's).
+    Lateral,
+    /// A factor on the vehicle's `yaw_inertia_kgm2`.
+    YawInertiaScale,
+    /// A property of the road (a friction change at some place), not of the vehicle.
+    Road,
+    /// A property of the instruments (sensor offsets), not of the vehicle.
+    Instruments,
+    /// A vehicle property the spec has no key for yet (it stays in effects.toml).
+    NoKeyYet,
+}
+
 /// A candidate effect. Some effects come in several forms, tried as separate candidates under
 /// one name: `steer_compliance` (force compliance [`Effect::SteerCompliance`] or a steering lag
 /// [`Effect::SteerLag`]), `friction_change` (global [`Effect::FrictionChange`] or over a
@@ -408,6 +423,28 @@ impl Effect {
         }
     }
 
+    /// Where the effect's fitted value belongs in a vehicle spec file (`vehsim discover` writes
+    /// the improved vehicle.toml from it). Every effect is listed, so a new one must be placed.
+    pub fn in_vehicle_spec(self) -> InVehicleSpec {
+        match self {
+            Effect::TyreRelaxation
+            | Effect::LoadTransfer
+            | Effect::ThermalFriction
+            | Effect::FrictionChange
+            | Effect::SteerCompliance
+            | Effect::SteerLag => InVehicleSpec::Lateral,
+            Effect::YawInertia => InVehicleSpec::YawInertiaScale,
+            Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
+            Effect::SensorBias => InVehicleSpec::Instruments,
+            Effect::AxleStiffness
+            | Effect::AxleFriction
+            | Effect::TransientSlip
+            | Effect::TransientSlipSaturating
+            | Effect::LoadTransferSensitive
+            | Effect::ThermalState => InVehicleSpec::NoKeyYet,
+        }
+    }
+
     /// Switch the effect on in `p` with parameter values `v` (in the order of [`Self::params`]).
     pub fn apply(self, p: &mut EffectParams, v: &[f64]) {
         match self {
@@ -456,6 +493,29 @@ const RELAX_FIT: Bound = Bound::closed("relaxation_length", 0.05, lb::RELAXATION
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The improved vehicle.toml writes a `[lateral]` effect's parameters under their own names:
+    /// each such effect has one parameter, named as a declared `[lateral]` key; the yaw inertia
+    /// has one, its scale factor. Every `[lateral]` key is written by some effect.
+    #[test]
+    fn vehicle_spec_placement_matches_the_lateral_keys() {
+        let keys: Vec<&str> = lb::ALL.iter().map(|b| &b.key[LATERAL.len()..]).collect();
+        let mut written = Vec::new();
+        for e in Effect::ALL {
+            match e.in_vehicle_spec() {
+                InVehicleSpec::Lateral => {
+                    assert_eq!(e.params().len(), 1, "{}", e.label());
+                    assert!(keys.contains(&e.params()[0].name), "{}: {}", e.label(), e.params()[0].name);
+                    written.push(e.params()[0].name);
+                }
+                InVehicleSpec::YawInertiaScale => assert_eq!(e.params().len(), 1, "{}", e.label()),
+                _ => {}
+            }
+        }
+        for k in keys {
+            assert!(written.contains(&k), "no effect writes lateral.{k}");
+        }
+    }
 
     #[test]
     fn lateral_parameters_take_name_unit_and_range_from_the_declared_bounds() {

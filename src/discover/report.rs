@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use super::effects::label;
+use super::effects::{label, Effect, InVehicleSpec};
 use super::model::{EffectParams, ReplayModel};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
 use super::uncertainty::Interval;
@@ -90,26 +90,22 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     let tyre_abs = std::fs::canonicalize(&tyre).unwrap_or(tyre);
     table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
     let mut lateral = toml::Table::new();
-    let mut not_in_spec = Vec::new();
+    let (mut not_vehicle, mut no_key) = (Vec::new(), Vec::new());
     let mut inertia = None;
-    let p = &d.params;
-    let mut put = |k: &str, v: f64| {
-        lateral.insert(k.into(), toml::Value::Float(v));
-    };
     // The effects still named at the end (a dropped one has a step but no final effect).
     for st in &d.final_effects {
-        match (st.effect.as_str(), st.form.as_str()) {
-            ("steer_compliance", "force") => put("steer_compliance_rad_per_kn", p.steer_compliance_rad_per_kn),
-            ("steer_compliance", "lag") => put("steer_lag_s", p.steer_lag_s),
-            ("friction_change", "global") => put("mu_scale", p.mu_scale),
-            ("tyre_relaxation", "") => put("relaxation_length_y_m", p.sigma_y_m),
-            ("load_transfer", "") => put("load_transfer_height_m", p.load_transfer_height_m),
-            ("thermal_friction", "") => put("thermal_mu_per_k", p.thermal_mu_per_k),
-            ("yaw_inertia", _) => inertia = Some(p.yaw_inertia_scale),
-            // A friction stretch belongs to the road, sensor offsets to the instruments: neither
-            // is a property of the vehicle. Per-axle stiffness and friction scales are vehicle
-            // properties that the spec has no key for yet, as is the tread-temperature state.
-            (other, form) => not_in_spec.push(label(other, form)),
+        let Some(effect) = Effect::find(&st.effect, &st.form) else {
+            return Err(Error::Run(format!("internal: no effect named {}", label(&st.effect, &st.form))));
+        };
+        match effect.in_vehicle_spec() {
+            InVehicleSpec::Lateral => {
+                for (key, value, _) in &st.params {
+                    lateral.insert(key.clone(), toml::Value::Float(*value));
+                }
+            }
+            InVehicleSpec::YawInertiaScale => inertia = st.params.first().map(|p| p.1),
+            InVehicleSpec::Road | InVehicleSpec::Instruments => not_vehicle.push(effect.label()),
+            InVehicleSpec::NoKeyYet => no_key.push(effect.label()),
         }
     }
     if !lateral.is_empty() {
@@ -125,10 +121,16 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
         d.verdict,
         if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
     );
-    if !not_in_spec.is_empty() {
+    if !not_vehicle.is_empty() {
         s.push_str(&format!(
-            "# Not vehicle properties, so not in this spec (see effects.toml): {}.\n",
-            not_in_spec.join(", ")
+            "# Not vehicle properties (the road's or the instruments'), so not in this spec (see effects.toml): {}.\n",
+            not_vehicle.join(", ")
+        ));
+    }
+    if !no_key.is_empty() {
+        s.push_str(&format!(
+            "# Vehicle properties this spec has no key for yet (see effects.toml): {}.\n",
+            no_key.join(", ")
         ));
     }
     if d.params.thermal_mu_per_k != 0.0 {
