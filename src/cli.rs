@@ -156,12 +156,12 @@ pub enum Command {
         /// Tyre file (default: the one the vehicle names).
         #[arg(long)]
         tyre: Option<PathBuf>,
-        /// Tyre provider: linear, polynomial, pacejka (default), dugoff, dugoff_thermal, atiim_pacejka.
+        /// Tyre provider.
         #[arg(long, default_value = "pacejka")]
-        tyre_model: String,
-        /// Baseline model: bicycle (default) or roll4dof.
+        tyre_model: TyreModelKind,
+        /// Baseline vehicle model.
         #[arg(long, default_value = "bicycle")]
-        model: String,
+        model: VehicleModelKind,
         /// Output folder.
         #[arg(long)]
         out: PathBuf,
@@ -193,7 +193,7 @@ pub enum Command {
         vehicle: PathBuf,
         /// Tyre provider.
         #[arg(long, default_value = "pacejka")]
-        tyre_model: String,
+        tyre_model: TyreModelKind,
         /// Noise seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -264,10 +264,10 @@ pub fn main() -> ExitCode {
         }
         Command::Envelope { file, out, jobs } => code(crate::envelope::cli_envelope(&file, &out, jobs)),
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife } => {
-            crate::discover::cli_discover(vehicle, tyre, &tyre_model, model, out, runs, quiet, jackknife)
+            crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife)
         }
         Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
-            crate::discover::cli_synth(&effect, &params, &vehicle, &tyre_model, seed, &out)
+            crate::discover::cli_synth(&effect, &params, &vehicle, tyre_model, seed, &out)
         }
         Command::ConvertStanford { dir, out, segment_s, segments } => {
             crate::discover::cli_convert(&dir, &out, segment_s, segments)

@@ -119,3 +119,27 @@ fn sidecar_sets_surface_and_rejects_unknown_keys() {
     let e = vehsim::discover::measured::read_run(&p).unwrap_err().to_string();
     assert!(e.contains("surface.mu"), "{e}");
 }
+
+/// The provider and baseline-model flags take the spec files' names: anything else is a usage
+/// error (exit 2) that lists them, before any file is read.
+#[test]
+fn unknown_tyre_model_or_baseline_model_lists_the_allowed_names() {
+    let discover = ["discover", "--vehicle", "nope.toml", "--out", "unused", "nope.csv"];
+    let synth = ["synth", "--effect", "none", "--out", "unused"];
+    let tyres: &[&str] = &["pacejka", "atiim_pacejka", "dugoff_thermal"];
+    let cases: [(&[&str], &str, &str, &[&str]); 3] = [
+        (&discover, "--tyre-model", "magic", tyres),
+        (&discover, "--model", "roll6dof", &["bicycle", "roll4dof"]),
+        (&synth, "--tyre-model", "magic", tyres),
+    ];
+    for (command, flag, value, needles) in cases {
+        let o = Command::new(BIN).args(command).args([flag, value]).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(err.contains(value), "{err}");
+        for n in needles {
+            assert!(err.contains(n), "{flag}: {err} does not list {n}");
+        }
+        assert!(!std::path::Path::new("unused").exists());
+    }
+}

@@ -564,7 +564,7 @@ fn discover_runs(
         vehicle,
         tyre,
         tyre_model: kind,
-        model: model.to_string(),
+        model: vehsim::discover::model_kind(model).map_err(py_err)?,
         out,
         runs,
         progress: false,

@@ -23,6 +23,7 @@ pub mod uncertainty;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::vehicle::{Vehicle, VehicleFile};
 use crate::tyre::spec::TyreModelKind;
 
@@ -37,8 +38,8 @@ pub struct DiscoverOptions {
     pub tyre: Option<PathBuf>,
     /// Tyre provider (default pacejka).
     pub tyre_model: TyreModelKind,
-    /// `bicycle` (default) or `roll4dof`.
-    pub model: String,
+    /// The baseline vehicle model (default bicycle).
+    pub model: VehicleModelKind,
     pub out: PathBuf,
     pub runs: Vec<PathBuf>,
     /// Print progress (per round and candidate) on stderr.
@@ -64,16 +65,22 @@ pub fn tyre_kind(name: &str) -> Result<TyreModelKind> {
     })
 }
 
-/// The baseline parameters and the candidates for a baseline model name.
-pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectParams, Vec<Effect>)> {
+/// Parse a baseline vehicle-model name.
+pub fn model_kind(name: &str) -> Result<VehicleModelKind> {
+    VehicleModelKind::parse(name).ok_or_else(|| {
+        Error::usage("--model", format!("'{name}' is not a model; allowed: {}", VehicleModelKind::allowed()))
+    })
+}
+
+/// The baseline parameters and the candidates for a baseline vehicle model.
+pub fn baseline_for(model: VehicleModelKind, vehicle: &Vehicle) -> (model::EffectParams, Vec<Effect>) {
     match model {
-        "bicycle" => Ok((model::EffectParams::default(), Effect::TRIED.to_vec())),
+        VehicleModelKind::Bicycle => (model::EffectParams::default(), Effect::TRIED.to_vec()),
         // The 4-DOF baseline: quasi-static lateral load transfer at the vehicle's CG height.
-        "roll4dof" => {
+        VehicleModelKind::Roll4Dof => {
             let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
-            Ok((p, Effect::TRIED.iter().copied().filter(|e| e.name() != "load_transfer").collect()))
+            (p, Effect::TRIED.iter().copied().filter(|e| e.name() != Effect::LoadTransfer.name()).collect())
         }
-        other => Err(Error::usage("--model", format!("'{other}' is not a model; allowed: bicycle, roll4dof"))),
     }
 }
 
@@ -81,7 +88,7 @@ pub fn baseline_for(model: &str, vehicle: &Vehicle) -> Result<(model::EffectPara
 /// Returns the discovery and the notices to print.
 pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> {
     let vehicle = load_vehicle(&opts.vehicle, opts.tyre.as_deref(), opts.tyre_model)?;
-    let (base, candidates) = baseline_for(&opts.model, &vehicle)?;
+    let (base, candidates) = baseline_for(opts.model, &vehicle);
     if opts.runs.is_empty() {
         return Err(Error::input(Path::new("RUN.csv"), "no measured run given"));
     }
@@ -121,20 +128,16 @@ fn fail(e: &Error) -> std::process::ExitCode {
 pub fn cli_discover(
     vehicle: PathBuf,
     tyre: Option<PathBuf>,
-    tyre_model: &str,
-    model: String,
+    tyre_model: TyreModelKind,
+    model: VehicleModelKind,
     out: PathBuf,
     runs: Vec<PathBuf>,
     quiet: bool,
     jackknife: bool,
 ) -> std::process::ExitCode {
     use std::io::IsTerminal as _;
-    let kind = match tyre_kind(tyre_model) {
-        Ok(k) => k,
-        Err(e) => return fail(&e),
-    };
     let progress = !quiet && std::io::stderr().is_terminal();
-    let opts = DiscoverOptions { vehicle, tyre, tyre_model: kind, model, out, runs, progress, jackknife };
+    let opts = DiscoverOptions { vehicle, tyre, tyre_model, model, out, runs, progress, jackknife };
     match run_discover(&opts) {
         Ok(_) if quiet => std::process::ExitCode::SUCCESS,
         Ok((d, notices)) => {
@@ -181,13 +184,12 @@ pub fn cli_synth(
     effect: &str,
     params: &[String],
     vehicle: &Path,
-    tyre_model: &str,
+    tyre_model: TyreModelKind,
     seed: u64,
     out: &Path,
 ) -> std::process::ExitCode {
     let r = (|| -> Result<usize> {
-        let kind = tyre_kind(tyre_model)?;
-        let v = load_vehicle(vehicle, None, kind)?;
+        let v = load_vehicle(vehicle, None, tyre_model)?;
         let mut p = model::EffectParams::default();
         if effect != "none" {
             let given: Vec<&str> = params.iter().map(|g| g.split_once('=').map_or(g.as_str(), |(k, _)| k)).collect();

@@ -151,7 +151,7 @@ fn write(path: &Path, text: &str) -> Result<()> {
 
 /// Write every output into `out` (atomically).
 pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: &Dataset, d: &Discovery) -> Result<()> {
-    let base_p = super::baseline_for(&opts.model, &model.vehicle)?.0;
+    let base_p = super::baseline_for(opts.model, &model.vehicle).0;
     let base_sims = simulate_all(model, data, &base_p);
     let final_sims = simulate_all(model, data, &d.params);
     let windows = disagreement_windows(data, &base_sims);

@@ -327,6 +327,8 @@ choice_names!(VehicleModelKind {
     Roll4Dof => "roll4dof",
 });
 
+named_by_as_str!(VehicleModelKind);
+
 impl ManeuverSpec {
     /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
     /// checked with their full path (`maneuver.speed_mps`) in any message.
