@@ -134,16 +134,7 @@ impl Plausibility {
             if fz.is_nan() || fz <= 0.0 {
                 continue;
             }
-            let input = TyreInput {
-                fz_n: fz,
-                kappa: o.kappa[axle],
-                alpha_rad: o.alpha_rad[axle],
-                camber_rad: 0.0,
-                vx_mps: o.kin.vx_mps.abs(),
-                mu_surface: self.env.mu,
-                surface_temp_c: self.env.surface_temp_c,
-                contact_temp_c: o.contact_temp_axle_c[axle],
-            };
+            let input = self.input(row, axle, fz);
             if !matches!(&self.prepared[slot], Some(p) if p.matches_surface(&input)) {
                 self.prepared[slot] = Some(self.tyre.prepare(&input));
             }
@@ -157,8 +148,71 @@ impl Plausibility {
         (bound, load)
     }
 
+    /// Whether the tyre-force and lateral-acceleration checks are sure to pass at `row` without
+    /// their exact bounds: neither is failing now, and every tyre has a cheap floor under its
+    /// bound ([`TyreModel::peak_force_floor_prepared`]) that each axle's |F| and |a_y| (against
+    /// the floors' mu_eff) do not exceed. Their ratios are then at most 1 (< the 1.05 limits) and
+    /// would neither start an event nor become a reported worst (only a failing ratio is
+    /// reported, and it exceeds every passing one).
+    fn well_within(&mut self, row: &Row) -> bool {
+        if self.active[Check::Force as usize] || self.active[Check::LateralAcceleration as usize] {
+            return false;
+        }
+        let o = &row.obs;
+        let (mut floor_sum, mut load_sum) = (0.0, 0.0);
+        for axle in 0..2 {
+            let mut floor = 0.0;
+            for slot in 2 * axle..2 * axle + 2 {
+                let fz = o.fz_n[slot];
+                let Some(p) = &self.prepared[slot] else { return false };
+                if fz.is_nan() || fz <= 0.0 {
+                    return false;
+                }
+                let input = self.input(row, axle, fz);
+                match self.tyre.peak_force_floor_prepared(p, &input) {
+                    Some(f) if p.matches_surface(&input) => floor += f,
+                    _ => return false,
+                }
+                load_sum += fz;
+            }
+            // (false for a NaN force)
+            if !(o.fx_n[axle].hypot(o.fy_n[axle]) <= floor) {
+                return false;
+            }
+            floor_sum += floor;
+        }
+        o.ay_mps2.abs() * load_sum <= floor_sum * GRAVITY
+    }
+
+    /// The tyre input of axle `axle`'s tyre with load `fz` at `row`.
+    fn input(&self, row: &Row, axle: usize, fz: f64) -> TyreInput {
+        let o = &row.obs;
+        TyreInput {
+            fz_n: fz,
+            kappa: o.kappa[axle],
+            alpha_rad: o.alpha_rad[axle],
+            camber_rad: 0.0,
+            vx_mps: o.kin.vx_mps.abs(),
+            mu_surface: self.env.mu,
+            surface_temp_c: self.env.surface_temp_c,
+            contact_temp_c: o.contact_temp_axle_c[axle],
+        }
+    }
+
     /// Check one recorded row.
     pub fn check(&mut self, row: &Row) {
+        if !self.well_within(row) {
+            self.check_friction(row);
+        }
+        if let Some(tol) = self.path_tolerance_m {
+            if row.path_error_m.is_finite() {
+                self.update(Check::Path, row.t_s, row.path_error_m.abs(), tol, 0);
+            }
+        }
+    }
+
+    /// The tyre-force and lateral-acceleration checks of `row` against the exact bounds.
+    fn check_friction(&mut self, row: &Row) {
         let o = &row.obs;
         let mut force = (0.0_f64, 0);
         let (mut bound_sum, mut load_sum) = (0.0, 0.0);
@@ -175,11 +229,6 @@ impl Plausibility {
         if bound_sum > 0.0 && o.ay_mps2.is_finite() {
             let mu_eff = bound_sum / load_sum;
             self.update(Check::LateralAcceleration, row.t_s, o.ay_mps2.abs() / (mu_eff * GRAVITY), AY_RATIO_LIMIT, 0);
-        }
-        if let Some(tol) = self.path_tolerance_m {
-            if row.path_error_m.is_finite() {
-                self.update(Check::Path, row.t_s, row.path_error_m.abs(), tol, 0);
-            }
         }
     }
 
