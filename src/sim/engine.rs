@@ -462,7 +462,11 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         }
         self.u = inputs;
         let this = &*self;
-        let f = |ts: f64, s: &SVector<f64, N>| model.derivatives(s, &this.inputs_at(ts), &env);
+        // The inputs at the step's middle once for its two stages there (RK4's k2 and k3).
+        let mid = (t + 0.5 * h, self.inputs_at(t + 0.5 * h));
+        let f = |ts: f64, s: &SVector<f64, N>| {
+            model.derivatives(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
+        };
         let next = match self.method {
             Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
             Method::Rk4Exp => {
