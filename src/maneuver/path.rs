@@ -169,6 +169,10 @@ impl RefPath {
         };
         let mut best = (start, self.project(start, x, y));
         for fwd in [true, false] {
+            if !fwd && best.0 != start {
+                // The forward walk moved: the segment behind the best is the one it left, farther.
+                break;
+            }
             let mut i = best.0;
             // At most one lap: a closed path cannot make the walk cycle.
             for _ in 0..nseg {
@@ -315,6 +319,29 @@ mod tests {
             // Any start at or before the segment gives the same point; a start beyond it is ignored.
             for ahead in [0, seg / 2, seg, seg + 1, seg + 50, usize::MAX] {
                 assert_eq!(p.point_at_from(s, 0, ahead), (want, seg), "s = {s}, ahead = {ahead}");
+            }
+        }
+    }
+    #[test]
+    fn local_search_matches_a_walk_both_ways() {
+        // The walk in both directions from `start` while the next segment is strictly closer
+        // (the backward walk from where the forward one ended), written out plainly.
+        fn walk(p: &RefPath, x: f64, y: f64, start: usize) -> (f64, f64, usize) {
+            let n = p.n_segments();
+            let mut best = (start, p.project(start, x, y));
+            while best.0 + 1 < n && p.project(best.0 + 1, x, y).0 < best.1 .0 {
+                best = (best.0 + 1, p.project(best.0 + 1, x, y));
+            }
+            while best.0 > 0 && p.project(best.0 - 1, x, y).0 < best.1 .0 {
+                best = (best.0 - 1, p.project(best.0 - 1, x, y));
+            }
+            (best.1 .1, best.1 .2, best.0)
+        }
+        let p = RefPath::from_fn(0.0, 60.0, 0.1, |x| 3.0 * (0.1 * x).sin());
+        for k in 0..300 {
+            let (x, y) = (k as f64 * 0.2, 2.5 * (k as f64 * 0.37).cos());
+            for start in [0, 10 * (k / 5), 2 * k, 599] {
+                assert_eq!(p.closest_from(x, y, start), walk(&p, x, y, start), "({x}, {y}) from {start}");
             }
         }
     }
