@@ -175,8 +175,8 @@ impl Plausibility {
                 }
                 load_sum += fz;
             }
-            // (false for a NaN force)
-            if !(o.fx_n[axle].hypot(o.fy_n[axle]) <= floor) {
+            // |F| <= floor, squared (false for a NaN force; rounding is far inside the 5 % margin)
+            if !(o.fx_n[axle] * o.fx_n[axle] + o.fy_n[axle] * o.fy_n[axle] <= floor * floor) {
                 return false;
             }
             floor_sum += floor;
