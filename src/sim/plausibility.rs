@@ -445,4 +445,60 @@ mod tests {
         assert_eq!(circle_tolerance_m(40.0), 2.0);
         assert_eq!(circle_tolerance_m(100.0), 5.0);
     }
+    /// A provider without a cheap floor: every row takes the exact bounds.
+    #[derive(Debug)]
+    struct NoFloor(Arc<dyn TyreModel>);
+
+    impl TyreModel for NoFloor {
+        fn name(&self) -> &'static str {
+            self.0.name()
+        }
+        fn forces(&self, i: &TyreInput) -> crate::tyre::TyreForces {
+            self.0.forces(i)
+        }
+        fn peak_friction(&self, i: &TyreInput) -> f64 {
+            self.0.peak_friction(i)
+        }
+        fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
+            self.0.longitudinal_stiffness(i)
+        }
+        fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
+            self.0.cornering_stiffness(i)
+        }
+        fn prepare(&self, i: &TyreInput) -> Prepared {
+            self.0.prepare(i)
+        }
+        fn peak_friction_prepared(&self, p: &Prepared, i: &TyreInput) -> f64 {
+            self.0.peak_friction_prepared(p, i)
+        }
+    }
+
+    #[test]
+    fn floor_pretest_changes_no_event_or_reason() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
+        let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
+        let tyre = spec.build(path, crate::tyre::spec::TyreModelKind::Pacejka).unwrap().model;
+        let (mut with, mut without) = (
+            Plausibility::new(tyre.clone(), ENV, Some(1.0)),
+            Plausibility::new(Arc::new(NoFloor(tyre)), ENV, Some(1.0)),
+        );
+        // Forces, slips and a_y swept through and beyond the friction bounds and back: onsets,
+        // recoveries and worst values on both checks, rows near the limits included.
+        let mut skipped = 0;
+        for k in 0..400 {
+            let t = k as f64 * 0.01;
+            let w = (0.05 * k as f64).sin();
+            let mut r = row(t, [2600.0 * w, -1800.0 * w], 3.6 * w, 1.2 * w);
+            r.obs.fx_n = [300.0 * w, -500.0 * (0.07 * k as f64).cos()];
+            r.obs.kappa = [0.02 * w, -0.05 * w];
+            r.obs.alpha_rad = [0.1 * w, 0.2 * (0.03 * k as f64).sin()];
+            skipped += usize::from(with.well_within(&r));
+            with.check(&r);
+            without.check(&r);
+        }
+        assert!(skipped > 50 && skipped < 350, "{skipped} rows of 400 took the floor");
+        assert_eq!(with.events, without.events);
+        assert_eq!(with.reasons(), without.reasons());
+        assert!(with.events.len() >= 4 && with.reasons().len() == 3, "{:?}", with.events);
+    }
 }
