@@ -176,7 +176,8 @@ impl Plausibility {
                 load_sum += fz;
             }
             // |F| <= floor, squared (false for a NaN force; rounding is far inside the 5 % margin)
-            if !(o.fx_n[axle] * o.fx_n[axle] + o.fy_n[axle] * o.fy_n[axle] <= floor * floor) {
+            let f2 = o.fx_n[axle] * o.fx_n[axle] + o.fy_n[axle] * o.fy_n[axle];
+            if !matches!(f2.partial_cmp(&(floor * floor)), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)) {
                 return false;
             }
             floor_sum += floor;

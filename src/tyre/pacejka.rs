@@ -903,9 +903,9 @@ impl TyreModel for PacejkaTyre {
     }
 
     /// max(|Dx|, |Dy|) at the prepared load: [`Self::bound`] is at least that in both
-    /// combinations (Magic Formula: hypot of (|Dx| + |SVx|) / |Gxa0| and (|Dy| + |SVy|) / |Gyk0|
-    /// + |DVyk| with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term), for finite
-    /// slips (with which the bound is finite).
+    /// combinations (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) /
+    /// |Gyk0| plus |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term),
+    /// for finite slips (with which the bound is finite).
     fn peak_force_floor_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> Option<f64> {
         match &prepared.pacejka {
             Some(p) if prepared.matches_load(i) && i.kappa.is_finite() && i.alpha_rad.is_finite() => {
