@@ -181,6 +181,42 @@ fn finite_everywhere_and_bounded_by_peak_friction() {
     }
 }
 
+/// A provider's cheap force floor ([`TyreModel::peak_force_floor_prepared`], what the plausibility
+/// check skips its exact bound against) never exceeds the exact bound (N), for every provider
+/// that has one, over the input box at the prepared load; the Magic Formula providers have one.
+#[test]
+fn force_floor_is_below_the_peak_friction_bound() {
+    let (kappas, alphas, loads) = box_grid();
+    let mut with_floor = Vec::new();
+    for c in cases() {
+        for &mu in &MUS {
+            for &dt in &DTS {
+                for &fz in loads.iter().filter(|&&fz| fz > 0.0) {
+                    let prepared = c.model.prepare(&input(fz, 0.0, 0.0, mu, dt));
+                    for &kappa in &kappas {
+                        for &alpha in &alphas {
+                            let i = input(fz, kappa, alpha, mu, dt);
+                            let Some(floor) = c.model.peak_force_floor_prepared(&prepared, &i) else { continue };
+                            if !with_floor.contains(&c.label) {
+                                with_floor.push(c.label.clone());
+                            }
+                            let bound = c.model.peak_friction_prepared(&prepared, &i) * fz;
+                            assert!(
+                                floor > 0.0 && floor <= bound,
+                                "{}: floor {floor} > bound {bound} at {i:?}",
+                                c.label
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    for label in ["pacejka", "pacejka(ellipse)", "pacejka(mz)"] {
+        assert!(with_floor.iter().any(|l| l == label), "{label} has no floor (those with one: {with_floor:?})");
+    }
+}
+
 /// Continuity on dense lines through the box: between neighbouring samples (step h in kappa or
 /// alpha) the force changes by at most 3 C_max h + 1e-6 Fz, where C_max is the larger of the
 /// declared stiffnesses at this load (the steepest slope of every provider is at or near zero slip,

@@ -66,13 +66,15 @@ pub struct Driver {
     pub wheelbase_m: f64,
     /// Segment index of the closest path point found last (`None` before the first sample).
     cursor: Option<usize>,
+    /// Segment index of the preview point found last (0 before the first sample).
+    preview: usize,
     /// Signed lateral error of the CG from the path (left positive), m, at the last sample.
     pub lateral_error_m: f64,
 }
 
 impl Driver {
     pub fn new(params: DriverParams, wheelbase_m: f64) -> Self {
-        Self { params, wheelbase_m, cursor: None, lateral_error_m: 0.0 }
+        Self { params, wheelbase_m, cursor: None, preview: 0, lateral_error_m: 0.0 }
     }
 
     /// Desired road-wheel steer angle (before limits) for the vehicle at `kin`.
@@ -94,7 +96,8 @@ impl Driver {
         let course = kin.yaw_rad + if kin.speed_mps() > 0.5 { kin.sideslip_rad() } else { 0.0 };
         let mid = course + 0.5 * r * tp;
         let (px, py) = (kin.x_m + dist * mid.cos(), kin.y_m + dist * mid.sin());
-        let (tx, ty) = path.point_at_from(s + dist, idx);
+        let ((tx, ty), preview) = path.point_at_from(s + dist, idx, self.preview);
+        self.preview = preview;
         let (sy, cy) = kin.yaw_rad.sin_cos();
         let e = -(tx - px) * sy + (ty - py) * cy;
         let lk = self.wheelbase_m + p.understeer_gradient_rad_per_mps2 * v * v;

@@ -400,9 +400,11 @@ impl Maneuver for Iso3888_2 {
             .iter()
             .chain(corners.iter())
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
-        for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate() {
+        let far = |g: &Gate| g.x1_m < x_lo || g.x0_m > x_hi;
+        let any_near = !self.gates.iter().all(far);
+        for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate().filter(|_| any_near) {
             for (gi, g) in self.gates.iter().enumerate() {
-                if g.x1_m < x_lo || g.x0_m > x_hi {
+                if far(g) {
                     continue;
                 }
                 for side in 0..2 {

@@ -235,7 +235,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     st: Stats,
     spin_dir: (f64, f64),
     k: u64,
-    last_row: Option<Row>,
+    /// Time and speed target of the last row recorded, s and m/s.
+    last_row: Option<(f64, f64)>,
     speed_target: f64,
     path_error: Option<f64>,
     end: Option<EndReason>,
@@ -457,11 +458,15 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 path_error_m: self.path_error.unwrap_or(f64::NAN),
             };
             self.observer.record(&row);
-            self.last_row = Some(row);
+            self.last_row = Some((row.t_s, row.speed_target_mps));
         }
         self.u = inputs;
         let this = &*self;
-        let f = |ts: f64, s: &SVector<f64, N>| model.derivatives(s, &this.inputs_at(ts), &env);
+        // The inputs at the step's middle once for its two stages there (RK4's k2 and k3).
+        let mid = (t + 0.5 * h, self.inputs_at(t + 0.5 * h));
+        let f = |ts: f64, s: &SVector<f64, N>| {
+            model.derivatives(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
+        };
         let next = match self.method {
             Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
             Method::Rk4Exp => {
@@ -543,12 +548,12 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             _ => t_end,
         };
         let kin = self.model.kinematics(&self.x);
-        if self.x.iter().all(|v| v.is_finite()) && self.last_row.is_none_or(|r| r.t_s < t_end) {
+        if self.x.iter().all(|v| v.is_finite()) && self.last_row.is_none_or(|(t, _)| t < t_end) {
             let row = Row {
                 t_s: t_end,
                 obs: self.model.observe(&self.x, &self.u, &self.env),
                 inputs: self.u,
-                speed_target_mps: self.last_row.map_or(f64::NAN, |r| r.speed_target_mps),
+                speed_target_mps: self.last_row.map_or(f64::NAN, |(_, v)| v),
                 path_error_m: self.maneuver.path_error_m().unwrap_or(f64::NAN),
             };
             self.observer.record(&row);

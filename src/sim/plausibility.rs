@@ -134,16 +134,7 @@ impl Plausibility {
             if fz.is_nan() || fz <= 0.0 {
                 continue;
             }
-            let input = TyreInput {
-                fz_n: fz,
-                kappa: o.kappa[axle],
-                alpha_rad: o.alpha_rad[axle],
-                camber_rad: 0.0,
-                vx_mps: o.kin.vx_mps.abs(),
-                mu_surface: self.env.mu,
-                surface_temp_c: self.env.surface_temp_c,
-                contact_temp_c: o.contact_temp_axle_c[axle],
-            };
+            let input = self.input(row, axle, fz);
             if !matches!(&self.prepared[slot], Some(p) if p.matches_surface(&input)) {
                 self.prepared[slot] = Some(self.tyre.prepare(&input));
             }
@@ -157,8 +148,72 @@ impl Plausibility {
         (bound, load)
     }
 
+    /// Whether the tyre-force and lateral-acceleration checks are sure to pass at `row` without
+    /// their exact bounds: neither is failing now, and every tyre has a cheap floor under its
+    /// bound ([`TyreModel::peak_force_floor_prepared`]) that each axle's |F| and |a_y| (against
+    /// the floors' mu_eff) do not exceed. Their ratios are then at most 1 (< the 1.05 limits) and
+    /// would neither start an event nor become a reported worst (only a failing ratio is
+    /// reported, and it exceeds every passing one).
+    fn well_within(&mut self, row: &Row) -> bool {
+        if self.active[Check::Force as usize] || self.active[Check::LateralAcceleration as usize] {
+            return false;
+        }
+        let o = &row.obs;
+        let (mut floor_sum, mut load_sum) = (0.0, 0.0);
+        for axle in 0..2 {
+            let mut floor = 0.0;
+            for slot in 2 * axle..2 * axle + 2 {
+                let fz = o.fz_n[slot];
+                let Some(p) = &self.prepared[slot] else { return false };
+                if fz.is_nan() || fz <= 0.0 {
+                    return false;
+                }
+                let input = self.input(row, axle, fz);
+                match self.tyre.peak_force_floor_prepared(p, &input) {
+                    Some(f) => floor += f,
+                    None => return false,
+                }
+                load_sum += fz;
+            }
+            // |F| <= floor, squared (false for a NaN force; rounding is far inside the 5 % margin)
+            let f2 = o.fx_n[axle] * o.fx_n[axle] + o.fy_n[axle] * o.fy_n[axle];
+            if !matches!(f2.partial_cmp(&(floor * floor)), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)) {
+                return false;
+            }
+            floor_sum += floor;
+        }
+        o.ay_mps2.abs() * load_sum <= floor_sum * GRAVITY
+    }
+
+    /// The tyre input of axle `axle`'s tyre with load `fz` at `row`.
+    fn input(&self, row: &Row, axle: usize, fz: f64) -> TyreInput {
+        let o = &row.obs;
+        TyreInput {
+            fz_n: fz,
+            kappa: o.kappa[axle],
+            alpha_rad: o.alpha_rad[axle],
+            camber_rad: 0.0,
+            vx_mps: o.kin.vx_mps.abs(),
+            mu_surface: self.env.mu,
+            surface_temp_c: self.env.surface_temp_c,
+            contact_temp_c: o.contact_temp_axle_c[axle],
+        }
+    }
+
     /// Check one recorded row.
     pub fn check(&mut self, row: &Row) {
+        if !self.well_within(row) {
+            self.check_friction(row);
+        }
+        if let Some(tol) = self.path_tolerance_m {
+            if row.path_error_m.is_finite() {
+                self.update(Check::Path, row.t_s, row.path_error_m.abs(), tol, 0);
+            }
+        }
+    }
+
+    /// The tyre-force and lateral-acceleration checks of `row` against the exact bounds.
+    fn check_friction(&mut self, row: &Row) {
         let o = &row.obs;
         let mut force = (0.0_f64, 0);
         let (mut bound_sum, mut load_sum) = (0.0, 0.0);
@@ -175,11 +230,6 @@ impl Plausibility {
         if bound_sum > 0.0 && o.ay_mps2.is_finite() {
             let mu_eff = bound_sum / load_sum;
             self.update(Check::LateralAcceleration, row.t_s, o.ay_mps2.abs() / (mu_eff * GRAVITY), AY_RATIO_LIMIT, 0);
-        }
-        if let Some(tol) = self.path_tolerance_m {
-            if row.path_error_m.is_finite() {
-                self.update(Check::Path, row.t_s, row.path_error_m.abs(), tol, 0);
-            }
         }
     }
 
@@ -395,5 +445,61 @@ mod tests {
         assert_eq!(circle_tolerance_m(0.5), 1.0);
         assert_eq!(circle_tolerance_m(40.0), 2.0);
         assert_eq!(circle_tolerance_m(100.0), 5.0);
+    }
+    /// A provider without a cheap floor: every row takes the exact bounds.
+    #[derive(Debug)]
+    struct NoFloor(Arc<dyn TyreModel>);
+
+    impl TyreModel for NoFloor {
+        fn name(&self) -> &'static str {
+            self.0.name()
+        }
+        fn forces(&self, i: &TyreInput) -> crate::tyre::TyreForces {
+            self.0.forces(i)
+        }
+        fn peak_friction(&self, i: &TyreInput) -> f64 {
+            self.0.peak_friction(i)
+        }
+        fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
+            self.0.longitudinal_stiffness(i)
+        }
+        fn cornering_stiffness(&self, i: &TyreInput) -> f64 {
+            self.0.cornering_stiffness(i)
+        }
+        fn prepare(&self, i: &TyreInput) -> Prepared {
+            self.0.prepare(i)
+        }
+        fn peak_friction_prepared(&self, p: &Prepared, i: &TyreInput) -> f64 {
+            self.0.peak_friction_prepared(p, i)
+        }
+    }
+
+    #[test]
+    fn floor_pretest_changes_no_event_or_reason() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
+        let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
+        let tyre = spec.build(path, crate::tyre::spec::TyreModelKind::Pacejka).unwrap().model;
+        let (mut with, mut without) = (
+            Plausibility::new(tyre.clone(), ENV, Some(1.0)),
+            Plausibility::new(Arc::new(NoFloor(tyre)), ENV, Some(1.0)),
+        );
+        // Forces, slips and a_y swept through and beyond the friction bounds and back: onsets,
+        // recoveries and worst values on both checks, rows near the limits included.
+        let mut skipped = 0;
+        for k in 0..400 {
+            let t = k as f64 * 0.01;
+            let w = (0.05 * k as f64).sin();
+            let mut r = row(t, [2600.0 * w, -1800.0 * w], 3.6 * w, 1.2 * w);
+            r.obs.fx_n = [300.0 * w, -500.0 * (0.07 * k as f64).cos()];
+            r.obs.kappa = [0.02 * w, -0.05 * w];
+            r.obs.alpha_rad = [0.1 * w, 0.2 * (0.03 * k as f64).sin()];
+            skipped += usize::from(with.well_within(&r));
+            with.check(&r);
+            without.check(&r);
+        }
+        assert!(skipped > 50 && skipped < 350, "{skipped} rows of 400 took the floor");
+        assert_eq!(with.events, without.events);
+        assert_eq!(with.reasons(), without.reasons());
+        assert!(with.events.len() >= 4 && with.reasons().len() == 3, "{:?}", with.events);
     }
 }

@@ -173,6 +173,13 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
         self.peak_friction(input)
     }
 
+    /// A lower bound (N) of [`Self::peak_friction_prepared`] times the load at `input`, when the
+    /// provider has one far cheaper than the bound itself (`None`: it has none for this input).
+    /// For checks that only need to know a force is well within the bound. Default: `None`.
+    fn peak_force_floor_prepared(&self, _prepared: &Prepared, _input: &TyreInput) -> Option<f64> {
+        None
+    }
+
     /// Whether [`Self::departure`] can report anything for this provider (false: the vehicle
     /// models need not ask). Default: false.
     fn reports_departures(&self) -> bool {

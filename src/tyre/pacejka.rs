@@ -902,6 +902,19 @@ impl TyreModel for PacejkaTyre {
         }
     }
 
+    /// max(|Dx|, |Dy|) at the prepared load: [`Self::bound`] is at least that in both
+    /// combinations (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) /
+    /// |Gyk0| plus |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term),
+    /// for finite slips (with which the bound is finite).
+    fn peak_force_floor_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> Option<f64> {
+        match &prepared.pacejka {
+            Some(p) if prepared.matches_load(i) && i.kappa.is_finite() && i.alpha_rad.is_finite() => {
+                Some(p.dx.abs().max(p.dy.abs()))
+            }
+            _ => None,
+        }
+    }
+
     /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
         self.longitudinal_stiffness_scaled(i, &Scale::ONE)
