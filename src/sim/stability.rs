@@ -42,10 +42,11 @@ pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s) and the unsaturated linear tyre
 /// needs a shorter step than the period. So 10 ms.
 pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.01;
-/// Default controller sample period with the ATIIM contact-temperature estimate, s: its output
-/// follows the instantaneous slide speed (the flash temperature), which the hold across the period
-/// resolves less well: ATIIM-Pacejka on the same lane change is 1.3e-4 / 1.4e-4 rad/s at 5 ms and
-/// 4.4e-4 / 7.6e-4 rad/s at 10 ms (bicycle / 4-DOF).
+/// Default controller sample period of the 4-DOF model with the ATIIM contact-temperature
+/// estimate, s: its output follows the instantaneous slide speed (the flash temperature), which the
+/// hold across the period resolves less well: ATIIM-Pacejka on the same lane change is 1.3e-4 /
+/// 1.4e-4 rad/s at 5 ms and 4.4e-4 / 7.6e-4 rad/s at 10 ms (bicycle / 4-DOF). The bicycle is
+/// within the guard at 10 ms and keeps [`DEFAULT_CONTROL_PERIOD_S`] (the rule: `spec::maneuver`).
 pub const DEFAULT_CONTROL_PERIOD_THERMAL_S: f64 = 0.005;
 
 /// The linearised model at steady straight running at one speed.

@@ -717,8 +717,13 @@ impl ManeuverFile {
             EXP_MARGIN,
         };
         let i = &self.integrator;
-        let default_cp =
-            if self.contact.model == "atiim" { DEFAULT_CONTROL_PERIOD_THERMAL_S } else { DEFAULT_CONTROL_PERIOD_S };
+        // The ATIIM estimate needs the shorter period on the 4-DOF model only (`DEFAULT_CONTROL_PERIOD_THERMAL_S`).
+        let thermal = self.contact.kind(path)? == crate::contact::spec::ContactModelKind::Atiim;
+        let default_cp = if thermal && model == VehicleModelKind::Roll4Dof {
+            DEFAULT_CONTROL_PERIOD_THERMAL_S
+        } else {
+            DEFAULT_CONTROL_PERIOD_S
+        };
         let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
