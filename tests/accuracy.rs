@@ -96,7 +96,7 @@ fn defaults_match_the_fine_reference_for_every_model_and_provider() {
             println!("{model} + {tyre}: step {h} s, period {tc} s: yaw rate {er:.2e} rad/s, y {ey:.2e} m");
             assert!(n > 1000, "{model} + {tyre}: {n} rows compared");
             // the shorter period only where 10 ms is beyond the guard: the 4-DOF model with ATIIM
-            let thermal_4dof = model == "roll4dof" && *tyre == "atiim_pacejka";
+            let thermal_4dof = model == "roll4dof" && tyre == "atiim_pacejka";
             assert_eq!(tc, if thermal_4dof { 0.005 } else { 0.01 }, "{model} + {tyre}: default period");
             assert!(er <= 5e-4 && ey <= 0.02, "{model} + {tyre}: yaw rate {er:.2e} rad/s, y {ey:.2e} m");
             assert_eq!(d.summary.cones_hit, r.summary.cones_hit, "{model} + {tyre}");
