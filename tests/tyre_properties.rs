@@ -183,7 +183,8 @@ fn finite_everywhere_and_bounded_by_peak_friction() {
 
 /// A provider's cheap force floor ([`TyreModel::peak_force_floor_prepared`], what the plausibility
 /// check skips its exact bound against) never exceeds the exact bound (N), for every provider
-/// that has one, over the input box at the prepared load; the Magic Formula providers have one.
+/// that has one, over the input box at the prepared load; the Magic Formula providers (ATIIM's
+/// with its temperature law applied) have one.
 #[test]
 fn force_floor_is_below_the_peak_friction_bound() {
     let (kappas, alphas, loads) = box_grid();
@@ -212,7 +213,7 @@ fn force_floor_is_below_the_peak_friction_bound() {
             }
         }
     }
-    for label in ["pacejka", "pacejka(ellipse)", "pacejka(mz)"] {
+    for label in ["pacejka", "pacejka(ellipse)", "pacejka(mz)", "atiim_pacejka"] {
         assert!(with_floor.iter().any(|l| l == label), "{label} has no floor (those with one: {with_floor:?})");
     }
 }

@@ -193,6 +193,11 @@ impl TyreModel for AtiimPacejkaTyre {
         self.base.peak_friction_prepared_scaled(prepared, i, &self.law.scale_for(i))
     }
 
+    /// The base curve's floor with the temperature law's peak factors applied.
+    fn peak_force_floor_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> Option<f64> {
+        self.base.peak_force_floor_prepared_scaled(prepared, i, &self.law.scale_for(i))
+    }
+
     fn longitudinal_stiffness(&self, i: &TyreInput) -> f64 {
         self.base.longitudinal_stiffness_scaled(i, &self.law.scale_for(i))
     }

@@ -403,6 +403,15 @@ impl Pure {
             ..*self
         }
     }
+
+    /// max(|Dx|, |Dy|) (N) of [`Self::scaled`] by `m`, without building it: the same values bit
+    /// for bit (the same products in the same order).
+    #[inline]
+    pub(crate) fn peak_scaled(&self, m: &Scale) -> f64 {
+        let dx = self.dx0 * (self.lmux0 * m.mu_x) * self.fz;
+        let dy = self.muy0 * (self.lmuy0 * m.mu_y) * self.fz;
+        dx.abs().max(dy.abs())
+    }
 }
 
 impl PacejkaTyre {
@@ -827,6 +836,20 @@ impl PacejkaTyre {
         }
     }
 
+    /// [`TyreModel::peak_force_floor_prepared`] with the modifier `m` applied: max(|Dx|, |Dy|)
+    /// at the prepared load, scaled (N). [`Self::bound`] is at least that in both combinations
+    /// (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) / |Gyk0| plus
+    /// |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term), for finite
+    /// slips (with which the bound is finite); the modifier scales Dx and Dy inside it alike.
+    pub fn peak_force_floor_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> Option<f64> {
+        match &prepared.pacejka {
+            Some(p) if prepared.matches_load(i) && i.kappa.is_finite() && i.alpha_rad.is_finite() => {
+                Some(p.peak_scaled(m))
+            }
+            _ => None,
+        }
+    }
+
     /// [`TyreModel::peak_friction`] with the modifier `m` applied.
     pub fn peak_friction_scaled(&self, i: &TyreInput, m: &Scale) -> f64 {
         if inactive(i) {
@@ -902,17 +925,10 @@ impl TyreModel for PacejkaTyre {
         }
     }
 
-    /// max(|Dx|, |Dy|) at the prepared load: [`Self::bound`] is at least that in both
-    /// combinations (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) /
-    /// |Gyk0| plus |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term),
-    /// for finite slips (with which the bound is finite).
+    /// max(|Dx|, |Dy|) at the prepared load ([`Self::peak_force_floor_prepared_scaled`] without
+    /// a modifier).
     fn peak_force_floor_prepared(&self, prepared: &super::Prepared, i: &TyreInput) -> Option<f64> {
-        match &prepared.pacejka {
-            Some(p) if prepared.matches_load(i) && i.kappa.is_finite() && i.alpha_rad.is_finite() => {
-                Some(p.dx.abs().max(p.dy.abs()))
-            }
-            _ => None,
-        }
+        self.peak_force_floor_prepared_scaled(prepared, i, &Scale::ONE)
     }
 
     /// dFx/dkappa at kappa = 0, alpha = 0 (the MF Gxa is 1 at alpha = 0), including the shifts.
