@@ -789,27 +789,26 @@ impl PacejkaTyre {
         }
     }
 
-    /// The pure-slip coefficients of `i` (file camber `g`) with the modifier `m`, from what
-    /// `prepared` (made by [`Self::prepare_scaled`] of this instance) holds for it: its load part
-    /// at the same load and surface, its surface part at another load, else computed in full;
-    /// `None` when `i` is inactive. The same values bit for bit as [`Self::pure`].
-    #[inline]
-    fn prepared_pure<'a>(
+    /// `f` of the pure-slip coefficients of `i` (file camber `g`) with the modifier `m`, from
+    /// what `prepared` (made by [`Self::prepare_scaled`] of this instance) holds for it: its load
+    /// part at the same load and surface, its surface part at another load, else computed in
+    /// full; `None` when `i` is inactive. The coefficients are the same bit for bit as
+    /// [`Self::pure`]'s; those built here live on the stack for the call (no copy into a slot).
+    #[inline(always)]
+    fn with_prepared_pure<R>(
         &self,
-        prepared: &'a super::Prepared,
+        prepared: &super::Prepared,
         i: &TyreInput,
         g: f64,
         m: &Scale,
-        own: &'a mut Option<Pure>,
-    ) -> Option<&'a Pure> {
+        f: impl FnOnce(&Pure) -> R,
+    ) -> Option<R> {
         match (&prepared.pacejka, &prepared.surface) {
             // (an active prepared input with the same load and friction: `i` is active too)
-            (Some(p), _) if prepared.matches_load(i) => {
-                Some(if *m == Scale::ONE { p } else { own.insert(p.scaled(m)) })
-            }
+            (Some(p), _) if prepared.matches_load(i) => Some(if *m == Scale::ONE { f(p) } else { f(&p.scaled(m)) }),
             _ if inactive(i) => None,
-            (_, Some(s)) if prepared.matches_surface(i) => Some(own.insert(self.at_load(s, i.fz_n, m))),
-            _ => Some(own.insert(self.pure(i.fz_n, i.mu_surface, g, m))),
+            (_, Some(s)) if prepared.matches_surface(i) => Some(f(&self.at_load(s, i.fz_n, m))),
+            _ => Some(f(&self.pure(i.fz_n, i.mu_surface, g, m))),
         }
     }
 
@@ -818,22 +817,14 @@ impl PacejkaTyre {
     #[inline]
     pub fn forces_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> TyreForces {
         let (a, g) = self.file_angles(i);
-        let mut own = None;
-        match self.prepared_pure(prepared, i, g, m, &mut own) {
-            Some(p) => self.forces_from(p, i, a, g),
-            None => TyreForces::default(),
-        }
+        self.with_prepared_pure(prepared, i, g, m, |p| self.forces_from(p, i, a, g)).unwrap_or_default()
     }
 
     /// [`Self::peak_friction_scaled`] using the coefficients `prepared` holds for `i` (made by
     /// [`Self::prepare_scaled`] of this instance), the same value bit for bit.
     pub fn peak_friction_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> f64 {
         let (a, g) = self.file_angles(i);
-        let mut own = None;
-        match self.prepared_pure(prepared, i, g, m, &mut own) {
-            Some(p) => self.bound(p, i.fz_n, i.kappa, a) / i.fz_n,
-            None => 0.0,
-        }
+        self.with_prepared_pure(prepared, i, g, m, |p| self.bound(p, i.fz_n, i.kappa, a) / i.fz_n).unwrap_or(0.0)
     }
 
     /// [`TyreModel::peak_force_floor_prepared`] with the modifier `m` applied: max(|Dx|, |Dy|)
