@@ -32,12 +32,12 @@ fn run_blind(truth: Option<(Effect, &[f64])>, seed: u64) -> Discovery {
 }
 
 fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
-    assert_eq!(d.named, vec![effect.to_string()], "named {:?}; rejected {:?}", d.named, d.rejected);
+    assert_eq!(d.named_names(), vec![effect], "named {:?}; rejected {:?}", d.named, d.rejected);
     assert_eq!(d.verdict, Verdict::Explained);
     let step = &d.steps[0];
     eprintln!(
-        "{effect} ({}): {:?}; held-out yaw-rate RMS {:.5} -> {:.5} rad/s",
-        step.form,
+        "{}: {:?}; held-out yaw-rate RMS {:.5} -> {:.5} rad/s",
+        step.effect.label(),
         step.params,
         d.baseline.rmse(true).yaw_rate_radps,
         d.final_scores.rmse(true).yaw_rate_radps
@@ -63,7 +63,7 @@ fn check_named(d: &Discovery, effect: &str, main_param: &str, expected: f64) {
 /// [`Z_SUITE`] standard errors (Bonferroni: two-sided 0.05 / 25), and the distance of the
 /// generating value in standard errors is printed.
 fn check_intervals(d: &Discovery, e: Effect, truth: &[f64]) {
-    let fe = d.final_effects.iter().find(|f| f.effect == e.name() && f.form == e.form()).unwrap();
+    let fe = d.final_effects.iter().find(|f| f.effect == e).unwrap();
     assert!(fe.significant);
     for ((def, t), ((_, v, _), iv)) in e.params().iter().zip(truth).zip(fe.params.iter().zip(&fe.intervals)) {
         let widen = (Z_SUITE - vehsim::discover::uncertainty::Z95) * iv.std_error;
@@ -89,7 +89,7 @@ fn blind(e: Effect) -> Discovery {
     let d = run_blind(Some((e, &v)), 11);
     check_named(&d, e.name(), e.params()[0].name, v[0]);
     // The right form of a two-form effect, too.
-    assert_eq!(d.steps[0].form, e.form(), "{}: wrong form", e.name());
+    assert_eq!(d.steps[0].effect, e, "{}: wrong form", e.name());
     check_intervals(&d, e, &v);
     // Two folds, each fitted on one side of the split and scored on the other, both at the noise.
     assert_eq!(d.folds.len(), 2);
@@ -259,14 +259,14 @@ fn roll4dof_data_is_explained_by_load_transfer_from_the_bicycle_baseline() {
     // Its load transfer goes through the roll mode and so lags the quasi-static one; a lag form
     // (transient slip, force relaxation, steering lag) may follow as the second effect, with a
     // smaller gain than the first. Nothing else may be named.
-    eprintln!("named {:?}: {:?}", d.named, d.steps.iter().map(|s| (&s.form, &s.params)).collect::<Vec<_>>());
-    assert_eq!(d.named[0], "load_transfer");
+    eprintln!("named {:?}: {:?}", d.named, d.steps.iter().map(|s| (s.effect.label(), &s.params)).collect::<Vec<_>>());
+    assert_eq!(d.named[0].name(), "load_transfer");
     let h = d.steps[0].params[0].1;
     assert!((h - 0.55).abs() <= 0.25 * 0.55, "h = {h}");
     assert!(d.named.len() <= 2, "{:?}", d.named);
     if let Some(s) = d.steps.get(1) {
-        let lag = s.effect == "tyre_relaxation" || (s.effect == "steer_compliance" && s.form == "lag");
-        assert!(lag, "second effect {} ({}) is not a lag", s.effect, s.form);
+        let lag = s.effect.name() == "tyre_relaxation" || s.effect == Effect::SteerLag;
+        assert!(lag, "second effect {} is not a lag", s.effect.label());
         let gain = |s: &vehsim::discover::select::Step| {
             s.heldout_rmse_after.yaw_rate_radps / s.heldout_rmse_before.yaw_rate_radps
         };
@@ -347,7 +347,7 @@ fn single_run_uses_held_out_blocks_and_still_names_the_effect() {
     let data = Dataset::new(vec![one]);
     assert!(data.held[0].iter().any(|h| *h) && data.held[0].iter().any(|h| !*h));
     let d = discover(&m, &data, &Effect::TRIED);
-    assert_eq!(d.named, vec!["sensor_bias".to_string()], "{:?}", d.rejected);
+    assert_eq!(d.named, vec![Effect::SensorBias], "{:?}", d.rejected);
     let b = d.steps[0].params[0].1;
     assert!((b - 0.02).abs() < 0.25 * 0.02, "bias {b}");
 }
@@ -364,11 +364,11 @@ fn two_hidden_effects_are_both_named_and_recovered() {
     let runs = synth::generate(&m, &p, 13);
     let data = Dataset::new(runs.into_iter().map(|r| r.0).collect());
     let d = discover(&m, &data, &Effect::TRIED);
-    let mut named = d.named.clone();
+    let mut named = d.named_names();
     named.sort();
-    assert_eq!(named, vec!["sensor_bias".to_string(), "tyre_relaxation".to_string()], "{:?}", d.rejected);
+    assert_eq!(named, vec!["sensor_bias", "tyre_relaxation"], "{:?}", d.rejected);
     let get = |effect: &str, k: &str| {
-        let fe = d.final_effects.iter().find(|f| f.effect == effect).unwrap();
+        let fe = d.final_effects.iter().find(|f| f.effect.name() == effect).unwrap();
         fe.params.iter().find(|(n, _, _)| n == k).map(|(_, v, _)| *v).unwrap()
     };
     let (sigma, bias) = (get("tyre_relaxation", "relaxation_length_y_m"), get("sensor_bias", "bias_yaw_rate_radps"));

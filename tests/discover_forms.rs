@@ -141,9 +141,9 @@ fn discover_on(truth: Effect, cands: &[Effect], seed: u64) -> Discovery {
 /// family-wise level, 3.09 standard errors, as discover_blind.rs does).
 fn check_recovered(d: &Discovery, e: Effect) {
     let truth = synth::default_params(e);
-    assert_eq!(d.named, vec![e.name().to_string()], "{:?}", d.rejected);
+    assert_eq!(d.named_names(), vec![e.name()], "{:?}", d.rejected);
     let fe = &d.final_effects[0];
-    assert_eq!(fe.form, e.form());
+    assert_eq!(fe.effect, e, "wrong form");
     assert!(fe.significant);
     let rows: Vec<_> = e.params().iter().zip(&truth).zip(fe.params.iter().zip(&fe.intervals)).collect();
     for ((def, t), ((_, v, _), iv)) in &rows {
@@ -160,7 +160,7 @@ fn check_recovered(d: &Discovery, e: Effect) {
 fn named_among(truth: Effect, cands: &[Effect]) -> Discovery {
     let d = discover_on(truth, cands, 11);
     for t in &d.rejected {
-        eprintln!("rejected {} ({}): dBIC {:.1}, {}; {:?}", t.effect, t.form, t.delta_bic, t.reason, t.params);
+        eprintln!("rejected {}: dBIC {:.1}, {}; {:?}", t.effect.label(), t.delta_bic, t.reason, t.params);
     }
     eprintln!("accepted: {:?} ({}), verdict {}", d.steps[0].params, d.steps[0].evidence, d.verdict);
     check_recovered(&d, truth);

@@ -42,8 +42,8 @@ fn stanford_lap_converts_and_discovery_runs() {
     }
     // Every effect named is significant in the final joint fit (on this lap the sensitive load
     // transfer was accepted in round 3 and loses its interval in the final fit: it is dropped).
-    let finals: Vec<&str> = d.final_effects.iter().map(|f| f.effect.as_str()).collect();
-    assert_eq!(finals, d.named.iter().map(String::as_str).collect::<Vec<_>>());
+    let finals: Vec<_> = d.final_effects.iter().map(|f| f.effect).collect();
+    assert_eq!(finals, d.named);
     assert!(d.final_effects.iter().all(|f| f.significant), "{:?}", d.final_effects);
     assert!(!d.named.is_empty());
 }

@@ -108,7 +108,7 @@ pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> 
         let finals: Vec<(Effect, Vec<f64>)> = d
             .final_effects
             .iter()
-            .filter_map(|fe| Some((Effect::find(&fe.effect, &fe.form)?, fe.params.iter().map(|p| p.1).collect())))
+            .map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect()))
             .collect();
         if opts.progress {
             say("jackknife: refitting the final effects with each fitted run left out");
@@ -146,10 +146,10 @@ pub fn cli_discover(
             }
             for st in &d.steps {
                 let ps = report::params_text(&st.params, &st.intervals);
-                println!("accepted {}: {ps} ({})", effects::label(&st.effect, &st.form), st.evidence);
+                println!("accepted {}: {ps} ({})", st.effect.label(), st.evidence);
             }
             for x in &d.dropped {
-                println!("dropped {} (round {}): {}", effects::label(&x.effect, &x.form), x.dropped_round, x.reason);
+                println!("dropped {} (round {}): {}", x.effect.label(), x.dropped_round, x.reason);
             }
             for (i, f) in d.folds.iter().enumerate() {
                 let [b, a] = [f.baseline_noise_ratio, f.final_noise_ratio];
@@ -170,7 +170,7 @@ pub fn cli_discover(
             println!(
                 "verdict: {} (named: {})",
                 d.verdict,
-                if d.named.is_empty() { "none".into() } else { d.named.join(", ") }
+                d.named_text()
             );
             println!("wrote {}", opts.out.display());
             std::process::ExitCode::SUCCESS

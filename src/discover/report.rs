@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use super::effects::{label, Effect, InVehicleSpec};
+use super::effects::InVehicleSpec;
 use super::model::{EffectParams, ReplayModel};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
 use super::uncertainty::Interval;
@@ -61,12 +61,12 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     let _ = writeln!(s, "# Effects accepted by `vehsim discover` (baseline model '{}').", opts.model);
     let _ = writeln!(s, "# Vehicle: {}", opts.vehicle.display());
     let _ = writeln!(s, "verdict = \"{}\"", d.verdict);
-    let _ = writeln!(s, "named_effects = {:?}", d.named);
+    let _ = writeln!(s, "named_effects = {:?}", d.named_names());
     // Final values (after any joint refit; see report.json `steps` for the values at acceptance).
     for fe in &d.final_effects {
-        let _ = writeln!(s, "\n[{}]", fe.effect);
-        if !fe.form.is_empty() {
-            let _ = writeln!(s, "form = \"{}\"", fe.form);
+        let _ = writeln!(s, "\n[{}]", fe.effect.name());
+        if !fe.effect.form().is_empty() {
+            let _ = writeln!(s, "form = \"{}\"", fe.effect.form());
         }
         for ((k, v, u), iv) in fe.params.iter().zip(&fe.intervals) {
             let _ = writeln!(s, "{k} = {v:e}  # {u}; 95 % interval [{:e}, {:e}]", iv.lo, iv.hi);
@@ -94,9 +94,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     let mut inertia = None;
     // The effects still named at the end (a dropped one has a step but no final effect).
     for st in &d.final_effects {
-        let Some(effect) = Effect::find(&st.effect, &st.form) else {
-            return Err(Error::Run(format!("internal: no effect named {}", label(&st.effect, &st.form))));
-        };
+        let effect = st.effect;
         match effect.in_vehicle_spec() {
             InVehicleSpec::Lateral => {
                 for (key, value, _) in &st.params {
@@ -119,7 +117,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
         "# {} with the effects accepted by `vehsim discover` (verdict: {}; named: {}).\n",
         path.display(),
         d.verdict,
-        if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
+        d.named_text()
     );
     if !not_vehicle.is_empty() {
         s.push_str(&format!(
@@ -138,11 +136,6 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     }
     s.push_str(&body);
     Ok(s)
-}
-
-/// The one-sentence description of an effect form.
-fn describe(effect: &str, form: &str) -> &'static str {
-    super::Effect::find(effect, form).map_or("", |e| e.describe())
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -166,8 +159,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
         "baseline_rmse": { "fitted": rmse_json(&d.baseline.rmse(false)), "heldout": rmse_json(&d.baseline.rmse(true)) },
         "final_rmse": { "fitted": rmse_json(&d.final_scores.rmse(false)), "heldout": rmse_json(&d.final_scores.rmse(true)) },
         "steps": d.steps.iter().map(|s| json!({
-            "effect": s.effect,
-            "form": s.form,
+            "effect": s.effect.name(), "form": s.effect.form(),
             "params": params_json(&s.params, &s.intervals),
             "rmse_before": rmse_json(&s.rmse_before),
             "rmse_after": rmse_json(&s.rmse_after),
@@ -176,13 +168,13 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             "evidence": s.evidence,
         })).collect::<Vec<_>>(),
         "rejected": d.rejected.iter().map(|t| json!({
-            "effect": t.effect, "form": t.form, "round": t.round, "delta_bic": t.delta_bic,
+            "effect": t.effect.name(), "form": t.effect.form(), "round": t.round, "delta_bic": t.delta_bic,
             "heldout_rss_ratio": t.heldout_rss_ratio,
             "params": params_json(&t.params, &t.intervals),
             "reason": t.reason,
         })).collect::<Vec<_>>(),
         "dropped": d.dropped.iter().map(|x| json!({
-            "effect": x.effect, "form": x.form,
+            "effect": x.effect.name(), "form": x.effect.form(),
             "accepted_round": x.accepted_round, "dropped_round": x.dropped_round,
             "params": params_json(&x.params, &x.intervals),
             "reason": x.reason,
@@ -201,7 +193,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
             })
         }).collect::<Vec<_>>(),
         "final_effects": d.final_effects.iter().map(|fe| json!({
-            "effect": fe.effect, "form": fe.form,
+            "effect": fe.effect.name(), "form": fe.effect.form(),
             "params": params_json(&fe.params, &fe.intervals),
             "significant": fe.significant,
         })).collect::<Vec<_>>(),
@@ -209,13 +201,13 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
         "jackknife": d.jackknife.as_ref().map(|j| json!({
             "runs_left_out": j.runs_left_out,
             "effects": j.effects.iter().map(|e| json!({
-                "effect": e.effect, "form": e.form,
+                "effect": e.effect.name(), "form": e.effect.form(),
                 "params": params_json(&e.params, &e.intervals),
                 "leave_one_out": e.leave_one_out,
             })).collect::<Vec<_>>(),
         })),
         "largest_remaining_windows": largest_windows(&windows_after, 10),
-        "named_effects": d.named,
+        "named_effects": d.named_names(),
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,
         "disagreement_windows_final": windows_after,
@@ -282,7 +274,7 @@ fn markdown(
         s,
         "**Verdict: {}.** Named effects: {}.\n",
         d.verdict,
-        if d.named.is_empty() { "none".to_string() } else { d.named.join(", ") }
+        d.named_text()
     );
     let _ = writeln!(s, "## RMS error per channel\n");
     let _ = writeln!(s, "| data | channel | baseline | final |\n|---|---|---|---|");
@@ -299,8 +291,8 @@ fn markdown(
         let _ = writeln!(
             s,
             "- **{}** ({}): {}. Held-out yaw-rate RMS {:.5} -> {:.5} rad/s. {}",
-            label(&st.effect, &st.form),
-            describe(&st.effect, &st.form),
+            st.effect.label(),
+            st.effect.describe(),
             params_text(&st.params, &st.intervals),
             st.heldout_rmse_before.yaw_rate_radps,
             st.heldout_rmse_after.yaw_rate_radps,
@@ -310,7 +302,7 @@ fn markdown(
     if d.final_effects.len() >= 2 {
         let _ = writeln!(s, "\nFinal parameters, all accepted effects refitted together:\n");
         for fe in &d.final_effects {
-            let _ = writeln!(s, "- {}: {}", label(&fe.effect, &fe.form), params_text(&fe.params, &fe.intervals));
+            let _ = writeln!(s, "- {}: {}", fe.effect.label(), params_text(&fe.params, &fe.intervals));
         }
     }
     let _ = writeln!(
@@ -349,7 +341,7 @@ fn markdown(
             j.runs_left_out.join(", ")
         );
         for e in &j.effects {
-            let _ = writeln!(s, "- {}: {}", label(&e.effect, &e.form), params_text(&e.params, &e.intervals));
+            let _ = writeln!(s, "- {}: {}", e.effect.label(), params_text(&e.params, &e.intervals));
         }
     }
     if !d.dropped.is_empty() {
@@ -358,7 +350,7 @@ fn markdown(
             let _ = writeln!(
                 s,
                 "- {} (accepted in round {}, dropped in round {}): {}; {}",
-                label(&x.effect, &x.form),
+                x.effect.label(),
                 x.accepted_round,
                 x.dropped_round,
                 params_text(&x.params, &x.intervals),
@@ -376,7 +368,7 @@ fn markdown(
             s,
             "| {} | {} | {:.1} | {:.3} | {} | {} |",
             t.round,
-            label(&t.effect, &t.form),
+            t.effect.label(),
             t.delta_bic,
             t.heldout_rss_ratio,
             params_text(&t.params, &t.intervals),

@@ -260,11 +260,10 @@ fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
 }
 
 /// A candidate tried in one round.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct Trial {
-    pub effect: String,
-    /// The effect's form (`force`/`lag`, `global`/`stretch`; empty for one-form effects).
-    pub form: String,
+    /// The candidate (its name and form are what reports record).
+    pub effect: Effect,
     pub round: usize,
     /// Fitted parameters: (name, value, unit).
     pub params: Vec<(String, f64, String)>,
@@ -277,18 +276,16 @@ pub struct Trial {
     pub intervals: Vec<Interval>,
     /// Why it was not accepted (empty for the accepted one).
     pub reason: String,
-    #[serde(skip)]
+    /// The fitted parameter values (in the order of [`Effect::params`]).
     pub values: Vec<f64>,
-    #[serde(skip)]
+    /// The candidate's scores on the data.
     pub scores: Scores,
 }
 
 /// One accepted effect.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct Step {
-    pub effect: String,
-    /// The effect's form (see [`Trial::form`]).
-    pub form: String,
+    pub effect: Effect,
     pub params: Vec<(String, f64, String)>,
     /// 95 % intervals of the parameters at acceptance (estimated jointly with the effects
     /// accepted before).
@@ -316,10 +313,9 @@ pub struct Fold {
 /// An effect named in an earlier round and dropped after a later round's joint refit, because
 /// the intervals of its parameters (estimated jointly with every effect then accepted) all
 /// contain their no-effect values: a later effect explains what it stood in for.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct Dropped {
-    pub effect: String,
-    pub form: String,
+    pub effect: Effect,
     /// The round it was accepted in and the round after whose refit it was dropped.
     pub accepted_round: usize,
     pub dropped_round: usize,
@@ -332,8 +328,7 @@ pub struct Dropped {
 /// An accepted effect with its final parameters (after any joint refit) and their intervals.
 #[derive(Debug, Clone)]
 pub struct FinalEffect {
-    pub effect: String,
-    pub form: String,
+    pub effect: Effect,
     /// (name, value, unit).
     pub params: Vec<(String, f64, String)>,
     pub intervals: Vec<Interval>,
@@ -388,7 +383,9 @@ pub struct Discovery {
     /// Effects named in an earlier round and dropped after a later joint refit (see [`Dropped`]);
     /// they are no longer in `named` nor in `final_effects`.
     pub dropped: Vec<Dropped>,
-    pub named: Vec<String>,
+    /// The effects named, in the order they were accepted, each in its accepted form (reports
+    /// list them by name).
+    pub named: Vec<Effect>,
     pub verdict: Verdict,
     /// The split used (per run and sample: true when held out); see [`Dataset::stratified`].
     pub held: Vec<Vec<bool>>,
@@ -556,8 +553,7 @@ pub fn discover_with(
                 let sc = score(data, &simulate_all(model, data, &pc));
                 let k = k_params + e.params().len();
                 let trial = Trial {
-                    effect: e.name().to_string(),
-                    form: e.form().to_string(),
+                    effect: e,
                     round,
                     params: triples(e, &vals),
                     delta_bic: current.bic_held(k_params) - sc.bic_held(k),
@@ -627,8 +623,7 @@ pub fn discover_with(
         let after = score(data, &simulate_all(model, data, &p));
         t.params = triples(e, &accepted[accepted.len() - 1].1);
         steps.push(Step {
-            effect: t.effect.clone(),
-            form: t.form.clone(),
+            effect: t.effect,
             params: t.params.clone(),
             intervals: t.intervals.clone(),
             rmse_before: current.rmse(false),
@@ -642,7 +637,7 @@ pub fn discover_with(
                 e.params().len()
             ),
         });
-        named.push(t.effect.clone());
+        named.push(t.effect);
         k_params += e.params().len();
         current = after;
         if accepted.len() >= 2 {
@@ -668,8 +663,7 @@ pub fn discover_with(
                     k_params -= de.params().len();
                     say(format!("round {round}: dropped {} (its intervals contain the no-effect values)", de.label()));
                     dropped.push(Dropped {
-                        effect: de.name().to_string(),
-                        form: de.form().to_string(),
+                        effect: de,
                         accepted_round: r0,
                         dropped_round: round,
                         params: triples(de, &vals[i]),
@@ -714,8 +708,7 @@ pub fn discover_with(
         named.remove(i);
         say(format!("final: dropped {} (its intervals contain the no-effect values)", de.label()));
         dropped.push(Dropped {
-            effect: de.name().to_string(),
-            form: de.form().to_string(),
+            effect: de,
             accepted_round: r0,
             dropped_round: round,
             params: triples(de, &v),
@@ -735,8 +728,7 @@ pub fn discover_with(
         .iter()
         .zip(&final_iv)
         .map(|((e, v), iv)| FinalEffect {
-            effect: e.name().to_string(),
-            form: e.form().to_string(),
+            effect: *e,
             params: triples(*e, v),
             intervals: iv.clone(),
             significant: significant(*e, iv),
@@ -784,6 +776,22 @@ pub fn discover_with(
         held: data.held.clone(),
         folds,
         jackknife: None,
+    }
+}
+
+impl Discovery {
+    /// The names of the effects named, in order (as reports list them).
+    pub fn named_names(&self) -> Vec<&'static str> {
+        self.named.iter().map(|e| e.name()).collect()
+    }
+
+    /// The named effects' names joined by ", ", or "none".
+    pub fn named_text(&self) -> String {
+        if self.named.is_empty() {
+            "none".to_string()
+        } else {
+            self.named_names().join(", ")
+        }
     }
 }
 
@@ -914,7 +922,7 @@ pub fn operating_regions(data: &Dataset, sims: &[Simulated]) -> Vec<RegionBin> {
 /// Runs, not samples, are left out, so correlation within a run and differences between runs
 /// (a manoeuvre the effect does not describe well) widen it. With few fitted runs it is coarse
 /// (t = 4.30 at n = 3, 3.18 at n = 4).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct Jackknife {
     /// The fitted runs, each left out once, in order.
     pub runs_left_out: Vec<String>,
@@ -922,10 +930,9 @@ pub struct Jackknife {
 }
 
 /// The jackknife of one final effect.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct JackknifeEffect {
-    pub effect: String,
-    pub form: String,
+    pub effect: Effect,
     /// (name, value, unit) at the final fit.
     pub params: Vec<(String, f64, String)>,
     pub intervals: Vec<Interval>,
@@ -984,8 +991,7 @@ pub fn jackknife(
                 })
                 .collect();
             JackknifeEffect {
-                effect: e.name().to_string(),
-                form: e.form().to_string(),
+                effect: *e,
                 params: triples(*e, v),
                 intervals,
                 leave_one_out: loo.iter().map(|r| r[j].clone()).collect(),

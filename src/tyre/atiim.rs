@@ -269,6 +269,7 @@ mod tests {
                                     kappa,
                                     alpha_rad: alpha,
                                     camber_rad: camber,
+                                    mu_surface: mu,
                                     contact_temp_c: contact,
                                     ..at
                                 };
