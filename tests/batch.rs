@@ -9,9 +9,14 @@ use common::vehsim;
 
 /// A 2 s sine-steer spec in a scratch folder, with `extra` appended (e.g. a [sweep] table).
 fn sweep_case(tag: &str, extra: &str) -> PathBuf {
+    sweep_case_of(tag, extra, 2.0)
+}
+
+/// [`sweep_case`] with runs of `duration_s` simulated.
+fn sweep_case_of(tag: &str, extra: &str, duration_s: f64) -> PathBuf {
     let dir = common::temp_dir(tag);
     let vehicle = common::root().join("vehicles/sedan.toml");
-    let head = common::sine_steer_spec("sweep", &vehicle.display().to_string(), 2.0);
+    let head = common::sine_steer_spec("sweep", &vehicle.display().to_string(), duration_s);
     let spec = format!("{head}[output]\ninterval_s = 0.05\n{extra}");
     std::fs::write(dir.join("sweep.toml"), spec).unwrap();
     dir
@@ -236,7 +241,10 @@ fn sigint_leaves_a_complete_result_or_none_and_says_so() {
     // The extra text continues the spec's [output] table, then adds the sweep.
     let extra =
         format!("timeseries = false\nplots = false\n[sweep]\n\"maneuver.speed_mps\" = [{}]\n", speeds.join(", "));
-    let dir = sweep_case("sigint", &extra);
+    // Runs of 60 s simulated (about 3 ms each): the 3000 take seconds on any machine, so the
+    // signal at 0.7 s lands while validating or between runs (with 2 s runs a fast machine
+    // finished the whole batch first).
+    let dir = sweep_case_of("sigint", &extra, 60.0);
     // An earlier, complete result of the same name.
     std::fs::create_dir_all(dir.join("results/sweep")).unwrap();
     std::fs::write(dir.join("results/sweep/summary.csv"), "earlier\n").unwrap();

@@ -151,8 +151,12 @@ fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, Str
 #[test]
 fn sigterm_and_sigint_stop_every_run_quickly_and_leave_no_temporaries() {
     let dir = common::temp_dir("fault_term");
-    // 36 runs of 60 s: long enough (a few seconds) that the signal at 0.4 s lands mid-sweep.
-    std::fs::write(dir.join("sweep.toml"), sweep_spec("res", "[0.15, 0.2, 0.25, 0.3, 0.35, 0.4]", 60.0)).unwrap();
+    // 36 runs of 3000 s, rows every 1 s: seconds of work on any machine, so that the signal at
+    // 0.4 s lands mid-sweep (36 runs of 60 s took 0.38 s on a fast machine: the sweep could end
+    // before the signal).
+    let sweep =
+        sweep_spec("res", "[0.15, 0.2, 0.25, 0.3, 0.35, 0.4]", 3000.0).replace("interval_s = 0.01", "interval_s = 1.0");
+    std::fs::write(dir.join("sweep.toml"), sweep).unwrap();
     let (c, _, e) = vehsim(&dir, &["run", "--quiet", "sweep.toml"]);
     assert_eq!(c, 0, "{e}");
     let before = tree(&dir.join("results/res"));

@@ -105,11 +105,8 @@ pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> 
     let mut d = select::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
     data.held = d.held.clone();
     if opts.jackknife {
-        let finals: Vec<(Effect, Vec<f64>)> = d
-            .final_effects
-            .iter()
-            .map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect()))
-            .collect();
+        let finals: Vec<(Effect, Vec<f64>)> =
+            d.final_effects.iter().map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect())).collect();
         if opts.progress {
             say("jackknife: refitting the final effects with each fitted run left out");
         }
@@ -167,11 +164,7 @@ pub fn cli_discover(
                 "held-out RMS: yaw rate {:.5} -> {:.5} rad/s, ay {:.4} -> {:.4} m/s^2",
                 b.yaw_rate_radps, f.yaw_rate_radps, b.ay_mps2, f.ay_mps2
             );
-            println!(
-                "verdict: {} (named: {})",
-                d.verdict,
-                d.named_text()
-            );
+            println!("verdict: {} (named: {})", d.verdict, d.named_text());
             println!("wrote {}", opts.out.display());
             std::process::ExitCode::SUCCESS
         }

@@ -270,12 +270,7 @@ fn markdown(
             h.join(", ")
         }
     });
-    let _ = writeln!(
-        s,
-        "**Verdict: {}.** Named effects: {}.\n",
-        d.verdict,
-        d.named_text()
-    );
+    let _ = writeln!(s, "**Verdict: {}.** Named effects: {}.\n", d.verdict, d.named_text());
     let _ = writeln!(s, "## RMS error per channel\n");
     let _ = writeln!(s, "| data | channel | baseline | final |\n|---|---|---|---|");
     for (label, held) in [("fitted", false), ("held-out", true)] {

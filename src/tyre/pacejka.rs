@@ -832,7 +832,12 @@ impl PacejkaTyre {
     /// (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) / |Gyk0| plus
     /// |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term), for finite
     /// slips (with which the bound is finite); the modifier scales Dx and Dy inside it alike.
-    pub fn peak_force_floor_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> Option<f64> {
+    pub fn peak_force_floor_prepared_scaled(
+        &self,
+        prepared: &super::Prepared,
+        i: &TyreInput,
+        m: &Scale,
+    ) -> Option<f64> {
         match &prepared.pacejka {
             Some(p) if prepared.matches_load(i) && i.kappa.is_finite() && i.alpha_rad.is_finite() => {
                 Some(p.peak_scaled(m))
