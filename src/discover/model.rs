@@ -536,6 +536,40 @@ impl ReplayModel {
         k
     }
 
+    /// The derivatives of the lateral states [vy (m/s), r (rad/s), Fy_f, Fy_r (N, the relaxed
+    /// axle forces), delta_e (rad, the lagged steer)] at those states `lateral`, under the steer
+    /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
+    /// effects' scale), on ice at `ice_c` with the axles' contacts at `contact_c` (degC): the
+    /// equations the replay integrates, at one instant, lags included (their entries are 0 when
+    /// the effect that uses them is off). For checks against the engine's bicycle model.
+    pub fn lateral_derivatives(
+        &self,
+        p: &EffectParams,
+        lateral: [f64; 5],
+        steer_rad: f64,
+        vx_mps: f64,
+        mu: f64,
+        ice_c: f64,
+        contact_c: [f64; 2],
+    ) -> [f64; 5] {
+        let d = Drive {
+            steer: steer_rad,
+            steer_rate: 0.0,
+            vx: vx_mps,
+            mu: mu * p.mu_factor(0.0),
+            mu_axle: [1.0; 2],
+            pose: None,
+            ice_c,
+            contact_c,
+            on_ice: true,
+            tread_rise_k: [0.0; 2],
+        };
+        let mut x = State::zeros();
+        x.as_mut_slice()[..5].copy_from_slice(&lateral);
+        let dx = self.derivatives(&x, &d, p);
+        std::array::from_fn(|i| dx[i])
+    }
+
     /// All derivatives, lags included (the plain-RK4 reference).
     fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
         let (mut dx, target) = self.body(x, d, p);
