@@ -4,25 +4,35 @@
 //! The forward speed is prescribed exactly (interpolated measured vx), not tracked by a PID: the
 //! discrepancy workflow must compare lateral dynamics, and a speed-tracking error would show up as a
 //! spurious residual. Tyre forces come from the vehicle's tyre provider (`crate::tyre`), each axle
-//! carrying two identical tyres. State (12): vy (m/s), r (rad/s), the front and rear axle lateral
+//! carrying two tyres mounted left and right as on the engine's bicycle, free rolling (zero slip
+//! ratio). State (12): vy (m/s), r (rad/s), the front and rear axle lateral
 //! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
 //! angle delta_e (rad) used when the steering lag is on, the pose X, Y (m), psi (rad) in the
 //! ground frame (used by the closed-loop lane change of `vehsim synth` and by friction changes
 //! placed on the ground), the lagged slip angles alpha_f, alpha_r (rad) of transient slip and the
 //! tread-temperature rises dT_f, dT_r (K) of the tread-state thermal form.
 //!
-//! Equations (body frame, ISO 8855, small longitudinal forces neglected):
+//! Equations (body frame, ISO 8855): the engine's bicycle's lateral pair, from
+//! [`crate::vehicle::single_track`],
 //!
-//!   m (dvy/dt + r vx) = Fy_f cos(delta_e) + Fy_r
-//!   I_z dr/dt         = a Fy_f cos(delta_e) - b Fy_r
+//!   m (dvy/dt + r vx) = Fx_f sin(delta_e) + Fy_f cos(delta_e) + Fy_r
+//!   I_z dr/dt         = a (Fx_f sin(delta_e) + Fy_f cos(delta_e)) - b Fy_r + Mz_f + Mz_r
 //!   alpha_f = delta_e - atan((vy + a r) / vx),  alpha_r = -atan((vy - b r) / vx)
+//!
+//! with the axle forces of the free-rolling tyres: Fx_f is the tyre's longitudinal force at zero
+//! slip ratio (0 for a tyre without longitudinal shifts) and Mz its aligning moment (0 unless the
+//! provider models it), so these terms are the engine's own for wheels that neither drive nor
+//! brake. The slip angles are the wheel-axis ones of the engine ([`crate::vehicle::wheel`])
+//! written with the body velocities (the same angles while vx >= 1 m/s and the wheels roll forward
+//! at >= 0.5 m/s, above both models' speed floors).
 //!
 //! Effects (all off by default; each default gives the baseline exactly; the relaxation rate, load
 //! transfer and thermal factor are the engine's own, from [`crate::vehicle::lateral`]):
 //! - `tyre_relaxation`: dFy/dt = (|vx| / sigma_y) (Fy_ss(alpha) - Fy), relaxation length sigma_y (m);
 //!   sigma_y = 0 uses the steady-state force directly.
 //! - `steer_compliance`, force form: delta_e = delta - c_s Fy_f, c_s in rad/kN of front axle lateral
-//!   force (solved by fixed-point iteration when relaxation is off, from the lagged force
+//!   force (the damped fixed point of [`crate::vehicle::lateral::compliant_steer`] when relaxation
+//!   is off, the force acting being the one at the converged delta_e; from the lagged force
 //!   otherwise); lag form: d(delta_e)/dt = (delta - delta_e) / tau_s, a first-order steering lag
 //!   with time constant tau_s (s).
 //! - `friction_change`, global form: surface friction mu_e = s_mu mu on the whole run; stretch form:
@@ -76,10 +86,10 @@ use crate::control::driver::{limit_steer, Driver};
 use crate::maneuver::path::RefPath;
 use crate::sim::integrator::rk4_step;
 use crate::spec::vehicle::Vehicle;
-use crate::tyre::TyreInput;
-use crate::vehicle::lateral;
+use crate::tyre::{TyreForces, TyreInput, TyreModel};
 use crate::vehicle::wheel::slide_speed;
 use crate::vehicle::Kinematics;
+use crate::vehicle::{lateral, single_track};
 
 /// Parameters of every candidate effect; the default is the baseline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -307,6 +317,9 @@ struct Drive {
 
 /// Steady-state axle forces, effective steer and slip angles of one state.
 struct Forces {
+    /// Steady-state axle forces (two tyres, wheel axes), front and rear.
+    axle: [TyreForces; 2],
+    /// Steady-state axle lateral forces (the `fy_n` of `axle`), N.
     fy: [f64; 2],
     delta_e: f64,
     /// Slip angles the tyres carry (the lagged ones under transient slip), rad.
@@ -325,9 +338,10 @@ impl ReplayModel {
         Self { vehicle, fz_axle: [ff, fr], reference_step_s: None }
     }
 
-    /// Steady-state axle lateral force (two tyres) at slip angle `alpha`, with load transfer `dfz`
-    /// across the axle (N, added to the left tyre, taken from the right).
-    fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> f64 {
+    /// Steady-state axle force (two tyres, wheel axes, free rolling: zero slip ratio) at slip
+    /// angle `alpha`, with load transfer `dfz` across the axle (N, added to the right tyre, taken
+    /// from the left: [`lateral::axle_forces`]).
+    fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> TyreForces {
         let half = 0.5 * self.fz_axle[axle];
         let mut thermal = if p.thermal_mu_per_k == 0.0 {
             1.0
@@ -339,7 +353,7 @@ impl ReplayModel {
             thermal *= lateral::thermal_friction_factor(p.tread_mu_per_k, d.tread_rise_k[axle]);
             contact_c = d.ice_c + d.tread_rise_k[axle];
         }
-        let eval = |fz: f64| {
+        let eval = |tyre: &dyn TyreModel, fz: f64| {
             // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
             let z = fz / half - 1.0;
             let [k_mu, k_c] = p.load_sensitivity;
@@ -354,16 +368,17 @@ impl ReplayModel {
                 contact_temp_c: contact_c,
             };
             if input.fz_n <= 0.0 {
-                0.0
+                TyreForces::default()
             } else {
-                self.vehicle.tyre.model.forces(&input).fy_n
+                tyre.forces(&input)
             }
         };
-        if dfz == 0.0 {
-            2.0 * eval(half)
+        let tyre = &self.vehicle.tyre;
+        if dfz == 0.0 && tyre.same_on_both_sides() {
+            let t = eval(&*tyre.mounted[0], half);
+            TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
         } else {
-            let dz = dfz.clamp(-half, half);
-            eval(half + dz) + eval(half - dz)
+            lateral::axle_forces(half, dfz, |side, fz| eval(&**tyre.on(side), fz))
         }
     }
 
@@ -405,34 +420,27 @@ impl ReplayModel {
         let beta_f = ((vy + v.a_m * r) / vxs).atan();
         let alpha_r = -((vy - v.b_m * r) / vxs).atan();
         let dfz = [self.load_transfer(0, d.vx, r, p), self.load_transfer(1, d.vx, r, p)];
-        let fyr = self.axle_force(1, alpha_r, dfz[1], d, p);
+        let rear = self.axle_force(1, alpha_r, dfz[1], d, p);
         let steer = if p.steer_lag_s > 0.0 { x[4] } else { d.steer };
         let c = p.steer_compliance_rad_per_kn * 1e-3;
         if p.transient_slip() {
             // The forces follow the lagged slip angles; the compliance acts through them.
-            let fy = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
-            let delta_e = steer - c * fy[0];
-            return Forces { fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
+            let axle = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
+            let delta_e = lateral::effective_steer(steer, c, axle[0].fy_n);
+            let fy = [axle[0].fy_n, axle[1].fy_n];
+            return Forces { axle, fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
         }
-        let mut delta_e = steer;
-        let fyf = if c == 0.0 {
-            self.axle_force(0, steer - beta_f, dfz[0], d, p)
-        } else if p.sigma_y_m > 0.0 {
-            delta_e = steer - c * x[2];
-            self.axle_force(0, delta_e - beta_f, dfz[0], d, p)
+        let front_at = |delta: f64| self.axle_force(0, delta - beta_f, dfz[0], d, p);
+        let (delta_e, front) = if c != 0.0 && p.sigma_y_m > 0.0 {
+            // The acting front force is the relaxed state: no iteration needed.
+            let delta_e = lateral::effective_steer(steer, c, x[2]);
+            (delta_e, front_at(delta_e))
         } else {
-            // Fixed point on Fy_f = F(delta - c Fy_f - beta_f), damped.
-            let mut f = self.axle_force(0, steer - beta_f, dfz[0], d, p);
-            for _ in 0..4 {
-                let de = steer - c * f;
-                let g = self.axle_force(0, de - beta_f, dfz[0], d, p);
-                f = 0.5 * (f + g);
-            }
-            delta_e = steer - c * f;
-            f
+            // The fixed point delta_e = delta - c Fy_f(delta_e) (delta_e = delta without compliance).
+            lateral::compliant_steer(steer, c, front_at, |f| f.fy_n)
         };
         let alpha = [delta_e - beta_f, alpha_r];
-        Forces { fy: [fyf, fyr], delta_e, alpha, alpha_kin: alpha }
+        Forces { axle: [front, rear], fy: [front.fy_n, rear.fy_n], delta_e, alpha, alpha_kin: alpha }
     }
 
     /// Transient-slip relaxation length of an axle at slip angle `alpha`, m: the nominal one, or
@@ -445,7 +453,8 @@ impl ReplayModel {
             return s0;
         }
         const EPS: f64 = 2e-3;
-        let slope = |a: f64| self.axle_force(axle, a + EPS, dfz, d, p) - self.axle_force(axle, a - EPS, dfz, d, p);
+        let slope =
+            |a: f64| self.axle_force(axle, a + EPS, dfz, d, p).fy_n - self.axle_force(axle, a - EPS, dfz, d, p).fy_n;
         let ratio = (slope(alpha) / slope(0.0)).clamp(SLIP_SLOPE_FLOOR, 1.0);
         if ratio.is_finite() {
             s0 * ratio
@@ -454,13 +463,23 @@ impl ReplayModel {
         }
     }
 
-    /// Axle forces acting on the body: the relaxed states or the steady-state forces.
-    fn acting(x: &State, f: &Forces, p: &EffectParams) -> [f64; 2] {
+    /// Axle forces acting on the body: the steady-state ones, with the lateral forces replaced by
+    /// the relaxed states when the tyre relaxation effect is on.
+    fn acting(x: &State, f: &Forces, p: &EffectParams) -> [TyreForces; 2] {
+        let mut a = f.axle;
         if p.sigma_y_m > 0.0 {
-            [x[2], x[3]]
-        } else {
-            f.fy
+            a[0].fy_n = x[2];
+            a[1].fy_n = x[3];
         }
+        a
+    }
+
+    /// Lateral force (N) and yaw moment (N m) on the body of the acting axle forces `acting` at
+    /// the effective steer of `f` ([`single_track::lateral_loads`]).
+    fn lateral_loads(&self, f: &Forces, acting: &[TyreForces; 2]) -> (f64, f64) {
+        let v = &self.vehicle;
+        let (sin_d, cos_d) = f.delta_e.sin_cos();
+        single_track::lateral_loads(&acting[0], &acting[1], cos_d, sin_d, v.a_m, v.b_m)
     }
 
     /// Derivatives of the body states (the lag states' entries left 0) and the inputs the lag
@@ -468,7 +487,8 @@ impl ReplayModel {
     fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; NL]) {
         let v = &self.vehicle;
         let f = self.forces(x, d, p);
-        let [fyf, fyr] = Self::acting(x, &f, p);
+        let acting = Self::acting(x, &f, p);
+        let [fyf, fyr] = acting.map(|a| a.fy_n);
         // The tread-temperature rise of axle i relaxes at 1 / tau_c towards P_i tau_c / C, with
         // P_i = v_slide,i |Fy_i| the frictional power of the axle (W): dT/dt = P_i / C - T / tau_c.
         let mut rise = [0.0; 2];
@@ -479,10 +499,10 @@ impl ReplayModel {
                 rise[i] = power_w * p.tread_cooling_s / p.tread_heat_capacity_j_per_k;
             }
         }
-        let cf = f.delta_e.cos();
+        let (fy, mz) = self.lateral_loads(&f, &acting);
         let mut dx = State::zeros();
-        dx[0] = (fyf * cf + fyr) / v.mass_kg - x[1] * d.vx;
-        dx[1] = (v.a_m * fyf * cf - v.b_m * fyr) / (v.yaw_inertia_kgm2 * p.yaw_inertia_scale);
+        (dx[0], dx[1]) =
+            single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2 * p.yaw_inertia_scale, d.vx, x[1], fy, mz);
         let (sp, cp) = x[7].sin_cos();
         dx[5] = d.vx * cp - x[0] * sp;
         dx[6] = d.vx * sp + x[0] * cp;
@@ -514,6 +534,40 @@ impl ReplayModel {
             k[6] = k[5];
         }
         k
+    }
+
+    /// The derivatives of the lateral states [vy (m/s), r (rad/s), Fy_f, Fy_r (N, the relaxed
+    /// axle forces), delta_e (rad, the lagged steer)] at those states `lateral`, under the steer
+    /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
+    /// effects' scale), on ice at `ice_c` with the axles' contacts at `contact_c` (degC): the
+    /// equations the replay integrates, at one instant, lags included (their entries are 0 when
+    /// the effect that uses them is off). For checks against the engine's bicycle model.
+    pub fn lateral_derivatives(
+        &self,
+        p: &EffectParams,
+        lateral: [f64; 5],
+        steer_rad: f64,
+        vx_mps: f64,
+        mu: f64,
+        ice_c: f64,
+        contact_c: [f64; 2],
+    ) -> [f64; 5] {
+        let d = Drive {
+            steer: steer_rad,
+            steer_rate: 0.0,
+            vx: vx_mps,
+            mu: mu * p.mu_factor(0.0),
+            mu_axle: [1.0; 2],
+            pose: None,
+            ice_c,
+            contact_c,
+            on_ice: true,
+            tread_rise_k: [0.0; 2],
+        };
+        let mut x = State::zeros();
+        x.as_mut_slice()[..5].copy_from_slice(&lateral);
+        let dx = self.derivatives(&x, &d, p);
+        std::array::from_fn(|i| dx[i])
     }
 
     /// All derivatives, lags included (the plain-RK4 reference).
@@ -565,14 +619,14 @@ impl ReplayModel {
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
     fn ay(&self, x: &State, d: &Drive, p: &EffectParams) -> (f64, f64) {
         let f = self.forces(x, d, p);
-        let [fyf, fyr] = Self::acting(x, &f, p);
-        ((fyf * f.delta_e.cos() + fyr) / self.vehicle.mass_kg, f.alpha[0])
+        let (fy, _) = self.lateral_loads(&f, &Self::acting(x, &f, p));
+        (fy / self.vehicle.mass_kg, f.alpha[0])
     }
 
     /// Operating conditions of one tyre per axle, for the contact-temperature estimator.
     fn contacts(&self, x: &State, d: &Drive, p: &EffectParams) -> [TyreContact; 2] {
         let f = self.forces(x, d, p);
-        let fy = Self::acting(x, &f, p);
+        let fy = Self::acting(x, &f, p).map(|a| a.fy_n);
         let vx = d.vx.abs().max(V_FLOOR);
         std::array::from_fn(|i| TyreContact {
             fz_n: 0.5 * self.fz_axle[i],

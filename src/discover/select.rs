@@ -424,13 +424,14 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
     };
     // The simplex starts from the best of the start value and the effect's start points, so
     // that it begins in the right basin; an effect with several basins
-    // ([`Effect::fit_passes`]) gets a simplex from each of its best few starts, the best kept.
+    // ([`Effect::fit_passes`]) gets a simplex from each of its basins' best starts
+    // ([`pass_starts`]), the best kept.
     let x0: Vec<f64> = e.params().iter().map(|d| d.start).collect();
     let mut ranked: Vec<(f64, Vec<f64>)> = std::iter::once(x0).chain(e.starts()).map(|s| (cost(&s), s)).collect();
     // Stable: ties keep the start value first.
     ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut best: Option<(f64, Vec<f64>, EffectParams)> = None;
-    for (_, s) in ranked.into_iter().take(e.fit_passes()) {
+    for s in pass_starts(e, &ranked) {
         let (mut vals, p) = fit_jointly(model, data, base, &[(e, s)]);
         let c = fit_cost(model, data, &p);
         if best.as_ref().is_none_or(|b| c < b.0) {
@@ -439,6 +440,40 @@ fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effec
     }
     let (_, vals, p) = best.expect("one start at least");
     (vals, p)
+}
+
+/// The start points of an effect's simplex searches ([`Effect::fit_passes`] of them), from its
+/// starts `ranked` by cost, best first: the best start, then the next best. The tread state's
+/// heat capacity (its parameter 1) acts only through the melting cap: where the runs do not
+/// reach melting, starts that differ only in it tie (to round-off) and their searches repeat one
+/// another in the basin without melting, whose objective is flat in it. So its further passes
+/// start from the best start at each heat capacity of the grid at which the runs do reach melting
+/// (the cost differs from the same start at the grid's largest heat capacity), to search the
+/// basin where they melt too, before any next-best start.
+fn pass_starts(e: Effect, ranked: &[(f64, Vec<f64>)]) -> Vec<Vec<f64>> {
+    let passes = e.fit_passes();
+    let mut out: Vec<Vec<f64>> = ranked.iter().take(1).map(|r| r.1.clone()).collect();
+    if e == Effect::ThermalState {
+        let c_max = ranked.iter().map(|r| r.1[1]).fold(f64::MIN, f64::max);
+        let melts = |cost: f64, s: &[f64]| {
+            ranked
+                .iter()
+                .any(|(c, t)| t[1] == c_max && t[0] == s[0] && t[2] == s[2] && (c - cost).abs() > 1e-9 * cost.abs())
+        };
+        let mut capacities: Vec<f64> = Vec::new();
+        for (cost, s) in ranked {
+            if out.len() < passes && !capacities.contains(&s[1]) && melts(*cost, s) && !out.contains(s) {
+                capacities.push(s[1]);
+                out.push(s.clone());
+            }
+        }
+    }
+    for (_, s) in ranked {
+        if out.len() < passes && !out.contains(s) {
+            out.push(s.clone());
+        }
+    }
+    out
 }
 
 /// Fit the parameters of `effects` together (all of them free at once) from their given values,

@@ -17,11 +17,13 @@
 //!   dX/dt = vx cos(psi) - vy sin(psi),  dY/dt = vx sin(psi) + vy cos(psi),  dpsi/dt = r
 //!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
 //!
-//! with the slips from [`super::wheel`]. Optional `[lateral]` extensions of the vehicle spec
+//! with the slips from [`super::wheel`]; the lateral pair is [`super::single_track`]'s, shared
+//! with `vehsim discover`'s replay model. Optional `[lateral]` extensions of the vehicle spec
 //! (the effects `vehsim discover` names; the same equations as its replay model, shared through
 //! [`super::lateral`]); every default leaves the model exactly as above:
 //! - steering lag: d(delta_l)/dt = (delta - delta_l) / tau, and delta_l replaces delta;
-//! - steer compliance: delta_e = delta_l - c Fy_f (c in rad/kN; Fy_f the acting front force);
+//! - steer compliance: delta_e = delta_l - c Fy_f (c in rad/kN; Fy_f the acting front force: the
+//!   relaxed state, else the steady-state force at delta_e, [`lateral::compliant_steer`]);
 //! - lateral relaxation: dFy/dt = (max(|vx|, 1 m/s) / sigma_y) (Fy_ss - Fy) per axle, and the
 //!   relaxed Fy acts on the body (the longitudinal force is relaxed through the slip ratio);
 //! - lateral load transfer: each axle's tyres carry Fz/2 +- m vx r h / track x (axle share of the
@@ -36,7 +38,7 @@ use super::wheel::{
     kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
     V_LOW,
 };
-use super::{lateral, Environment, Inputs, Kinematics, Observation, VehicleModel};
+use super::{lateral, single_track, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
 use crate::tyre::{Prepared, TyreForces, TyreInput};
@@ -127,21 +129,13 @@ impl Bicycle {
         let lat = &self.vehicle.lateral;
         let c = lat.steer_compliance_rad_per_kn * 1e-3;
         let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
-        if c == 0.0 {
-            return self.axles_at(x, u, env, steer);
-        }
-        if lat.relaxation_length_y_m > 0.0 {
+        if c != 0.0 && lat.relaxation_length_y_m > 0.0 {
             // With relaxation the acting front force is a state: no iteration needed.
-            return self.axles_at(x, u, env, steer - c * x[ix::FY_F]);
+            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]));
         }
-        // Steer compliance: effective steer delta - c Fy_f, solved by damped fixed-point
-        // iteration on the front axle lateral force.
-        let mut fyf = self.axles_at(x, u, env, steer).f[0].fy_n;
-        for _ in 0..4 {
-            let g = self.axles_at(x, u, env, steer - c * fyf).f[0].fy_n;
-            fyf = 0.5 * (fyf + g);
-        }
-        self.axles_at(x, u, env, steer - c * fyf)
+        // Steer compliance: effective steer delta - c Fy_f with the steady-state front force, a
+        // fixed point (none without compliance).
+        lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d), |ax| ax.f[0].fy_n).1
     }
 
     /// Lateral load transfer per axle (added to one tyre, taken from the other), N.
@@ -187,8 +181,8 @@ impl Bicycle {
         for i in 0..2 {
             let input = self.tyre_input(x, u, env, i, alpha[i], vxw[i]);
             let dfz = self.load_transfer(x, i);
-            let [left, right] = &v.tyre.mounted;
             f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
+                let left = &v.tyre.mounted[0];
                 let t = match &self.prepared[i] {
                     Some(p) => left.forces_prepared(p, &input),
                     None => left.forces(&input),
@@ -196,18 +190,10 @@ impl Bicycle {
                 TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
             } else {
                 // Each tyre at its own load (a lifted tyre carries nothing); the right one
-                // (outer in a left turn) gains dz.
-                let dz = dfz.clamp(-self.fz_tyre[i], self.fz_tyre[i]);
-                let mut sum = TyreForces::default();
-                for (tyre, fz) in [(right, self.fz_tyre[i] + dz), (left, self.fz_tyre[i] - dz)] {
-                    if fz > 0.0 {
-                        let t = tyre.forces(&TyreInput { fz_n: fz, ..input });
-                        sum.fx_n += t.fx_n;
-                        sum.fy_n += t.fy_n;
-                        sum.mz_nm += t.mz_nm;
-                    }
-                }
-                sum
+                // (outer in a left turn) gains the transfer.
+                lateral::axle_forces(self.fz_tyre[i], dfz, |side, fz| {
+                    v.tyre.on(side).forces(&TyreInput { fz_n: fz, ..input })
+                })
             };
             let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
@@ -262,8 +248,7 @@ impl Bicycle {
         d[ix::Y] = vx * s + vy * c;
         d[ix::YAW] = r;
         d[ix::VX] = fx / v.mass_kg + r * vy;
-        d[ix::VY] = fy / v.mass_kg - r * vx;
-        d[ix::R] = mz / v.yaw_inertia_kgm2;
+        (d[ix::VY], d[ix::R]) = single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2, vx, r, fy, mz);
         d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
         d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
         d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
@@ -301,9 +286,9 @@ impl Bicycle {
             omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
             fz_n: {
                 // vx r > 0 (turning left) moves load to the right (outer) tyres.
-                let d = [self.load_transfer(x, 0), self.load_transfer(x, 1)];
-                let l = |i: usize, s: f64| (self.fz_tyre[i] + s * d[i]).clamp(0.0, 2.0 * self.fz_tyre[i]);
-                [l(0, -1.0), l(0, 1.0), l(1, -1.0), l(1, 1.0)]
+                let [[(_, fr), (_, fl)], [(_, rr), (_, rl)]] =
+                    [0, 1].map(|i| lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i)));
+                [fl, fr, rl, rr]
             },
             roll_rad: 0.0,
             contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
@@ -313,13 +298,11 @@ impl Bicycle {
     /// Body-frame force (x, y) and yaw moment of the acting tyre forces `forces`, plus drag.
     fn body_loads(&self, ax: &Axles, forces: &[TyreForces; 2], vx: f64) -> (f64, f64, f64) {
         let v = &self.vehicle;
-        let [f, r] = *forces;
+        let [f, r] = forces;
         let fxf_b = f.fx_n * ax.cos_d - f.fy_n * ax.sin_d;
-        let fyf_b = f.fx_n * ax.sin_d + f.fy_n * ax.cos_d;
         let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
         let fx = fxf_b + r.fx_n - drag;
-        let fy = fyf_b + r.fy_n;
-        let mz = v.a_m * fyf_b - v.b_m * r.fy_n + f.mz_nm + r.mz_nm;
+        let (fy, mz) = single_track::lateral_loads(f, r, ax.cos_d, ax.sin_d, v.a_m, v.b_m);
         (fx, fy, mz)
     }
 }
@@ -401,12 +384,10 @@ impl VehicleModel<N> for Bicycle {
         let ax = self.axles(x, u, env);
         for i in 0..2 {
             let input = self.tyre_input(x, u, env, i, ax.alpha[i], ax.vxw[i]);
-            let dz = self.load_transfer(x, i).clamp(-self.fz_tyre[i], self.fz_tyre[i]);
-            for (side, t, fz) in
-                [("left", &tyre.mounted[0], self.fz_tyre[i] - dz), ("right", &tyre.mounted[1], self.fz_tyre[i] + dz)]
-            {
-                if let Some((kind, detail)) = t.departure(&TyreInput { fz_n: fz, ..input }) {
-                    out.push((kind, format!("{} {side} tyre: {detail}", ["front", "rear"][i])));
+            let [right, left] = lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i));
+            for ((side, fz), name) in [(left, "left"), (right, "right")] {
+                if let Some((kind, detail)) = tyre.on(side).departure(&TyreInput { fz_n: fz, ..input }) {
+                    out.push((kind, format!("{} {name} tyre: {detail}", ["front", "rear"][i])));
                 }
             }
         }

@@ -9,6 +9,7 @@ pub mod bicycle;
 pub mod condition;
 pub mod lateral;
 pub mod roll4dof;
+pub mod single_track;
 pub mod wheel;
 
 use nalgebra::SVector;
