@@ -544,49 +544,176 @@ fn finite_or(v: f64, d: f64) -> f64 {
     }
 }
 
-impl ContactTemperature for AtiimEstimator {
-    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
-        let b = self.bulk;
+impl AtiimEstimator {
+    /// The per-sample constants of [`Self::advance_tyre`].
+    fn bulk_constants(&self) -> BulkConstants {
+        let b = &self.bulk;
         let e_i = self.e_ice;
-        let k = BulkConstants {
+        BulkConstants {
             e_series: b.e_tread * e_i / (b.e_tread + e_i), // tread-to-ice conduction
             width_m: b.width_m.max(1e-3),
             heat_capacity_j_k: b.heat_capacity_j_k.max(1e-6),
-        };
+        }
+    }
+
+    /// One tyre's bulk temperature after `h` seconds (>= 0, finite) from `tb` under conditions
+    /// `t`, and its contact temperature then, degC (no state change).
+    fn advance_tyre(&self, k: &BulkConstants, tb: f64, h: f64, t: &TyreContact) -> (f64, f64) {
+        let b = &self.bulk;
         let e_s = k.e_series;
+        let t_ice = finite_or(t.surface_temp_c, MELT_C);
+        let tb = if tb.is_finite() { tb } else { t_ice };
+        let fz = finite_or(t.fz_n, 0.0).max(0.0);
+        let vr = finite_or(t.roll_speed_mps, 0.0).abs();
+        let vs = finite_or(t.slide_speed_mps, 0.0).abs();
+        let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
+        // conduction into the ice through the patch: area A, contact time L / v
+        let area = fz * b.area_per_n;
+        let len = area / k.width_m;
+        let tc = len / vr.max(vs).max(0.1);
+        let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
+        let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
+        let t_air = b.air_temp_c.unwrap_or(t_ice);
+        let g = g_ice + g_air;
+        let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
+        let x = g * h / k.heat_capacity_j_k;
+        // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
+        let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
+        let mut tb = t_eq + (tb - t_eq) * decay;
+        if !tb.is_finite() {
+            tb = t_ice;
+        }
+        let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
+        (tb, self.contact_temp_c(tb, &tt))
+    }
+
+    /// Bulk temperature of tyre `i` before this update (NaN until the first; grows the state).
+    fn bulk_of(&mut self, i: usize) -> f64 {
+        if self.t_bulk_c.len() <= i {
+            self.t_bulk_c.resize(i + 1, f64::NAN);
+        }
+        self.t_bulk_c[i]
+    }
+}
+
+/// Largest number of condition evaluations of one coupled update ([`AtiimEstimator`]'s
+/// `update_coupled`).
+pub const COUPLED_MAX_EVALS: usize = 8;
+/// Residual |T - G(T)| at which the coupled update stops, K.
+pub const COUPLED_TOL_K: f64 = 1e-6;
+
+impl ContactTemperature for AtiimEstimator {
+    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
+        let k = self.bulk_constants();
         let h = finite_or(h, 0.0).max(0.0);
         for (i, (t, o)) in tyres.iter().zip(out.iter_mut()).enumerate() {
-            let t_ice = finite_or(t.surface_temp_c, MELT_C);
-            if self.t_bulk_c.len() <= i {
-                self.t_bulk_c.resize(i + 1, f64::NAN);
-            }
-            let mut tb = self.t_bulk_c[i];
-            if !tb.is_finite() {
-                tb = t_ice;
-            }
-            let fz = finite_or(t.fz_n, 0.0).max(0.0);
-            let vr = finite_or(t.roll_speed_mps, 0.0).abs();
-            let vs = finite_or(t.slide_speed_mps, 0.0).abs();
-            let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
-            // conduction into the ice through the patch: area A, contact time L / v
-            let area = fz * b.area_per_n;
-            let len = area / k.width_m;
-            let tc = len / vr.max(vs).max(0.1);
-            let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
-            let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
-            let t_air = b.air_temp_c.unwrap_or(t_ice);
-            let g = g_ice + g_air;
-            let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
-            let x = g * h / k.heat_capacity_j_k;
-            // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
-            let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
-            tb = t_eq + (tb - t_eq) * decay;
-            if !tb.is_finite() {
-                tb = t_ice;
-            }
+            let tb = self.bulk_of(i);
+            let (tb, tc) = self.advance_tyre(&k, tb, h, t);
             self.t_bulk_c[i] = tb;
-            let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
-            *o = self.contact_temp_c(tb, &tt);
+            *o = tc;
+        }
+    }
+
+    /// The contact temperature consistent with the force it lets the tyre transmit. Per tyre,
+    /// G(T) = the estimate after `h` under the conditions at contact temperature T; a warmer
+    /// contact lowers the tyre's friction and so the heat, and G falls as T rises. The estimate
+    /// is the root of T - G(T), which then rises strictly with T (unique). Near melting |G'| can
+    /// exceed 1, so the plain lagged update (T_next = G(T_prev)) would alternate between a
+    /// melting and a cooler contact from sample to sample instead of converging. Solved per tyre,
+    /// all tyres in lockstep (one `conditions` call evaluates all of them): G(guess), then G at
+    /// that value, which brackets the root when G falls, then regula falsi (Illinois) within the
+    /// bracket until |T - G(T)| <= [`COUPLED_TOL_K`], at most [`COUPLED_MAX_EVALS`] evaluations.
+    /// A tyre whose first two points do not bracket (G not falling there) keeps the plain
+    /// iteration's value. The bulk state advances under the conditions of the accepted point.
+    fn update_coupled(
+        &mut self,
+        h: f64,
+        guess: &[f64],
+        conditions: &mut dyn FnMut(&[f64], &mut [TyreContact]),
+        tyres: &mut [TyreContact],
+        out: &mut [f64],
+    ) {
+        const MAX_TYRES: usize = 4;
+        let n = tyres.len().min(out.len()).min(guess.len());
+        if n > MAX_TYRES {
+            conditions(guess, tyres);
+            self.update(h, tyres, out);
+            return;
+        }
+        let k = self.bulk_constants();
+        let h = finite_or(h, 0.0).max(0.0);
+        let tb0: [f64; MAX_TYRES] = std::array::from_fn(|i| if i < n { self.bulk_of(i) } else { f64::NAN });
+        // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
+        // the accepted point (|residual|, bulk, output, conditions), whether it is done, and the
+        // Illinois side marker (-1 / +1: the end kept last time)
+        let mut x = [0.0; MAX_TYRES];
+        for i in 0..n {
+            x[i] = finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C));
+        }
+        let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut best: [Option<(f64, f64, f64, TyreContact)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut done = [false; MAX_TYRES];
+        let mut side = [0i8; MAX_TYRES];
+        for eval in 0..COUPLED_MAX_EVALS {
+            conditions(&x[..n], &mut tyres[..n]);
+            for i in 0..n {
+                if done[i] {
+                    continue;
+                }
+                let (tb, g) = self.advance_tyre(&k, tb0[i], h, &tyres[i]);
+                let r = x[i] - g;
+                if best[i].is_none_or(|b| r.abs() < b.0) {
+                    best[i] = Some((r.abs(), tb, g, tyres[i]));
+                }
+                if !r.is_finite() || r.abs() <= COUPLED_TOL_K {
+                    done[i] = true;
+                    continue;
+                }
+                if r < 0.0 {
+                    neg[i] = Some((x[i], r));
+                } else {
+                    pos[i] = Some((x[i], r));
+                }
+                x[i] = match (neg[i], pos[i]) {
+                    (Some((a, ra)), Some((b, rb))) => {
+                        // Illinois: halve the residual of the end kept twice in a row
+                        let kept = if r < 0.0 { 1 } else { -1 };
+                        let (ra, rb) = match (kept, side[i]) {
+                            (1, 1) => (ra, 0.5 * rb),
+                            (-1, -1) => (0.5 * ra, rb),
+                            _ => (ra, rb),
+                        };
+                        if kept == 1 {
+                            pos[i] = Some((b, rb));
+                        } else {
+                            neg[i] = Some((a, ra));
+                        }
+                        side[i] = kept;
+                        let s = a - ra * (b - a) / (rb - ra);
+                        if s.is_finite() && s > a.min(b) && s < a.max(b) {
+                            s
+                        } else {
+                            0.5 * (a + b)
+                        }
+                    }
+                    _ if eval == 0 => g, // the plain iteration's next point
+                    _ => {
+                        done[i] = true; // no bracket from two points: keep the plain value
+                        x[i]
+                    }
+                };
+            }
+            if done[..n].iter().all(|d| *d) {
+                break;
+            }
+        }
+        for i in 0..n {
+            if let Some((_, tb, g, t)) = best[i] {
+                self.t_bulk_c[i] = tb;
+                out[i] = g;
+                tyres[i] = t;
+            }
         }
     }
 }

@@ -238,6 +238,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     /// Time and speed target of the last row recorded, s and m/s.
     last_row: Option<(f64, f64)>,
     speed_target: f64,
+    /// The driver's steer command at the last sample (for the end of the period ahead), rad.
+    steer_cmd: Option<f64>,
     path_error: Option<f64>,
     end: Option<EndReason>,
 }
@@ -307,6 +309,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             k: 0,
             last_row: None,
             speed_target: f64::NAN,
+            steer_cmd: None,
             path_error: None,
             end: None,
         }
@@ -401,8 +404,12 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let from = self.ramp_to;
         let steer = match self.maneuver.steer_at(t + hc) {
             Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
-            None => limit_steer(from.steer_rad, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc),
+            None => {
+                let c0 = self.steer_cmd.unwrap_or(cmd.steer_rad);
+                rate_limited_steer(from.steer_rad, c0, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc)
+            }
         };
+        self.steer_cmd = Some(cmd.steer_rad);
         let torque = match cmd.speed_target_mps {
             Some(v) => {
                 if !self.pid_active {
@@ -420,11 +427,17 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             }
         };
         let mut to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: from.contact_temp_c };
-        if self.contact.needs_conditions() {
-            let u_end = Ramped::lerp(&from, &to, 1.0);
-            self.model.tyre_contacts(&x_end, &u_end, &self.env, &mut self.contacts[..M::TYRES]);
-        }
-        self.contact.update(hc, &self.contacts[..M::TYRES], &mut self.temps[..M::TYRES]);
+        // The tyres' conditions at t + T_c as a function of their contact temperatures (the
+        // friction force depends on them): the estimate is the one consistent with them.
+        let (model, env, u_end) = (self.model, &self.env, Ramped::lerp(&from, &to, 1.0));
+        let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
+            let mut u = u_end;
+            u.contact_temp_c[..temps.len()].copy_from_slice(temps);
+            model.tyre_contacts(&x_end, &u, env, out);
+        };
+        let n = M::TYRES;
+        let guess = from.contact_temp_c;
+        self.contact.update_coupled(hc, &guess[..n], &mut conditions, &mut self.contacts[..n], &mut self.temps[..n]);
         to.contact_temp_c = self.temps;
         (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
         self.path_error = self.maneuver.path_error_m();
@@ -580,6 +593,58 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             implausible: Vec::new(),
         }
     }
+}
+
+/// The steer at the end of a control period of `h` seconds that starts at `y0`: a continuous
+/// rate limiter (|d steer/dt| <= `rate`, rad/s) tracking the command clamped to +-`lock`, the
+/// command linear across the period from `c0` (at its start) to `c1` (at its end). Exact for
+/// that command: piecewise on the pieces between the command's crossings of the lock; on each,
+/// the steer closes its gap to the clamped command at the rate limit, then follows it where it
+/// moves slower than the limit. (The sampled limiter, which moves the steer by at most `rate h`
+/// toward the clamped `c1`, leaves the lock up to a period early when the command crosses it
+/// within the period: an error first order in the period.)
+fn rate_limited_steer(y0: f64, c0: f64, c1: f64, lock: f64, rate: f64, h: f64) -> f64 {
+    let lock = lock.abs();
+    let mut y = y0.clamp(-lock, lock);
+    if !(h > 0.0 && rate >= 0.0 && c0.is_finite() && c1.is_finite()) {
+        return limit_steer(y, c1, lock, rate.max(0.0), h.max(0.0));
+    }
+    let g = |s: f64| (c0 + (c1 - c0) * (s / h)).clamp(-lock, lock);
+    let mut knots = [0.0, h, h, h];
+    let mut n = 1;
+    for edge in [-lock, lock] {
+        let s = h * (edge - c0) / (c1 - c0);
+        if s > 0.0 && s < h {
+            knots[n] = s;
+            n += 1;
+        }
+    }
+    knots[1..n].sort_by(f64::total_cmp);
+    knots[n] = h;
+    for w in knots[..=n].windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if b <= a {
+            continue;
+        }
+        let (ga, gb) = (g(a), g(b));
+        let m = (gb - ga) / (b - a);
+        let d = ga - y;
+        let mut s = a;
+        if d.abs() > 1e-12 {
+            // closing the gap at the rate limit: does the steer reach the command within the piece?
+            let close = rate - d.signum() * m;
+            if close > 0.0 && d.abs() < close * (b - a) {
+                s = a + d.abs() / close;
+                y = g(s);
+            } else {
+                y += d.signum() * rate * (b - a);
+                continue;
+            }
+        }
+        // on the command from s: follow it, or fall behind at the limit where it moves faster
+        y = if m.abs() <= rate { gb } else { y + m.signum() * rate * (b - s) };
+    }
+    y.clamp(-lock, lock)
 }
 
 /// Relative-slip perturbation of the finite difference in [`spin_slip_linearisation`].
