@@ -30,6 +30,12 @@
 //! power is F v_slide instead of mu_dry Fz v_slide, so the dry rise R0 is scaled by
 //! F / (mu_dry Fz) (the conduction problem is linear in the flux; the melting cap is applied after
 //! the scaling through the table's w coordinate). A tyre transmitting no force heats nothing.
+//!
+//! Coupling with the tyre. That force itself depends on the contact temperature (a warmer contact
+//! lowers the tyre's friction), so the estimate solves T = G(T), G the estimate under the
+//! conditions at contact temperature T ([`ContactTemperature::update_coupled`]), rather than
+//! pricing the heat with the force at the previous estimate: near melting |G'| exceeds 1 and that
+//! lagged loop alternates between a melting and a cooler contact from sample to sample.
 
 use super::heat::effective_effusivity;
 use super::model::{solve_patch, Operating, PatchParams};
@@ -598,7 +604,7 @@ impl AtiimEstimator {
 
 /// Largest number of condition evaluations of one coupled update ([`AtiimEstimator`]'s
 /// `update_coupled`).
-pub const COUPLED_MAX_EVALS: usize = 8;
+pub const COUPLED_MAX_EVALS: usize = 16;
 /// Residual |T - G(T)| at which the coupled update stops, K.
 pub const COUPLED_TOL_K: f64 = 1e-6;
 
@@ -623,8 +629,10 @@ impl ContactTemperature for AtiimEstimator {
     /// all tyres in lockstep (one `conditions` call evaluates all of them): G(guess), then G at
     /// that value, which brackets the root when G falls, then regula falsi (Illinois) within the
     /// bracket until |T - G(T)| <= [`COUPLED_TOL_K`], at most [`COUPLED_MAX_EVALS`] evaluations.
-    /// A tyre whose first two points do not bracket (G not falling there) keeps the plain
-    /// iteration's value. The bulk state advances under the conditions of the accepted point.
+    /// A tyre whose first two points do not bracket (G not falling there) keeps the better of
+    /// the two, as does a tyre that reaches the evaluation limit (the point with the smallest
+    /// residual). The bulk state advances under the conditions of the accepted point, whose
+    /// output is the estimate.
     fn update_coupled(
         &mut self,
         h: f64,
@@ -754,6 +762,118 @@ mod tests {
         // no self-heating correction where the rise stays below the law's -40 degC clamp
         assert_eq!(ln_dry_rise(2f64.ln(), 0.03, -1e6), 2f64.ln());
         assert!((ln_dry_rise(2f64.ln(), 0.03, -10.0) - (2.0 / 1.03f64).ln()).abs() < 1e-9);
+    }
+
+    /// An estimator on a synthetic table: dry rise 2 K per m/s of sliding (any load, any slip
+    /// fraction), G = 1 (the smooth cap exactly), heat priced at mu_dry 0.15, no temperature factor.
+    fn synthetic_estimator(n: usize) -> AtiimEstimator {
+        let slide = Axis::new(0.01f64.ln(), 30f64.ln(), 2);
+        let ln_r0 = (0..8).map(|k| (2.0 * slide.node((k / 2) % 2).exp()).ln()).collect();
+        let table = FlashTable {
+            load: Axis::new(2000f64.ln(), 12000f64.ln(), 2),
+            slide,
+            roll: Axis::from_nodes(vec![1e-4f64.ln(), 0.0]),
+            w: Axis::new(-2.0, 2.0, 2),
+            ln_r0,
+            ln_g: vec![0.0; 16],
+            vs_min: 0.01,
+            mu_dry: 0.15,
+            c_t: 0.0,
+        };
+        let bulk = BulkParams {
+            heat_capacity_j_k: 1500.0,
+            band_area_m2: 0.37,
+            tread_fraction: 0.26,
+            air_temp_c: None,
+            area_per_n: 1.0 / 200e3,
+            width_m: 0.2,
+            e_tread: 600.0,
+        };
+        AtiimEstimator::new(table, bulk, n)
+    }
+
+    /// Conditions of a sliding tyre (4000 N, 3 m/s sliding, 10 m/s rolling, ice at -3 degC) whose
+    /// friction falls with its contact temperature: mu = 0.15 (0.2 + 0.8 / (1 + e^((T + 1.5) / s)))
+    /// with steepness `s` per tyre (infinite: constant friction).
+    fn sliding(steep: &[f64], temps: &[f64], out: &mut [TyreContact]) {
+        for ((o, &t), &s) in out.iter_mut().zip(temps).zip(steep) {
+            let mu = 0.15 * (0.2 + 0.8 / (1.0 + ((t + 1.5) / s).exp()));
+            *o = TyreContact {
+                fz_n: 4000.0,
+                roll_speed_mps: 10.0,
+                slide_speed_mps: 3.0,
+                friction_force_n: mu * 4000.0,
+                surface_temp_c: -3.0,
+            };
+        }
+    }
+
+    /// The coupled update returns the fixed point T = G(T) of the plain update G under the
+    /// conditions at T, where the lagged iteration T_next = G(T_prev) (the plain update at the
+    /// previous estimate) does not converge; with a friction that does not depend on the contact
+    /// temperature it is the plain update, bit for bit.
+    #[test]
+    fn coupled_update_is_the_consistent_fixed_point() {
+        let steep = [0.05, 0.3, f64::INFINITY, 0.02];
+        let h = 0.01;
+        // warm the bulk a little so the start is not the initial state
+        let mut est = synthetic_estimator(4);
+        let mut tyres = [TyreContact::default(); 4];
+        let mut out = [0.0; 4];
+        sliding(&steep, &[-3.0; 4], &mut tyres);
+        est.update(h, &tyres, &mut out);
+        let start = est.clone();
+        // G(T) from the start state: the plain update under the conditions at T
+        let g = |t: [f64; 4]| {
+            let mut e = start.clone();
+            let mut c = [TyreContact::default(); 4];
+            let mut o = [0.0; 4];
+            sliding(&steep, &t, &mut c);
+            e.update(h, &c, &mut o);
+            (o, e.t_bulk_c.clone())
+        };
+        // the lagged iteration on the steep tyres: a lasting alternation, no convergence
+        let mut t = out;
+        let mut last = [0.0; 4];
+        for _ in 0..40 {
+            last = t;
+            t = g(t).0;
+        }
+        for i in [0, 3] {
+            assert!((t[i] - last[i]).abs() > 0.05, "tyre {i}: {} -> {}", last[i], t[i]);
+        }
+        let guess = out;
+        let mut coupled = start.clone();
+        let mut cond = |temps: &[f64], o: &mut [TyreContact]| sliding(&steep, temps, o);
+        let mut left = [TyreContact::default(); 4];
+        let mut res = [0.0; 4];
+        coupled.update_coupled(h, &guess, &mut cond, &mut left, &mut res);
+        let (at, _) = g(res);
+        for i in 0..4 {
+            assert!(res[i] < 0.0 && res[i] > -3.0, "tyre {i}: {}", res[i]);
+            assert!((at[i] - res[i]).abs() <= 1e-5, "tyre {i}: T {} but G(T) {}", res[i], at[i]);
+        }
+        // the output and bulk state are the plain update's under the conditions left in `left`
+        let mut plain = start.clone();
+        let mut o = [0.0; 4];
+        plain.update(h, &left, &mut o);
+        assert_eq!(o, res);
+        assert_eq!(plain.t_bulk_c, coupled.t_bulk_c);
+        // constant friction (tyre 2): the plain update at the guess, bit for bit
+        let mut c = [TyreContact::default(); 4];
+        sliding(&steep, &guess, &mut c);
+        let mut plain = start.clone();
+        plain.update(h, &c, &mut o);
+        assert_eq!(o[2], res[2]);
+        assert_eq!(plain.t_bulk_c[2], coupled.t_bulk_c[2]);
+        // non-finite guesses and conditions: finite output, no panic
+        let mut bad = |temps: &[f64], o: &mut [TyreContact]| {
+            sliding(&steep, temps, o);
+            o[1].friction_force_n = f64::NAN;
+        };
+        let mut e = start.clone();
+        e.update_coupled(h, &[f64::NAN, 0.0, f64::INFINITY, -3.0], &mut bad, &mut left, &mut res);
+        assert!(res.iter().all(|v| v.is_finite()), "{res:?}");
     }
 
     #[test]

@@ -13,10 +13,15 @@
 //!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
 //!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
 //!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
-//!    see a staircase steer; errors per provider: `super::stability`). The steering rate and
-//!    lock limits apply to the ramp's end; the PID integrates its error by the trapezoidal rule.
-//!    The contact-temperature estimate is advanced over the period from the tyres' operating
-//!    conditions at the predicted t + T_c, and its output ramps likewise.
+//!    see a staircase steer; errors per provider: `super::stability`). The steer at the ramp's
+//!    end is that of a continuous rate limiter following the driver's command interpolated
+//!    linearly across the period (from the last sample's command to the new one) and clamped to
+//!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
+//!    period early); the PID integrates its error by the trapezoidal rule. The
+//!    contact-temperature estimate is advanced over the period from the tyres' operating
+//!    conditions at the predicted t + T_c, taken at the contact temperatures it returns (the
+//!    friction force depends on them: [`ContactTemperature::update_coupled`] solves for the
+//!    consistent estimate), and its output ramps likewise.
 //! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
 //!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
@@ -38,7 +43,7 @@ use super::integrator::{rk4_exp_step_t, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
-use crate::control::driver::limit_steer;
+use crate::control::driver::rate_limited_steer;
 use crate::control::{Pid, PidParams};
 use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel};
@@ -593,58 +598,6 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             implausible: Vec::new(),
         }
     }
-}
-
-/// The steer at the end of a control period of `h` seconds that starts at `y0`: a continuous
-/// rate limiter (|d steer/dt| <= `rate`, rad/s) tracking the command clamped to +-`lock`, the
-/// command linear across the period from `c0` (at its start) to `c1` (at its end). Exact for
-/// that command: piecewise on the pieces between the command's crossings of the lock; on each,
-/// the steer closes its gap to the clamped command at the rate limit, then follows it where it
-/// moves slower than the limit. (The sampled limiter, which moves the steer by at most `rate h`
-/// toward the clamped `c1`, leaves the lock up to a period early when the command crosses it
-/// within the period: an error first order in the period.)
-fn rate_limited_steer(y0: f64, c0: f64, c1: f64, lock: f64, rate: f64, h: f64) -> f64 {
-    let lock = lock.abs();
-    let mut y = y0.clamp(-lock, lock);
-    if !(h > 0.0 && rate >= 0.0 && c0.is_finite() && c1.is_finite()) {
-        return limit_steer(y, c1, lock, rate.max(0.0), h.max(0.0));
-    }
-    let g = |s: f64| (c0 + (c1 - c0) * (s / h)).clamp(-lock, lock);
-    let mut knots = [0.0, h, h, h];
-    let mut n = 1;
-    for edge in [-lock, lock] {
-        let s = h * (edge - c0) / (c1 - c0);
-        if s > 0.0 && s < h {
-            knots[n] = s;
-            n += 1;
-        }
-    }
-    knots[1..n].sort_by(f64::total_cmp);
-    knots[n] = h;
-    for w in knots[..=n].windows(2) {
-        let (a, b) = (w[0], w[1]);
-        if b <= a {
-            continue;
-        }
-        let (ga, gb) = (g(a), g(b));
-        let m = (gb - ga) / (b - a);
-        let d = ga - y;
-        let mut s = a;
-        if d.abs() > 1e-12 {
-            // closing the gap at the rate limit: does the steer reach the command within the piece?
-            let close = rate - d.signum() * m;
-            if close > 0.0 && d.abs() < close * (b - a) {
-                s = a + d.abs() / close;
-                y = g(s);
-            } else {
-                y += d.signum() * rate * (b - a);
-                continue;
-            }
-        }
-        // on the command from s: follow it, or fall behind at the limit where it moves faster
-        y = if m.abs() <= rate { gb } else { y + m.signum() * rate * (b - s) };
-    }
-    y.clamp(-lock, lock)
 }
 
 /// Relative-slip perturbation of the finite difference in [`spin_slip_linearisation`].
