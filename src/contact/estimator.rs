@@ -509,6 +509,9 @@ pub struct AtiimEstimator {
     pub t_bulk_c: Vec<f64>,
     /// Ice effusivity, W s^0.5/(m^2 K) (cached).
     e_ice: f64,
+    /// The last two estimates per tyre (latest first) and the last period, s (NaN: none), for the
+    /// coupled update's first trial point.
+    last: ([f64; 4], [f64; 4], f64),
 }
 
 /// The per-sample constants of [`AtiimEstimator::update`] that depend only on the bulk parameters
@@ -526,7 +529,13 @@ struct BulkConstants {
 impl AtiimEstimator {
     /// New estimator for `n_tyres` tyres; bulk states start at the first update's surface temperature.
     pub fn new(table: FlashTable, bulk: BulkParams, n_tyres: usize) -> Self {
-        AtiimEstimator { table, bulk, t_bulk_c: vec![f64::NAN; n_tyres], e_ice: ICE.effusivity() }
+        AtiimEstimator {
+            table,
+            bulk,
+            t_bulk_c: vec![f64::NAN; n_tyres],
+            e_ice: ICE.effusivity(),
+            last: ([f64::NAN; 4], [f64::NAN; 4], f64::NAN),
+        }
     }
 
     /// Contact temperature for one tyre from its bulk temperature (no state change), degC.
@@ -605,8 +614,9 @@ impl AtiimEstimator {
 /// Largest number of condition evaluations of one coupled update ([`AtiimEstimator`]'s
 /// `update_coupled`).
 pub const COUPLED_MAX_EVALS: usize = 16;
-/// Residual |T - G(T)| at which the coupled update stops, K.
-pub const COUPLED_TOL_K: f64 = 1e-6;
+/// Residual |T - G(T)| at which the coupled update stops, K (0.03 N of friction force where the
+/// force falls by 300 N per K of contact temperature, as near melting on the sedan).
+pub const COUPLED_TOL_K: f64 = 1e-4;
 
 impl ContactTemperature for AtiimEstimator {
     fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
@@ -617,7 +627,12 @@ impl ContactTemperature for AtiimEstimator {
             let (tb, tc) = self.advance_tyre(&k, tb, h, t);
             self.t_bulk_c[i] = tb;
             *o = tc;
+            if i < 4 {
+                self.last.1[i] = self.last.0[i];
+                self.last.0[i] = tc;
+            }
         }
+        self.last.2 = h;
     }
 
     /// The contact temperature consistent with the force it lets the tyre transmit. Per tyre,
@@ -626,9 +641,13 @@ impl ContactTemperature for AtiimEstimator {
     /// is the root of T - G(T), which then rises strictly with T (unique). Near melting |G'| can
     /// exceed 1, so the plain lagged update (T_next = G(T_prev)) would alternate between a
     /// melting and a cooler contact from sample to sample instead of converging. Solved per tyre,
-    /// all tyres in lockstep (one `conditions` call evaluates all of them): G(guess), then G at
-    /// that value, which brackets the root when G falls, then regula falsi (Illinois) within the
-    /// bracket until |T - G(T)| <= [`COUPLED_TOL_K`], at most [`COUPLED_MAX_EVALS`] evaluations.
+    /// all tyres in lockstep (one `conditions` call evaluates all of them): G at a first point
+    /// (`guess` carried on over the period by the change between the last two estimates: in
+    /// smooth running it is already within the tolerance, one evaluation), then G at that value,
+    /// which brackets the root when G falls, then regula falsi (Illinois) within the bracket
+    /// until |T - G(T)| <= [`COUPLED_TOL_K`], at most [`COUPLED_MAX_EVALS`] evaluations. Where G
+    /// falls, the accepted output G(T) is then within that tolerance of the root:
+    /// G(T) - T* = G'/(1 - G') (T - G(T)), and |G'/(1 - G')| < 1.
     /// A tyre whose first two points do not bracket (G not falling there) keeps the better of
     /// the two, as does a tyre that reaches the evaluation limit (the point with the smallest
     /// residual). The bulk state advances under the conditions of the accepted point, whose
@@ -657,6 +676,12 @@ impl ContactTemperature for AtiimEstimator {
         let mut x = [0.0; MAX_TYRES];
         for i in 0..n {
             x[i] = finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C));
+            // the trend of the last two estimates carried on over the period
+            let (l0, l1, h_prev) = self.last;
+            let ext = x[i] + (l0[i] - l1[i]) * (h / h_prev);
+            if ext.is_finite() {
+                x[i] = ext;
+            }
         }
         let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
         let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
@@ -716,10 +741,13 @@ impl ContactTemperature for AtiimEstimator {
                 break;
             }
         }
+        self.last.2 = h;
         for i in 0..n {
             if let Some((_, tb, g, t)) = best[i] {
                 self.t_bulk_c[i] = tb;
                 out[i] = g;
+                self.last.1[i] = self.last.0[i];
+                self.last.0[i] = g;
                 tyres[i] = t;
             }
         }
@@ -848,10 +876,25 @@ mod tests {
         let mut left = [TyreContact::default(); 4];
         let mut res = [0.0; 4];
         coupled.update_coupled(h, &guess, &mut cond, &mut left, &mut res);
-        let (at, _) = g(res);
+        // the root of T - G(T) by bisection on [-3, 0] (T - G(T) rises with T)
+        let mut root = [0.0; 4];
+        for (i, r) in root.iter_mut().enumerate() {
+            let (mut lo, mut hi) = (-3.0, 0.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                let mut t = [mid; 4];
+                t[i] = mid;
+                if mid - g(t).0[i] > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            *r = 0.5 * (lo + hi);
+        }
         for i in 0..4 {
             assert!(res[i] < 0.0 && res[i] > -3.0, "tyre {i}: {}", res[i]);
-            assert!((at[i] - res[i]).abs() <= 1e-5, "tyre {i}: T {} but G(T) {}", res[i], at[i]);
+            assert!((root[i] - res[i]).abs() <= COUPLED_TOL_K, "tyre {i}: {} but the root is {}", res[i], root[i]);
         }
         // the output and bulk state are the plain update's under the conditions left in `left`
         let mut plain = start.clone();
