@@ -30,6 +30,12 @@
 //! power is F v_slide instead of mu_dry Fz v_slide, so the dry rise R0 is scaled by
 //! F / (mu_dry Fz) (the conduction problem is linear in the flux; the melting cap is applied after
 //! the scaling through the table's w coordinate). A tyre transmitting no force heats nothing.
+//!
+//! Coupling with the tyre. That force itself depends on the contact temperature (a warmer contact
+//! lowers the tyre's friction), so the estimate solves T = G(T), G the estimate under the
+//! conditions at contact temperature T ([`ContactTemperature::update_coupled`]), rather than
+//! pricing the heat with the force at the previous estimate: near melting |G'| exceeds 1 and that
+//! lagged loop alternates between a melting and a cooler contact from sample to sample.
 
 use super::heat::effective_effusivity;
 use super::model::{solve_patch, Operating, PatchParams};
@@ -503,6 +509,9 @@ pub struct AtiimEstimator {
     pub t_bulk_c: Vec<f64>,
     /// Ice effusivity, W s^0.5/(m^2 K) (cached).
     e_ice: f64,
+    /// The last two estimates per tyre (latest first) and the last period, s (NaN: none), for the
+    /// coupled update's first trial point.
+    last: ([f64; 4], [f64; 4], f64),
 }
 
 /// The per-sample constants of [`AtiimEstimator::update`] that depend only on the bulk parameters
@@ -520,7 +529,13 @@ struct BulkConstants {
 impl AtiimEstimator {
     /// New estimator for `n_tyres` tyres; bulk states start at the first update's surface temperature.
     pub fn new(table: FlashTable, bulk: BulkParams, n_tyres: usize) -> Self {
-        AtiimEstimator { table, bulk, t_bulk_c: vec![f64::NAN; n_tyres], e_ice: ICE.effusivity() }
+        AtiimEstimator {
+            table,
+            bulk,
+            t_bulk_c: vec![f64::NAN; n_tyres],
+            e_ice: ICE.effusivity(),
+            last: ([f64::NAN; 4], [f64::NAN; 4], f64::NAN),
+        }
     }
 
     /// Contact temperature for one tyre from its bulk temperature (no state change), degC.
@@ -544,49 +559,197 @@ fn finite_or(v: f64, d: f64) -> f64 {
     }
 }
 
-impl ContactTemperature for AtiimEstimator {
-    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
-        let b = self.bulk;
+impl AtiimEstimator {
+    /// The per-sample constants of [`Self::advance_tyre`].
+    fn bulk_constants(&self) -> BulkConstants {
+        let b = &self.bulk;
         let e_i = self.e_ice;
-        let k = BulkConstants {
+        BulkConstants {
             e_series: b.e_tread * e_i / (b.e_tread + e_i), // tread-to-ice conduction
             width_m: b.width_m.max(1e-3),
             heat_capacity_j_k: b.heat_capacity_j_k.max(1e-6),
-        };
+        }
+    }
+
+    /// One tyre's bulk temperature after `h` seconds (>= 0, finite) from `tb` under conditions
+    /// `t`, and its contact temperature then, degC (no state change).
+    fn advance_tyre(&self, k: &BulkConstants, tb: f64, h: f64, t: &TyreContact) -> (f64, f64) {
+        let b = &self.bulk;
         let e_s = k.e_series;
+        let t_ice = finite_or(t.surface_temp_c, MELT_C);
+        let tb = if tb.is_finite() { tb } else { t_ice };
+        let fz = finite_or(t.fz_n, 0.0).max(0.0);
+        let vr = finite_or(t.roll_speed_mps, 0.0).abs();
+        let vs = finite_or(t.slide_speed_mps, 0.0).abs();
+        let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
+        // conduction into the ice through the patch: area A, contact time L / v
+        let area = fz * b.area_per_n;
+        let len = area / k.width_m;
+        let tc = len / vr.max(vs).max(0.1);
+        let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
+        let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
+        let t_air = b.air_temp_c.unwrap_or(t_ice);
+        let g = g_ice + g_air;
+        let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
+        let x = g * h / k.heat_capacity_j_k;
+        // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
+        let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
+        let mut tb = t_eq + (tb - t_eq) * decay;
+        if !tb.is_finite() {
+            tb = t_ice;
+        }
+        let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
+        (tb, self.contact_temp_c(tb, &tt))
+    }
+
+    /// Bulk temperature of tyre `i` before this update (NaN until the first; grows the state).
+    fn bulk_of(&mut self, i: usize) -> f64 {
+        if self.t_bulk_c.len() <= i {
+            self.t_bulk_c.resize(i + 1, f64::NAN);
+        }
+        self.t_bulk_c[i]
+    }
+}
+
+/// Largest number of condition evaluations of one coupled update ([`AtiimEstimator`]'s
+/// `update_coupled`).
+pub const COUPLED_MAX_EVALS: usize = 16;
+/// Residual |T - G(T)| at which the coupled update stops, K (0.03 N of friction force where the
+/// force falls by 300 N per K of contact temperature, as near melting on the sedan).
+pub const COUPLED_TOL_K: f64 = 1e-4;
+
+impl ContactTemperature for AtiimEstimator {
+    fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
+        let k = self.bulk_constants();
         let h = finite_or(h, 0.0).max(0.0);
         for (i, (t, o)) in tyres.iter().zip(out.iter_mut()).enumerate() {
-            let t_ice = finite_or(t.surface_temp_c, MELT_C);
-            if self.t_bulk_c.len() <= i {
-                self.t_bulk_c.resize(i + 1, f64::NAN);
-            }
-            let mut tb = self.t_bulk_c[i];
-            if !tb.is_finite() {
-                tb = t_ice;
-            }
-            let fz = finite_or(t.fz_n, 0.0).max(0.0);
-            let vr = finite_or(t.roll_speed_mps, 0.0).abs();
-            let vs = finite_or(t.slide_speed_mps, 0.0).abs();
-            let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
-            // conduction into the ice through the patch: area A, contact time L / v
-            let area = fz * b.area_per_n;
-            let len = area / k.width_m;
-            let tc = len / vr.max(vs).max(0.1);
-            let g_ice = if area > 0.0 { area * 2.0 * e_s / (std::f64::consts::PI * tc.max(1e-6)).sqrt() } else { 0.0 };
-            let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
-            let t_air = b.air_temp_c.unwrap_or(t_ice);
-            let g = g_ice + g_air;
-            let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
-            let x = g * h / k.heat_capacity_j_k;
-            // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
-            let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
-            tb = t_eq + (tb - t_eq) * decay;
-            if !tb.is_finite() {
-                tb = t_ice;
-            }
+            let tb = self.bulk_of(i);
+            let (tb, tc) = self.advance_tyre(&k, tb, h, t);
             self.t_bulk_c[i] = tb;
-            let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
-            *o = self.contact_temp_c(tb, &tt);
+            *o = tc;
+            if i < 4 {
+                self.last.1[i] = self.last.0[i];
+                self.last.0[i] = tc;
+            }
+        }
+        self.last.2 = h;
+    }
+
+    /// The contact temperature consistent with the force it lets the tyre transmit. Per tyre,
+    /// G(T) = the estimate after `h` under the conditions at contact temperature T; a warmer
+    /// contact lowers the tyre's friction and so the heat, and G falls as T rises. The estimate
+    /// is the root of T - G(T), which then rises strictly with T (unique). Near melting |G'| can
+    /// exceed 1, so the plain lagged update (T_next = G(T_prev)) would alternate between a
+    /// melting and a cooler contact from sample to sample instead of converging. Solved per tyre,
+    /// all tyres in lockstep (one `conditions` call evaluates all of them): G at a first point
+    /// (`guess` carried on over the period by the change between the last two estimates: in
+    /// smooth running it is already within the tolerance, one evaluation), then G at that value,
+    /// which brackets the root when G falls, then regula falsi (Illinois) within the bracket
+    /// until |T - G(T)| <= [`COUPLED_TOL_K`], at most [`COUPLED_MAX_EVALS`] evaluations. Where G
+    /// falls, the accepted output G(T) is then within that tolerance of the root:
+    /// G(T) - T* = G'/(1 - G') (T - G(T)), and |G'/(1 - G')| < 1.
+    /// A tyre whose first two points do not bracket (G not falling there) keeps the better of
+    /// the two, as does a tyre that reaches the evaluation limit (the point with the smallest
+    /// residual). The bulk state advances under the conditions of the accepted point, whose
+    /// output is the estimate.
+    fn update_coupled(
+        &mut self,
+        h: f64,
+        guess: &[f64],
+        conditions: &mut dyn FnMut(&[f64], &mut [TyreContact]),
+        tyres: &mut [TyreContact],
+        out: &mut [f64],
+    ) {
+        const MAX_TYRES: usize = 4;
+        let n = tyres.len().min(out.len()).min(guess.len());
+        if n > MAX_TYRES {
+            conditions(guess, tyres);
+            self.update(h, tyres, out);
+            return;
+        }
+        let k = self.bulk_constants();
+        let h = finite_or(h, 0.0).max(0.0);
+        let tb0: [f64; MAX_TYRES] = std::array::from_fn(|i| if i < n { self.bulk_of(i) } else { f64::NAN });
+        // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
+        // the accepted point (|residual|, bulk, output, conditions), whether it is done, and the
+        // Illinois side marker (-1 / +1: the end kept last time)
+        let mut x = [0.0; MAX_TYRES];
+        for i in 0..n {
+            x[i] = finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C));
+            // the trend of the last two estimates carried on over the period
+            let (l0, l1, h_prev) = self.last;
+            let ext = x[i] + (l0[i] - l1[i]) * (h / h_prev);
+            if ext.is_finite() {
+                x[i] = ext;
+            }
+        }
+        let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut best: [Option<(f64, f64, f64, TyreContact)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut done = [false; MAX_TYRES];
+        let mut side = [0i8; MAX_TYRES];
+        for eval in 0..COUPLED_MAX_EVALS {
+            conditions(&x[..n], &mut tyres[..n]);
+            for i in 0..n {
+                if done[i] {
+                    continue;
+                }
+                let (tb, g) = self.advance_tyre(&k, tb0[i], h, &tyres[i]);
+                let r = x[i] - g;
+                if best[i].is_none_or(|b| r.abs() < b.0) {
+                    best[i] = Some((r.abs(), tb, g, tyres[i]));
+                }
+                if !r.is_finite() || r.abs() <= COUPLED_TOL_K {
+                    done[i] = true;
+                    continue;
+                }
+                if r < 0.0 {
+                    neg[i] = Some((x[i], r));
+                } else {
+                    pos[i] = Some((x[i], r));
+                }
+                x[i] = match (neg[i], pos[i]) {
+                    (Some((a, ra)), Some((b, rb))) => {
+                        // Illinois: halve the residual of the end kept twice in a row
+                        let kept = if r < 0.0 { 1 } else { -1 };
+                        let (ra, rb) = match (kept, side[i]) {
+                            (1, 1) => (ra, 0.5 * rb),
+                            (-1, -1) => (0.5 * ra, rb),
+                            _ => (ra, rb),
+                        };
+                        if kept == 1 {
+                            pos[i] = Some((b, rb));
+                        } else {
+                            neg[i] = Some((a, ra));
+                        }
+                        side[i] = kept;
+                        let s = a - ra * (b - a) / (rb - ra);
+                        if s.is_finite() && s > a.min(b) && s < a.max(b) {
+                            s
+                        } else {
+                            0.5 * (a + b)
+                        }
+                    }
+                    _ if eval == 0 => g, // the plain iteration's next point
+                    _ => {
+                        done[i] = true; // no bracket from two points: keep the plain value
+                        x[i]
+                    }
+                };
+            }
+            if done[..n].iter().all(|d| *d) {
+                break;
+            }
+        }
+        self.last.2 = h;
+        for i in 0..n {
+            if let Some((_, tb, g, t)) = best[i] {
+                self.t_bulk_c[i] = tb;
+                out[i] = g;
+                self.last.1[i] = self.last.0[i];
+                self.last.0[i] = g;
+                tyres[i] = t;
+            }
         }
     }
 }
@@ -627,6 +790,133 @@ mod tests {
         // no self-heating correction where the rise stays below the law's -40 degC clamp
         assert_eq!(ln_dry_rise(2f64.ln(), 0.03, -1e6), 2f64.ln());
         assert!((ln_dry_rise(2f64.ln(), 0.03, -10.0) - (2.0 / 1.03f64).ln()).abs() < 1e-9);
+    }
+
+    /// An estimator on a synthetic table: dry rise 2 K per m/s of sliding (any load, any slip
+    /// fraction), G = 1 (the smooth cap exactly), heat priced at mu_dry 0.15, no temperature factor.
+    fn synthetic_estimator(n: usize) -> AtiimEstimator {
+        let slide = Axis::new(0.01f64.ln(), 30f64.ln(), 2);
+        let ln_r0 = (0..8).map(|k| (2.0 * slide.node((k / 2) % 2).exp()).ln()).collect();
+        let table = FlashTable {
+            load: Axis::new(2000f64.ln(), 12000f64.ln(), 2),
+            slide,
+            roll: Axis::from_nodes(vec![1e-4f64.ln(), 0.0]),
+            w: Axis::new(-2.0, 2.0, 2),
+            ln_r0,
+            ln_g: vec![0.0; 16],
+            vs_min: 0.01,
+            mu_dry: 0.15,
+            c_t: 0.0,
+        };
+        let bulk = BulkParams {
+            heat_capacity_j_k: 1500.0,
+            band_area_m2: 0.37,
+            tread_fraction: 0.26,
+            air_temp_c: None,
+            area_per_n: 1.0 / 200e3,
+            width_m: 0.2,
+            e_tread: 600.0,
+        };
+        AtiimEstimator::new(table, bulk, n)
+    }
+
+    /// Conditions of a sliding tyre (4000 N, 3 m/s sliding, 10 m/s rolling, ice at -3 degC) whose
+    /// friction falls with its contact temperature: mu = 0.15 (0.2 + 0.8 / (1 + e^((T + 1.5) / s)))
+    /// with steepness `s` per tyre (infinite: constant friction).
+    fn sliding(steep: &[f64], temps: &[f64], out: &mut [TyreContact]) {
+        for ((o, &t), &s) in out.iter_mut().zip(temps).zip(steep) {
+            let mu = 0.15 * (0.2 + 0.8 / (1.0 + ((t + 1.5) / s).exp()));
+            *o = TyreContact {
+                fz_n: 4000.0,
+                roll_speed_mps: 10.0,
+                slide_speed_mps: 3.0,
+                friction_force_n: mu * 4000.0,
+                surface_temp_c: -3.0,
+            };
+        }
+    }
+
+    /// The coupled update returns the fixed point T = G(T) of the plain update G under the
+    /// conditions at T, where the lagged iteration T_next = G(T_prev) (the plain update at the
+    /// previous estimate) does not converge; with a friction that does not depend on the contact
+    /// temperature it is the plain update, bit for bit.
+    #[test]
+    fn coupled_update_is_the_consistent_fixed_point() {
+        let steep = [0.05, 0.3, f64::INFINITY, 0.02];
+        let h = 0.01;
+        // warm the bulk a little so the start is not the initial state
+        let mut est = synthetic_estimator(4);
+        let mut tyres = [TyreContact::default(); 4];
+        let mut out = [0.0; 4];
+        sliding(&steep, &[-3.0; 4], &mut tyres);
+        est.update(h, &tyres, &mut out);
+        let start = est.clone();
+        // G(T) from the start state: the plain update under the conditions at T
+        let g = |t: [f64; 4]| {
+            let mut e = start.clone();
+            let mut c = [TyreContact::default(); 4];
+            let mut o = [0.0; 4];
+            sliding(&steep, &t, &mut c);
+            e.update(h, &c, &mut o);
+            (o, e.t_bulk_c.clone())
+        };
+        // the lagged iteration on the steep tyres: a lasting alternation, no convergence
+        let mut t = out;
+        let mut last = [0.0; 4];
+        for _ in 0..40 {
+            last = t;
+            t = g(t).0;
+        }
+        for i in [0, 3] {
+            assert!((t[i] - last[i]).abs() > 0.05, "tyre {i}: {} -> {}", last[i], t[i]);
+        }
+        let guess = out;
+        let mut coupled = start.clone();
+        let mut cond = |temps: &[f64], o: &mut [TyreContact]| sliding(&steep, temps, o);
+        let mut left = [TyreContact::default(); 4];
+        let mut res = [0.0; 4];
+        coupled.update_coupled(h, &guess, &mut cond, &mut left, &mut res);
+        // the root of T - G(T) by bisection on [-3, 0] (T - G(T) rises with T)
+        let mut root = [0.0; 4];
+        for (i, r) in root.iter_mut().enumerate() {
+            let (mut lo, mut hi) = (-3.0, 0.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                let mut t = [mid; 4];
+                t[i] = mid;
+                if mid - g(t).0[i] > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            *r = 0.5 * (lo + hi);
+        }
+        for i in 0..4 {
+            assert!(res[i] < 0.0 && res[i] > -3.0, "tyre {i}: {}", res[i]);
+            assert!((root[i] - res[i]).abs() <= COUPLED_TOL_K, "tyre {i}: {} but the root is {}", res[i], root[i]);
+        }
+        // the output and bulk state are the plain update's under the conditions left in `left`
+        let mut plain = start.clone();
+        let mut o = [0.0; 4];
+        plain.update(h, &left, &mut o);
+        assert_eq!(o, res);
+        assert_eq!(plain.t_bulk_c, coupled.t_bulk_c);
+        // constant friction (tyre 2): the plain update at the guess, bit for bit
+        let mut c = [TyreContact::default(); 4];
+        sliding(&steep, &guess, &mut c);
+        let mut plain = start.clone();
+        plain.update(h, &c, &mut o);
+        assert_eq!(o[2], res[2]);
+        assert_eq!(plain.t_bulk_c[2], coupled.t_bulk_c[2]);
+        // non-finite guesses and conditions: finite output, no panic
+        let mut bad = |temps: &[f64], o: &mut [TyreContact]| {
+            sliding(&steep, temps, o);
+            o[1].friction_force_n = f64::NAN;
+        };
+        let mut e = start.clone();
+        e.update_coupled(h, &[f64::NAN, 0.0, f64::INFINITY, -3.0], &mut bad, &mut left, &mut res);
+        assert!(res.iter().all(|v| v.is_finite()), "{res:?}");
     }
 
     #[test]

@@ -47,6 +47,26 @@ pub trait ContactTemperature: Send {
     fn needs_conditions(&self) -> bool {
         true
     }
+
+    /// Advance the estimate by `h` seconds where the tyres' conditions depend on the contact
+    /// temperatures themselves (the transmitted friction force does, through the tyre model):
+    /// `conditions(temps, tyres)` fills `tyres` at trial contact temperatures `temps` (tyre i's
+    /// conditions depending on `temps[i]` only), `guess` is the previous estimate. The output
+    /// (into `out`) and the conditions left in `tyres` are the ones the update used. The default
+    /// evaluates the conditions once, at `guess` (when `needs_conditions`), and calls `update`.
+    fn update_coupled(
+        &mut self,
+        h: f64,
+        guess: &[f64],
+        conditions: &mut dyn FnMut(&[f64], &mut [TyreContact]),
+        tyres: &mut [TyreContact],
+        out: &mut [f64],
+    ) {
+        if self.needs_conditions() {
+            conditions(guess, tyres);
+        }
+        self.update(h, tyres, out);
+    }
 }
 
 /// No heating: the contact temperature equals the surface temperature.

@@ -13,10 +13,15 @@
 //!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
 //!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
 //!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
-//!    see a staircase steer; errors per provider: `super::stability`). The steering rate and
-//!    lock limits apply to the ramp's end; the PID integrates its error by the trapezoidal rule.
-//!    The contact-temperature estimate is advanced over the period from the tyres' operating
-//!    conditions at the predicted t + T_c, and its output ramps likewise.
+//!    see a staircase steer; errors per provider: `super::stability`). The steer at the ramp's
+//!    end is that of a continuous rate limiter following the driver's command interpolated
+//!    linearly across the period (from the last sample's command to the new one) and clamped to
+//!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
+//!    period early); the PID integrates its error by the trapezoidal rule. The
+//!    contact-temperature estimate is advanced over the period from the tyres' operating
+//!    conditions at the predicted t + T_c, taken at the contact temperatures it returns (the
+//!    friction force depends on them: [`ContactTemperature::update_coupled`] solves for the
+//!    consistent estimate), and its output ramps likewise.
 //! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
 //!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
@@ -38,7 +43,7 @@ use super::integrator::{rk4_exp_step_t, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
-use crate::control::driver::limit_steer;
+use crate::control::driver::rate_limited_steer;
 use crate::control::{Pid, PidParams};
 use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel};
@@ -238,6 +243,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     /// Time and speed target of the last row recorded, s and m/s.
     last_row: Option<(f64, f64)>,
     speed_target: f64,
+    /// The driver's steer command at the last sample (for the end of the period ahead), rad.
+    steer_cmd: Option<f64>,
     path_error: Option<f64>,
     end: Option<EndReason>,
 }
@@ -307,6 +314,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             k: 0,
             last_row: None,
             speed_target: f64::NAN,
+            steer_cmd: None,
             path_error: None,
             end: None,
         }
@@ -401,8 +409,12 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let from = self.ramp_to;
         let steer = match self.maneuver.steer_at(t + hc) {
             Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
-            None => limit_steer(from.steer_rad, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc),
+            None => {
+                let c0 = self.steer_cmd.unwrap_or(cmd.steer_rad);
+                rate_limited_steer(from.steer_rad, c0, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc)
+            }
         };
+        self.steer_cmd = Some(cmd.steer_rad);
         let torque = match cmd.speed_target_mps {
             Some(v) => {
                 if !self.pid_active {
@@ -420,11 +432,17 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             }
         };
         let mut to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: from.contact_temp_c };
-        if self.contact.needs_conditions() {
-            let u_end = Ramped::lerp(&from, &to, 1.0);
-            self.model.tyre_contacts(&x_end, &u_end, &self.env, &mut self.contacts[..M::TYRES]);
-        }
-        self.contact.update(hc, &self.contacts[..M::TYRES], &mut self.temps[..M::TYRES]);
+        // The tyres' conditions at t + T_c as a function of their contact temperatures (the
+        // friction force depends on them): the estimate is the one consistent with them.
+        let (model, env, u_end) = (self.model, &self.env, Ramped::lerp(&from, &to, 1.0));
+        let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
+            let mut u = u_end;
+            u.contact_temp_c[..temps.len()].copy_from_slice(temps);
+            model.tyre_contacts(&x_end, &u, env, out);
+        };
+        let n = M::TYRES;
+        let guess = from.contact_temp_c;
+        self.contact.update_coupled(hc, &guess[..n], &mut conditions, &mut self.contacts[..n], &mut self.temps[..n]);
         to.contact_temp_c = self.temps;
         (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
         self.path_error = self.maneuver.path_error_m();

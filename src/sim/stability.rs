@@ -33,21 +33,27 @@ pub const EXP_MARGIN: f64 = 1.3;
 pub const RK4_REAL_BOUND: f64 = 2.785;
 /// h |lambda| of the default step.
 pub const DEFAULT_H_LAMBDA: f64 = 2.0;
-/// Default controller sample period, s. The sampling, not the step, dominates the error of the
-/// closed-loop runs. With the engine's predicted first-order hold (`super::engine`), on the
-/// ISO 3888-2 lane change on ice (sedan, 10 m/s held, mu 0.15) the largest yaw-rate difference
-/// from a step = period = 0.25 ms run at step = period = 10 ms is, bicycle / 4-DOF:
-/// linear 1.3e-4 / 1.4e-4, polynomial 3.7e-4 / 3.3e-4, Pacejka 2.6e-4 / 2.0e-4, Dugoff
-/// 3.6e-4 / 3.8e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
-/// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s) and the unsaturated linear tyre
-/// needs a shorter step than the period. So 10 ms.
+/// Default controller sample period, s, for every model, provider and contact estimate. The
+/// sampling, not the step, dominates the error of the closed-loop runs. With the engine's
+/// predicted first-order hold (`super::engine`), on the ISO 3888-2 lane change on ice (sedan,
+/// 10 m/s held, mu 0.15) the largest yaw-rate difference from a step = period = 0.25 ms run at
+/// step = period = 10 ms is, bicycle / 4-DOF: linear 1.3e-4 / 1.4e-4, polynomial 3.6e-4 / 3.3e-4,
+/// Pacejka 2.6e-4 / 1.9e-4, Dugoff 3.5e-4 / 3.7e-4, ATIIM-Pacejka with the ATIIM contact estimate
+/// 1.6e-4 / 2.0e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
+/// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s; ATIIM 6.4e-4 / 7.0e-4 with a 10 ms
+/// step) and the unsaturated linear tyre needs a shorter step than the period. So 10 ms.
+///
+/// The ATIIM case once needed 5 ms on the 4-DOF model (7.6e-4 rad/s at 10 ms, 1.3e-4 at 5 ms,
+/// 1.3e-4 at 2.5 ms: no order), from two errors of the sampling that did not shrink at second
+/// order: the estimate priced its heat with the friction force at the previous sample's contact
+/// temperature, a loop whose gain passes -1 near melting, so the estimate alternated between a
+/// melting and a cooler contact from sample to sample (at 0.25 ms as at 10 ms; now solved for
+/// the consistent temperature, `crate::contact::ContactTemperature::update_coupled`); and the
+/// sampled steering rate limit left the lock up to a period early (now a continuous limiter
+/// across the period, `crate::control::driver::rate_limited_steer`). With both, the 4-DOF
+/// lane change converges at second order: 2.0e-4, 3.0e-5, 7.1e-6, 1.1e-6 rad/s at 10, 5, 2.5,
+/// 1 ms (docs/performance.md).
 pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.01;
-/// Default controller sample period of the 4-DOF model with the ATIIM contact-temperature
-/// estimate, s: its output follows the instantaneous slide speed (the flash temperature), which the
-/// hold across the period resolves less well: ATIIM-Pacejka on the same lane change is 1.3e-4 /
-/// 1.4e-4 rad/s at 5 ms and 4.4e-4 / 7.6e-4 rad/s at 10 ms (bicycle / 4-DOF). The bicycle is
-/// within the guard at 10 ms and keeps [`DEFAULT_CONTROL_PERIOD_S`] (the rule: `spec::maneuver`).
-pub const DEFAULT_CONTROL_PERIOD_THERMAL_S: f64 = 0.005;
 
 /// The linearised model at steady straight running at one speed.
 pub struct Analysis {

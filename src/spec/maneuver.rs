@@ -20,7 +20,7 @@
 //! preview_time_s = 0.55
 //! [integrator]
 //! method = "rk4"                        # or dopri5, dop853
-//! control_period_s = 0.01               # controller sample period (default 0.01 s; 0.005 s with ATIIM contact)
+//! control_period_s = 0.01               # controller sample period (default 0.01 s)
 //! # step_s = 0.01                       # default: from the vehicle's fastest mode
 //! [output]
 //! interval_s = 0.01
@@ -386,8 +386,8 @@ pub struct IntegratorSection {
     /// are those of the fastest remaining mode.
     #[serde(default)]
     pub step_s: Option<f64>,
-    /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.01 s, 0.005 s
-    /// with the ATIIM contact estimate, or the whole multiple of a given step_s nearest to it).
+    /// Controller sample period, s, in (0, 1], a whole multiple of step_s (default: 0.01 s, or the
+    /// whole multiple of a given step_s nearest to it).
     #[serde(default)]
     pub control_period_s: Option<f64>,
     /// Relative and absolute tolerance of the adaptive methods.
@@ -712,18 +712,10 @@ impl ManeuverFile {
         maneuver: &ManeuverConfig,
         rk4: bool,
     ) -> Result<(f64, f64, bool)> {
-        use crate::sim::stability::{
-            analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_CONTROL_PERIOD_THERMAL_S, DEFAULT_H_LAMBDA,
-            EXP_MARGIN,
-        };
+        use crate::sim::stability::{analyse, default_step_s, DEFAULT_CONTROL_PERIOD_S, DEFAULT_H_LAMBDA, EXP_MARGIN};
         let i = &self.integrator;
-        // The ATIIM estimate needs the shorter period on the 4-DOF model only (`DEFAULT_CONTROL_PERIOD_THERMAL_S`).
-        let thermal = self.contact.kind(path)? == crate::contact::spec::ContactModelKind::Atiim;
-        let default_cp = if thermal && model == VehicleModelKind::Roll4Dof {
-            DEFAULT_CONTROL_PERIOD_THERMAL_S
-        } else {
-            DEFAULT_CONTROL_PERIOD_S
-        };
+        // One default period for every model, provider and contact estimate (`DEFAULT_CONTROL_PERIOD_S`).
+        let default_cp = DEFAULT_CONTROL_PERIOD_S;
         let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
