@@ -129,7 +129,12 @@ impl Bicycle {
         let lat = &self.vehicle.lateral;
         let c = lat.steer_compliance_rad_per_kn * 1e-3;
         let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
-        if c != 0.0 && lat.relaxation_length_y_m > 0.0 {
+        if c == 0.0 {
+            // (the common case, kept out of the fixed point's closures: they cost the hot path
+            // its inlining)
+            return self.axles_at(x, u, env, steer);
+        }
+        if lat.relaxation_length_y_m > 0.0 {
             // With relaxation the acting front force is a state: no iteration needed.
             return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]));
         }
