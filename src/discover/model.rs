@@ -651,7 +651,9 @@ impl ReplayModel {
     /// Replay a measured run: steer and vx interpolated linearly between samples (held over each
     /// sub-step at its midpoint), starting from the first sample's measured yaw rate and lateral
     /// velocity (vy from the optional channel, else 0). The contact-temperature estimate, when on,
-    /// is updated at the start of every sub-step and held over it (as in the engine).
+    /// is updated at the start of every sub-step, consistent with the force it allows (as in the
+    /// engine, `ContactTemperature::update_coupled`), and held over it (the engine instead takes
+    /// the state predicted one control period ahead and ramps its output across the period).
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
         self.run_loop(run, p, &mut |k, _, _| run.steer[k + 1]).0
     }
@@ -788,8 +790,17 @@ impl ReplayModel {
             let h = dt / m as f64;
             for j in 0..m {
                 if let Some(e) = est.as_mut() {
+                    // The estimate consistent with the force it allows (as in the engine:
+                    // `ContactTemperature::update_coupled`): the axles' conditions at trial
+                    // contact temperatures.
                     let d0 = drive_at(k, j as f64 / m as f64, contact_c, &steer);
-                    e.update(h, &self.contacts(&x, &d0, p), &mut contact_c);
+                    let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
+                        let d = Drive { contact_c: [temps[0], temps[1]], ..d0 };
+                        out[..2].copy_from_slice(&self.contacts(&x, &d, p));
+                    };
+                    let guess = contact_c;
+                    let mut tyres = [TyreContact::default(); 2];
+                    e.update_coupled(h, &guess, &mut conditions, &mut tyres, &mut contact_c);
                 }
                 let dj = drive_at(k, (j as f64 + 0.5) / m as f64, contact_c, &steer);
                 x = if self.reference_step_s.is_some() {
