@@ -84,7 +84,7 @@ use crate::contact::thermal::MELT_C;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::{limit_steer, Driver};
 use crate::maneuver::path::RefPath;
-use crate::sim::integrator::rk4_step;
+use crate::sim::integrator::{rk4_lag_step, rk4_step};
 use crate::spec::vehicle::Vehicle;
 use crate::tyre::{TyreForces, TyreInput, TyreModel};
 use crate::vehicle::wheel::slide_speed;
@@ -253,8 +253,8 @@ const V_FLOOR: f64 = 1.0;
 /// Largest integration step, s: one step per sample at 100 Hz. The lateral modes decay at
 /// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
 /// far below sensor noise. The first-order lags (force relaxation, steering lag, transient slip)
-/// are integrated exactly over the step ([`relax`]), so however fast they are they do not shorten
-/// it.
+/// are integrated exactly over the step ([`rk4_lag_step`]), so however fast they are they do not
+/// shorten it.
 const H_MAX: f64 = 0.01;
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.
@@ -275,19 +275,6 @@ pub struct ReplayModel {
     /// longer than this (s) and no longer than a twentieth of any lag's time constant: the
     /// fine-step reference the exponential lag update is checked against.
     pub reference_step_s: Option<f64>,
-}
-
-/// Response after a time t of the first-order lag dy/dt = k (u - y), from y0, when its input u moves
-/// linearly from u0 to u1 over t; z = k t >= 0. Exact for that input:
-/// y = u1 + (y0 - u0) e^-z - (u1 - u0) (1 - e^-z) / z. It gives y0 at z = 0 and u1 as z -> inf
-/// (an infinitely fast lag), and the trapezoidal rule y0 + z ((u0 + u1) / 2 - y0) for small z.
-pub fn relax(y0: f64, u0: f64, u1: f64, z: f64) -> f64 {
-    if !(z > 0.0) {
-        return y0;
-    }
-    let e = (-z).exp();
-    let phi = if z < 1e-8 { 1.0 - 0.5 * z } else { -(-z).exp_m1() / z };
-    u1 + (y0 - u0) * e - (u1 - u0) * phi
 }
 
 /// Inputs held over one integration step.
@@ -581,39 +568,18 @@ impl ReplayModel {
         dx
     }
 
-    /// One step of length h with the input `d` held: RK4 on the body states; each lag state
-    /// relaxes exactly ([`relax`]) at the rate of the step's start towards an input taken as linear
-    /// between its value at the start and at each stage's body state (for inputs that depend on a
-    /// lag state through the steer compliance, the stage input is first taken from the lag
-    /// relaxed towards the start's input). The step is stable for any lag rate.
+    /// One step of length h with the input `d` held: RK4 on the body states, each lag state
+    /// relaxed exactly ([`rk4_lag_step`]); the steering lag's input is the steer's ramp over the
+    /// step (`d` holds its midpoint value). Stable for any lag rate.
     fn step(&self, x0: &State, d: &Drive, p: &EffectParams, h: f64) -> State {
         let k = self.lag_rates(x0, d, p);
-        if k.iter().all(|&k| k == 0.0) {
-            return rk4_step(|s: &State| self.body(s, d, p).0, x0, h).0;
-        }
-        let (k1, mut u0) = self.body(x0, d, p);
-        // The steer ramps over the step (d holds its midpoint value).
         let steer_at = |c: f64| d.steer + (c - 0.5) * h * d.steer_rate;
-        u0[2] = steer_at(0.0);
-        let lags = |y: &mut State, u: &[f64; NL], c: f64| {
-            for (j, i) in LAGS.into_iter().enumerate() {
-                if k[j] > 0.0 {
-                    y[i] = relax(x0[i], u0[j], u[j], k[j] * c * h);
-                }
-            }
-        };
-        // The body state at fraction c of the step with its lags relaxed.
-        let stage = |mut y: State, c: f64| {
-            lags(&mut y, &u0, c);
-            let mut u = self.body(&y, d, p).1;
+        let body = |y: &State, c: f64| {
+            let (dx, mut u) = self.body(y, d, p);
             u[2] = steer_at(c);
-            lags(&mut y, &u, c);
-            y
+            (dx, u)
         };
-        let k2 = self.body(&stage(x0 + k1 * (0.5 * h), 0.5), d, p).0;
-        let k3 = self.body(&stage(x0 + k2 * (0.5 * h), 0.5), d, p).0;
-        let k4 = self.body(&stage(x0 + k3 * h, 1.0), d, p).0;
-        stage(x0 + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0), 1.0)
+        rk4_lag_step(body, x0, h, &LAGS, &k)
     }
 
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
