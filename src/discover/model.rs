@@ -306,8 +306,6 @@ struct Drive {
 struct Forces {
     /// Steady-state axle forces (two tyres, wheel axes), front and rear.
     axle: [TyreForces; 2],
-    /// Steady-state axle lateral forces (the `fy_n` of `axle`), N.
-    fy: [f64; 2],
     delta_e: f64,
     /// Slip angles the tyres carry (the lagged ones under transient slip), rad.
     alpha: [f64; 2],
@@ -414,8 +412,7 @@ impl ReplayModel {
             // The forces follow the lagged slip angles; the compliance acts through them.
             let axle = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
             let delta_e = lateral::effective_steer(steer, c, axle[0].fy_n);
-            let fy = [axle[0].fy_n, axle[1].fy_n];
-            return Forces { axle, fy, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
+            return Forces { axle, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
         }
         let front_at = |delta: f64| self.axle_force(0, delta - beta_f, dfz[0], d, p);
         let (delta_e, front) = if c != 0.0 && p.sigma_y_m > 0.0 {
@@ -427,7 +424,7 @@ impl ReplayModel {
             lateral::compliant_steer(steer, c, front_at, |f| f.fy_n)
         };
         let alpha = [delta_e - beta_f, alpha_r];
-        Forces { axle: [front, rear], fy: [front.fy_n, rear.fy_n], delta_e, alpha, alpha_kin: alpha }
+        Forces { axle: [front, rear], delta_e, alpha, alpha_kin: alpha }
     }
 
     /// Transient-slip relaxation length of an axle at slip angle `alpha`, m: the nominal one, or
@@ -494,7 +491,7 @@ impl ReplayModel {
         dx[5] = d.vx * cp - x[0] * sp;
         dx[6] = d.vx * sp + x[0] * cp;
         dx[7] = x[1];
-        (dx, [f.fy[0], f.fy[1], d.steer, f.alpha_kin[0], f.alpha_kin[1], rise[0], rise[1]])
+        (dx, [f.axle[0].fy_n, f.axle[1].fy_n, d.steer, f.alpha_kin[0], f.alpha_kin[1], rise[0], rise[1]])
     }
 
     /// Rates k (1/s) of the lag states ([`LAGS`] order; 0 = the state is unused) at state `x`:
@@ -705,8 +702,8 @@ impl ReplayModel {
         x[4] = steer[0];
         if p.sigma_y_m > 0.0 {
             let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
-            x[2] = f.fy[0];
-            x[3] = f.fy[1];
+            x[2] = f.axle[0].fy_n;
+            x[3] = f.axle[1].fy_n;
         }
         if p.transient_slip() {
             // Start relaxed: the lagged slip angles at their kinematic values (a fixed point,

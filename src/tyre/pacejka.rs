@@ -404,13 +404,11 @@ impl Pure {
         }
     }
 
-    /// max(|Dx|, |Dy|) (N) of [`Self::scaled`] by `m`, without building it: the same values bit
-    /// for bit (the same products in the same order).
+    /// max(|Dx|, |Dy|) (N) of [`Self::scaled`] by `m` (inlined, the unused quantities drop out).
     #[inline]
     pub(crate) fn peak_scaled(&self, m: &Scale) -> f64 {
-        let dx = self.dx0 * (self.lmux0 * m.mu_x) * self.fz;
-        let dy = self.muy0 * (self.lmuy0 * m.mu_y) * self.fz;
-        dx.abs().max(dy.abs())
+        let p = self.scaled(m);
+        p.dx.abs().max(p.dy.abs())
     }
 }
 
