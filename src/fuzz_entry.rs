@@ -188,7 +188,7 @@ pub fn maneuver_toml(data: &[u8]) {
     let Some(mut cfg) = batch.runs.into_iter().find_map(|r| r.config.ok()) else { return };
     let s = &mut cfg.settings;
     let adaptive_ok = match s.method {
-        Method::Rk4 | Method::Rk4Exp => true,
+        Method::Rk4 | Method::Rk4Exp | Method::Rk4Lag => true,
         Method::Dopri5 { rtol, atol } | Method::Dop853 { rtol, atol } => rtol >= 1e-8 && atol >= 1e-10,
     };
     if s.step_s >= SIM_MIN_STEP_S && adaptive_ok {

@@ -34,7 +34,13 @@ fn state<const N: usize>(extra: &[f64]) -> SVector<f64, N> {
 }
 
 fn inputs() -> Inputs {
-    Inputs { steer_rad: 0.04, drive_torque_nm: 350.0, brake_torque_nm: 20.0, contact_temp_c: [-1.0, -1.5, -0.5, -2.0] }
+    Inputs {
+        steer_rad: 0.04,
+        drive_torque_nm: 350.0,
+        brake_torque_nm: 20.0,
+        contact_temp_c: [-1.0, -1.5, -0.5, -2.0],
+        ..Inputs::default()
+    }
 }
 
 const ENV: Environment = Environment { mu: 0.3, surface_temp_c: -3.0 };

@@ -39,14 +39,14 @@
 use nalgebra::SVector;
 use serde::Serialize;
 
-use super::integrator::{rk4_exp_step_t, rk4_step_k1, step_t, ExpPair, Method};
+use super::integrator::{relax, rk4_exp_step_t, rk4_lag_step_k1, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::rate_limited_steer;
 use crate::control::{Pid, PidParams};
 use crate::maneuver::{Event, EventKind, Maneuver};
-use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel};
+use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
 pub const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
@@ -201,9 +201,14 @@ impl Ramped {
             drive_torque_nm: tq.max(0.0),
             brake_torque_nm: (-tq).max(0.0),
             contact_temp_c: c,
+            t_s: 0.0,
         }
     }
 }
+
+/// The first stage of a [`Method::Rk4Lag`] step: the model's derivative without its lag
+/// components, the lags' inputs and their rates ([`VehicleModel::lag_split`]).
+type LagParts<const N: usize> = (SVector<f64, N>, [f64; MAX_LAGS], [f64; MAX_LAGS]);
 
 /// One run in progress: the steppable engine (see the module docs).
 pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
@@ -231,6 +236,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     /// The first stage's derivative (and observation, when a row is due) of the coming step,
     /// computed by the controller sample for its prediction.
     pending_k1: Option<(SVector<f64, N>, Option<Observation>)>,
+    /// Under [`Method::Rk4Lag`], the same first stage in parts ([`LagParts`]).
+    pending_lag: Option<LagParts<N>>,
     pid: Pid,
     pid_active: bool,
     contacts: [TyreContact; 4],
@@ -295,6 +302,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             ramp_from: start_inputs,
             ramp_to: start_inputs,
             pending_k1: None,
+            pending_lag: None,
             pid,
             pid_active: true,
             contacts: [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4],
@@ -372,6 +380,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// steer profile's value at `ts` where the manoeuvre prescribes one.
     fn inputs_at(&self, ts: f64) -> Inputs {
         let mut u = Ramped::lerp(&self.ramp_from, &self.ramp_to, (ts - self.ramp_t0) / self.hc);
+        u.t_s = ts;
         if let Some(d) = self.maneuver.steer_at(ts) {
             let lock = self.controls.steer_max_rad;
             u.steer_rad = d.clamp(-lock, lock);
@@ -387,23 +396,36 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let c = self.controls;
         let hc = self.hc;
         // The inputs at t: the end of the previous ramps (the start's values at the first sample).
-        let u0 = Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0);
+        let u0 = Inputs { t_s: t, ..Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0) };
         let u0 = match self.maneuver.steer_at(t) {
             Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
             None => u0,
         };
-        let (k1, obs) = if record {
-            let (k1, obs) = self.model.derivatives_observed(&self.x, &u0, &self.env);
-            (k1, Some(obs))
-        } else {
-            (self.model.derivatives(&self.x, &u0, &self.env), None)
-        };
-        self.pending_k1 = Some((k1, obs));
         // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
         // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
         // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
-        // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs.
-        let x_end = self.x + k1 * hc;
+        // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs. Under
+        // [`Method::Rk4Lag`] the lag components follow their exact relaxation towards their
+        // inputs at t instead (a tangent would overshoot a lag faster than 1 / T_c).
+        let (k1, obs, x_end) = if self.method == Method::Rk4Lag {
+            let parts = self.lag_parts(&self.x, &u0);
+            let k1 = self.lag_derivative(&parts);
+            let mut x_end = self.x + parts.0 * hc;
+            for (j, &i) in self.model.lag_states().iter().enumerate() {
+                if parts.2[j] > 0.0 {
+                    x_end[i] = relax(self.x[i], parts.1[j], parts.1[j], parts.2[j] * hc);
+                }
+            }
+            self.pending_lag = Some(parts);
+            (k1, record.then(|| self.model.observe(&self.x, &u0, &self.env)), x_end)
+        } else if record {
+            let (k1, obs) = self.model.derivatives_observed(&self.x, &u0, &self.env);
+            (k1, Some(obs), self.x + k1 * hc)
+        } else {
+            let k1 = self.model.derivatives(&self.x, &u0, &self.env);
+            (k1, None, self.x + k1 * hc)
+        };
+        self.pending_k1 = Some((k1, obs));
         let kin = self.model.kinematics(&x_end);
         let cmd = self.maneuver.command(t + hc, &kin);
         let from = self.ramp_to;
@@ -434,7 +456,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let mut to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: from.contact_temp_c };
         // The tyres' conditions at t + T_c as a function of their contact temperatures (the
         // friction force depends on them): the estimate is the one consistent with them.
-        let (model, env, u_end) = (self.model, &self.env, Ramped::lerp(&from, &to, 1.0));
+        let (model, env) = (self.model, &self.env);
+        let u_end = Inputs { t_s: t + hc, ..Ramped::lerp(&from, &to, 1.0) };
         let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
             let mut u = u_end;
             u.contact_temp_c[..temps.len()].copy_from_slice(temps);
@@ -451,6 +474,24 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         }
     }
 
+    /// The first stage of [`Method::Rk4Lag`] at state `x` under inputs `u`.
+    fn lag_parts(&self, x: &SVector<f64, N>, u: &Inputs) -> LagParts<N> {
+        let (b, ul) = self.model.lag_split(x, u, &self.env);
+        (b, ul, self.model.lag_rates(x, u, &self.env))
+    }
+
+    /// The model's derivative assembled from its lag parts (see [`VehicleModel::lag_split`]) at
+    /// the current state.
+    fn lag_derivative(&self, (b, ul, kl): &LagParts<N>) -> SVector<f64, N> {
+        let mut d = *b;
+        for (j, &i) in self.model.lag_states().iter().enumerate() {
+            if kl[j] > 0.0 {
+                d[i] = kl[j] * (ul[j] - self.x[i]);
+            }
+        }
+        d
+    }
+
     /// Phase 2: one integration step from time `t` (the state's kinematics `kin`), recording the
     /// step's start as an output row first when `record` (the row's observation comes from the
     /// same model evaluation as the first stage, k1, computed by the controller sample when there
@@ -459,8 +500,13 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
         let (model, env, h) = (self.model, self.env, self.h);
         let inputs = self.inputs_at(t);
-        let (k1, obs) = match self.pending_k1.take() {
-            Some((k1, obs)) if obs.is_some() || !record => (k1, obs),
+        let lag_first = match self.method {
+            Method::Rk4Lag => Some(self.pending_lag.take().unwrap_or_else(|| self.lag_parts(&self.x, &inputs))),
+            _ => None,
+        };
+        let (k1, obs) = match (self.pending_k1.take(), &lag_first) {
+            (Some((k1, obs)), _) if obs.is_some() || !record => (k1, obs),
+            (_, Some(parts)) => (self.lag_derivative(parts), record.then(|| model.observe(&self.x, &inputs, &env))),
             _ if record => {
                 let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
                 (k1, Some(obs))
@@ -492,6 +538,14 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 let n = spin_slip_linearisation(model.spin_slip_pairs(), &f, t, &self.x, &k1, h, &mut pairs);
                 Ok(rk4_exp_step_t(f, t, &self.x, h, k1, &pairs[..n]))
             }
+            Method::Rk4Lag => {
+                let body = |s: &SVector<f64, N>, c: f64| {
+                    let ts = t + c * h;
+                    model.lag_split(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
+                };
+                let (b, ul, kl) = lag_first.unwrap_or_else(|| this.lag_parts(&this.x, &inputs));
+                Ok(rk4_lag_step_k1(body, &self.x, h, model.lag_states(), &kl, (b, ul)))
+            }
             m => step_t(m, f, t, &self.x, h),
         };
         let st = &mut self.st;
@@ -513,6 +567,10 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// is the kinematics at the start of the step.
     fn check_end(&mut self, next: Result<SVector<f64, N>, String>, kin0: &Kinematics) -> Option<EndReason> {
         let t_next = self.time_s();
+        let next = next.map(|mut n| {
+            self.model.project(t_next, &mut n);
+            n
+        });
         let next = match next {
             Ok(n) if n.iter().all(|v| v.is_finite()) => n,
             Ok(n) => {
@@ -535,7 +593,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         self.watch.check(self.model, &self.x, &self.u, &self.env, t_next, &mut self.events);
         let kin = self.model.kinematics(&self.x);
         let (cx, sy) = self.spin_dir;
-        if kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
+        if M::SPIN_OUT && kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
             // The crossing of 60 degrees, interpolated linearly in the cross product within the step.
             let g = |k: &Kinematics| cx * k.vy_mps.abs() - sy * k.vx_mps;
             let (g0, g1) = (g(kin0), g(&kin));

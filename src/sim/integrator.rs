@@ -13,9 +13,9 @@
 //!   right-hand sides (any fixed L leaves a consistent fourth-order method), the steady state of
 //!   the pairs is kept exactly (the remainder vanishes there), and the step is no longer bounded by
 //!   the pairs' own rate but by the fastest remaining mode.
-//! - [`rk4_lag_step`]: RK4 with chosen components that are first-order lags dy/dt = k (u - y)
-//!   relaxed exactly over the step towards a linear input ([`relax`]), stable for any lag rate
-//!   (the discovery replay's step; not yet a [`Method`] of the engine).
+//! - [`Method::Rk4Lag`], [`rk4_lag_step`]: RK4 with chosen components that are first-order lags
+//!   dy/dt = k (u - y) relaxed exactly over the step towards a linear input ([`relax`]), stable
+//!   for any lag rate (the model declares its lags; the discovery replay's step).
 //! - [`Method::Dopri5`] / [`Method::Dop853`]: ode_solvers' adaptive embedded Runge–Kutta pairs,
 //!   integrating from one controller sample to the next with relative and absolute tolerances.
 //!   ode_solvers has no public single-step API, so a solver is created per interval and its last
@@ -33,6 +33,9 @@ pub enum Method {
     Rk4,
     /// RK4 with the wheel-spin / transient-slip pairs integrated exponentially (see the module docs).
     Rk4Exp,
+    /// RK4 with the model's first-order lag components relaxed exactly ([`rk4_lag_step`];
+    /// `crate::vehicle::VehicleModel::lag_states`): the discovery replay's method.
+    Rk4Lag,
     Dopri5 {
         rtol: f64,
         atol: f64,
@@ -48,6 +51,7 @@ impl Method {
         match self {
             Method::Rk4 => "rk4",
             Method::Rk4Exp => "rk4_exp",
+            Method::Rk4Lag => "rk4_lag",
             Method::Dopri5 { .. } => "dopri5",
             Method::Dop853 { .. } => "dop853",
         }
@@ -112,23 +116,39 @@ pub fn relax(y0: f64, u0: f64, u1: f64, z: f64) -> f64 {
 /// dy_j/dt = k_j (u_j - y_j), the rest integrated by classical RK4. `body(y, c)` gives the
 /// derivative of the other components at `y` (its entries at the lag indices are not used) and
 /// the lags' inputs u_j at `y` and fraction `c` of the step (0, 1/2 or 1: an input that is a
-/// known ramp over the step can be set from `c`). `k[j]` (1/s) is lag j's rate, taken at the
-/// step's start; a lag with k_j = 0 is left to `body` like any other component. Each lag relaxes
+/// known function of time over the step is set from `c`). `k[j]` (1/s) is lag j's rate, taken at
+/// the step's start; a lag with k_j = 0 is left to `body` like any other component. Each lag relaxes
 /// exactly ([`relax`]) towards an input taken as linear between its value at the step's start and
 /// its value at each stage's state (an input that depends on a lag is first taken at the lag
-/// relaxed towards the start's input). The step is stable for any lag rate; with every k_j = 0
-/// it is RK4 on `body`. (The discovery replay's integrator, `crate::discover::model`.)
+/// relaxed towards the best estimate of that input so far: the start's for the first midpoint
+/// stage, the first midpoint's for the second, their linear extrapolation for the end stage and
+/// the end stage's for the result; with the start's everywhere, a lag-dependent input such as a
+/// slip angle behind a compliant steer lags by up to 6 times more). The step is stable for any lag rate; with every k_j = 0
+/// it is RK4 on `body`. `lags` may be shorter than `L` (the rest of `k` is then unused).
+/// ([`Method::Rk4Lag`]: the engine's step for models that declare lag states.)
 pub fn rk4_lag_step<const N: usize, const L: usize>(
     body: impl Fn(&SVector<f64, N>, f64) -> (SVector<f64, N>, [f64; L]),
     x0: &SVector<f64, N>,
     h: f64,
-    lags: &[usize; L],
+    lags: &[usize],
     k: &[f64; L],
 ) -> SVector<f64, N> {
-    if k.iter().all(|&k| k == 0.0) {
-        return rk4_step(|s| body(s, 0.5).0, x0, h).0;
+    let first = body(x0, 0.0);
+    rk4_lag_step_k1(body, x0, h, lags, k, first)
+}
+
+/// [`rk4_lag_step`] with the first stage `body(x0, 0)` already evaluated.
+pub fn rk4_lag_step_k1<const N: usize, const L: usize>(
+    body: impl Fn(&SVector<f64, N>, f64) -> (SVector<f64, N>, [f64; L]),
+    x0: &SVector<f64, N>,
+    h: f64,
+    lags: &[usize],
+    k: &[f64; L],
+    (k1, u0): (SVector<f64, N>, [f64; L]),
+) -> SVector<f64, N> {
+    if lags.iter().zip(k).all(|(_, &k)| k == 0.0) {
+        return rk4_step_k1(|ts, s| body(s, ts / h).0, 0.0, x0, h, k1).0;
     }
-    let (k1, u0) = body(x0, 0.0);
     let relax_to = |y: &mut SVector<f64, N>, u: &[f64; L], c: f64| {
         for (j, &i) in lags.iter().enumerate() {
             if k[j] > 0.0 {
@@ -136,17 +156,19 @@ pub fn rk4_lag_step<const N: usize, const L: usize>(
             }
         }
     };
-    // The state at fraction c of the step with its lags relaxed.
-    let stage = |mut y: SVector<f64, N>, c: f64| {
-        relax_to(&mut y, &u0, c);
+    // The state at fraction c of the step with its lags relaxed: first towards `guess` (the
+    // best estimate of their inputs there so far), then towards their inputs at that state.
+    let stage = |mut y: SVector<f64, N>, c: f64, guess: &[f64; L]| {
+        relax_to(&mut y, guess, c);
         let u = body(&y, c).1;
         relax_to(&mut y, &u, c);
         y
     };
-    let k2 = body(&stage(x0 + k1 * (0.5 * h), 0.5), 0.5).0;
-    let k3 = body(&stage(x0 + k2 * (0.5 * h), 0.5), 0.5).0;
-    let k4 = body(&stage(x0 + k3 * h, 1.0), 1.0).0;
-    stage(x0 + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0), 1.0)
+    let (k2, u2) = body(&stage(x0 + k1 * (0.5 * h), 0.5, &u0), 0.5);
+    let (k3, u3) = body(&stage(x0 + k2 * (0.5 * h), 0.5, &u2), 0.5);
+    let extrapolated: [f64; L] = std::array::from_fn(|j| 2.0 * u3[j] - u0[j]);
+    let (k4, u4) = body(&stage(x0 + k3 * h, 1.0, &extrapolated), 1.0);
+    stage(x0 + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0), 1.0, &u4)
 }
 
 /// A 2 x 2 block of the state, components (`i`, `j`), integrated exactly over a step: its linear
@@ -284,8 +306,9 @@ pub fn step_t<const N: usize>(
     h: f64,
 ) -> Result<SVector<f64, N>, String> {
     match method {
-        // Without the model's pairs the exponential variant is plain RK4 (see the engine).
-        Method::Rk4 | Method::Rk4Exp => Ok(rk4_step_t(f, t, x, h).0),
+        // Without the model's pairs or lags the exponential and lag variants are plain RK4 (see
+        // the engine).
+        Method::Rk4 | Method::Rk4Exp | Method::Rk4Lag => Ok(rk4_step_t(f, t, x, h).0),
         Method::Dopri5 { rtol, atol } | Method::Dop853 { rtol, atol } => {
             let y0 = DVector::from_iterator(N + 1, x.iter().copied().chain([t]));
             let sys = Autonomous { f };

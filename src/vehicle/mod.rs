@@ -20,9 +20,14 @@ pub use bicycle::Bicycle;
 pub use condition::Condition;
 pub use roll4dof::Roll4Dof;
 
-/// Inputs held constant over one step (sampled from the controllers at the start of the step).
+/// Inputs at one instant of a step (the controllers' ramps, and an open-loop steer, evaluated at
+/// the integration stage's time).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Inputs {
+    /// Time at which these inputs hold, s: the integration stage's time. Models whose inputs
+    /// include prescribed channels (the discovery replay's measured speed) read them by it; the
+    /// engine's own vehicle models ignore it.
+    pub t_s: f64,
     /// Road-wheel steer angle of the front wheels, rad, positive left (ISO 8855).
     pub steer_rad: f64,
     /// Total drive torque at the driven wheels, N m (>= 0), split by the drive layout.
@@ -118,10 +123,18 @@ pub struct Observation {
     pub contact_temp_axle_c: [f64; 2],
 }
 
+/// Most first-order lag components a model can declare for [`crate::sim::Method::Rk4Lag`].
+pub const MAX_LAGS: usize = 8;
+
 /// A vehicle model with an N-dimensional state.
 pub trait VehicleModel<const N: usize>: Sync {
     /// Number of tyres whose contact temperature the model uses (2 for the bicycle, 4 for 4-DOF).
     const TYRES: usize;
+
+    /// Whether the engine ends a run whose sideslip exceeds 60 degrees (spin-out). Default true; a
+    /// model whose forward speed is prescribed (the discovery replay, which follows a measured
+    /// run to its end whatever its sideslip) sets it false.
+    const SPIN_OUT: bool = true;
 
     /// Names of the state components, for diagnostics.
     fn state_names(&self) -> [&'static str; N];
@@ -181,4 +194,30 @@ pub trait VehicleModel<const N: usize>: Sync {
     fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
         (&[], 0.0)
     }
+
+    /// The state's first-order lag components dy_j/dt = k_j (u_j - y_j) (at most [`MAX_LAGS`]),
+    /// which [`crate::sim::Method::Rk4Lag`] relaxes exactly over a step. Default: none.
+    fn lag_states(&self) -> &[usize] {
+        &[]
+    }
+
+    /// For [`crate::sim::Method::Rk4Lag`]: the derivative of the state with the lag components'
+    /// entries left out (their values are not used where the lag's rate is positive), and each
+    /// lag's input u_j in [`Self::lag_states`] order. With the rates of [`Self::lag_rates`],
+    /// [`Self::derivatives`] must equal it with entry j replaced by k_j (u_j - y_j) wherever
+    /// k_j > 0. Default: the derivative and no lags.
+    fn lag_split(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, [f64; MAX_LAGS]) {
+        (self.derivatives(x, u, env), [0.0; MAX_LAGS])
+    }
+
+    /// The lag rates k_j (1/s) at state `x`, in [`Self::lag_states`] order (0: the component is
+    /// integrated like any other). Default: all 0.
+    fn lag_rates(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment) -> [f64; MAX_LAGS] {
+        [0.0; MAX_LAGS]
+    }
+
+    /// Map the state at the end of every accepted step, at time `t_s`, onto the model's admissible
+    /// set (bounds that the equations do not keep by themselves, prescribed components). Default:
+    /// nothing.
+    fn project(&self, _t_s: f64, _x: &mut SVector<f64, N>) {}
 }
