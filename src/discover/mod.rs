@@ -14,6 +14,7 @@ pub mod effects;
 pub mod fit;
 pub mod measured;
 pub mod model;
+pub mod replay;
 pub mod report;
 pub mod select;
 pub mod stanford;

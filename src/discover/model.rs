@@ -9,8 +9,12 @@
 //! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
 //! angle delta_e (rad) used when the steering lag is on, the pose X, Y (m), psi (rad) in the
 //! ground frame (used by the closed-loop lane change of `vehsim synth` and by friction changes
-//! placed on the ground), the lagged slip angles alpha_f, alpha_r (rad) of transient slip and the
-//! tread-temperature rises dT_f, dT_r (K) of the tread-state thermal form.
+//! placed on the ground), the lagged slip angles alpha_f, alpha_r (rad) of transient slip, the
+//! tread-temperature rises dT_f, dT_r (K) of the tread-state thermal form and the forward speed vx
+//! (m/s, index 12: the measured one, which the replay on the engine sets after every step for the
+//! kinematics; the equations read vx from their inputs). A replay runs on the engine
+//! ([`super::replay`], which wraps this model and a run's channels as an engine model) when the
+//! run is sampled uniformly, else on the model's own loop (`ReplayModel::run_loop`).
 //!
 //! Equations (body frame, ISO 8855): the engine's bicycle's lateral pair, from
 //! [`crate::vehicle::single_track`],
@@ -249,22 +253,24 @@ pub struct Simulated {
 }
 
 /// Floor on |vx| in slip denominators, m/s.
-const V_FLOOR: f64 = 1.0;
-/// Largest integration step, s: one step per sample at 100 Hz. The lateral modes decay at
+pub(super) const V_FLOOR: f64 = 1.0;
+/// Largest integration step, s (the engine's replay and [`ReplayModel::run_loop`]): one step
+/// per sample at 100 Hz. The lateral modes decay at
 /// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
 /// far below sensor noise. The first-order lags (force relaxation, steering lag, transient slip)
 /// are integrated exactly over the step ([`rk4_lag_step`]), so however fast they are they do not
 /// shorten it.
-const H_MAX: f64 = 0.01;
+pub(super) const H_MAX: f64 = 0.01;
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.
-const LAGS: [usize; NL] = [2, 3, 4, 8, 9, 10, 11];
+pub(super) const LAGS: [usize; NL] = [2, 3, 4, 8, 9, 10, 11];
 /// Number of lag states (the tread-temperature rises front and rear are lags too: see
 /// [`ReplayModel::body`]).
 const NL: usize = 7;
-/// State dimension.
-const NS: usize = 12;
-type State = SVector<f64, NS>;
+/// State dimension: the 12 states of the module docs and the prescribed forward speed vx (m/s,
+/// index 12; read by the replay on the engine, [`super::replay`]).
+pub(super) const NS: usize = 13;
+pub(super) type State = SVector<f64, NS>;
 
 /// The replay model for one vehicle.
 #[derive(Debug, Clone)]
@@ -277,35 +283,35 @@ pub struct ReplayModel {
     pub reference_step_s: Option<f64>,
 }
 
-/// Inputs held over one integration step.
+/// The inputs of one evaluation of the replay's equations.
 #[derive(Debug, Clone, Copy)]
-struct Drive {
-    steer: f64,
+pub(super) struct Drive {
+    pub(super) steer: f64,
     /// Rate of the measured steer over the sample interval (it is linear in between), rad/s: the
     /// steering lag follows the steer's ramp over a step, not its held value.
-    steer_rate: f64,
-    vx: f64,
+    pub(super) steer_rate: f64,
+    pub(super) vx: f64,
     /// Surface friction with the friction_change factor applied.
-    mu: f64,
+    pub(super) mu: f64,
     /// Friction factor per axle from a ground patch (1 without one).
-    mu_axle: [f64; 2],
+    pub(super) mu_axle: [f64; 2],
     /// Logged pose (X, Y, psi) when the run has the x, y and psi columns.
-    pose: Option<[f64; 3]>,
+    pub(super) pose: Option<[f64; 3]>,
     /// Bulk ice temperature, degC.
-    ice_c: f64,
+    pub(super) ice_c: f64,
     /// Contact temperature per axle, degC.
-    contact_c: [f64; 2],
+    pub(super) contact_c: [f64; 2],
     /// Whether the run is on ice (the thermal effects act on ice only).
-    on_ice: bool,
+    pub(super) on_ice: bool,
     /// Tread-temperature rise per axle above the ice, K, capped at melting (0 unless the
     /// tread-temperature state is on).
-    tread_rise_k: [f64; 2],
+    pub(super) tread_rise_k: [f64; 2],
 }
 
 /// Steady-state axle forces, effective steer and slip angles of one state.
-struct Forces {
+pub(super) struct Forces {
     /// Steady-state axle forces (two tyres, wheel axes), front and rear.
-    axle: [TyreForces; 2],
+    pub(super) axle: [TyreForces; 2],
     delta_e: f64,
     /// Slip angles the tyres carry (the lagged ones under transient slip), rad.
     alpha: [f64; 2],
@@ -377,7 +383,7 @@ impl ReplayModel {
     }
 
     /// Steady-state axle forces, the effective steer and the slip angles for a state.
-    fn forces(&self, x: &State, d: &Drive, p: &EffectParams) -> Forces {
+    pub(super) fn forces(&self, x: &State, d: &Drive, p: &EffectParams) -> Forces {
         let v = &self.vehicle;
         let mut local;
         let tread = p.tread() && d.on_ice;
@@ -468,7 +474,7 @@ impl ReplayModel {
 
     /// Derivatives of the body states (the lag states' entries left 0) and the inputs the lag
     /// states relax towards ([`LAGS`] order: steady-state forces, the steer, kinematic slip angles).
-    fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; NL]) {
+    pub(super) fn body(&self, x: &State, d: &Drive, p: &EffectParams) -> (State, [f64; NL]) {
         let v = &self.vehicle;
         let f = self.forces(x, d, p);
         let acting = Self::acting(x, &f, p);
@@ -497,7 +503,7 @@ impl ReplayModel {
     /// Rates k (1/s) of the lag states ([`LAGS`] order; 0 = the state is unused) at state `x`:
     /// |vx| / sigma_y, 1 / tau_s and |vx| / sigma_i (the saturating form's sigma_i at x's lagged
     /// slip angle).
-    fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; NL] {
+    pub(super) fn lag_rates(&self, x: &State, d: &Drive, p: &EffectParams) -> [f64; NL] {
         let mut k = [0.0; NL];
         if p.sigma_y_m > 0.0 {
             k[0] = lateral::relaxation_rate(d.vx, p.sigma_y_m);
@@ -555,7 +561,7 @@ impl ReplayModel {
     }
 
     /// All derivatives, lags included (the plain-RK4 reference).
-    fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
+    pub(super) fn derivatives(&self, x: &State, d: &Drive, p: &EffectParams) -> State {
         let (mut dx, target) = self.body(x, d, p);
         for ((i, k), u) in LAGS.into_iter().zip(self.lag_rates(x, d, p)).zip(target) {
             if k > 0.0 {
@@ -580,14 +586,14 @@ impl ReplayModel {
     }
 
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
-    fn ay(&self, x: &State, d: &Drive, p: &EffectParams) -> (f64, f64) {
+    pub(super) fn ay(&self, x: &State, d: &Drive, p: &EffectParams) -> (f64, f64) {
         let f = self.forces(x, d, p);
         let (fy, _) = self.lateral_loads(&f, &Self::acting(x, &f, p));
         (fy / self.vehicle.mass_kg, f.alpha[0])
     }
 
     /// Operating conditions of one tyre per axle, for the contact-temperature estimator.
-    fn contacts(&self, x: &State, d: &Drive, p: &EffectParams) -> [TyreContact; 2] {
+    pub(super) fn contacts(&self, x: &State, d: &Drive, p: &EffectParams) -> [TyreContact; 2] {
         let f = self.forces(x, d, p);
         let fy = Self::acting(x, &f, p).map(|a| a.fy_n);
         let vx = d.vx.abs().max(V_FLOOR);
@@ -601,7 +607,7 @@ impl ReplayModel {
     }
 
     /// The contact-temperature estimator of a run when thermal_friction is on (on ice only).
-    fn estimator(run: &MeasuredRun, p: &EffectParams) -> Option<AtiimEstimator> {
+    pub(super) fn estimator(run: &MeasuredRun, p: &EffectParams) -> Option<AtiimEstimator> {
         if p.thermal_mu_per_k == 0.0 || !run.on_ice {
             return None;
         }
@@ -611,13 +617,43 @@ impl ReplayModel {
         ContactSpec::default().build_atiim(Path::new("thermal_friction"), 2, run.ice_temp_c).ok()
     }
 
-    /// Replay a measured run: steer and vx interpolated linearly between samples (held over each
-    /// sub-step at its midpoint), starting from the first sample's measured yaw rate and lateral
-    /// velocity (vy from the optional channel, else 0). The contact-temperature estimate, when on,
-    /// is updated at the start of every sub-step, consistent with the force it allows (as in the
-    /// engine, `ContactTemperature::update_coupled`), and held over it (the engine instead takes
-    /// the state predicted one control period ahead and ramps its output across the period).
+    /// The state at a run's first sample under its inputs `d0` there: vy from the optional
+    /// channel (else 0), the measured yaw rate less its sensor bias, the steer lag at the steer,
+    /// relaxed forces and lagged slip angles at their steady values, the pose at the origin and
+    /// the measured forward speed.
+    pub(super) fn initial_state(&self, run: &MeasuredRun, p: &EffectParams, d0: &Drive) -> State {
+        let mut x = State::zeros();
+        x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
+        x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
+        x[4] = d0.steer;
+        x[12] = d0.vx;
+        if p.sigma_y_m > 0.0 {
+            let f = self.forces(&x, d0, p);
+            x[2] = f.axle[0].fy_n;
+            x[3] = f.axle[1].fy_n;
+        }
+        if p.transient_slip() {
+            // Start relaxed: the lagged slip angles at their kinematic values (a fixed point,
+            // since the compliance acts through the lagged force).
+            for _ in 0..8 {
+                let f = self.forces(&x, d0, p);
+                x[8] = f.alpha_kin[0];
+                x[9] = f.alpha_kin[1];
+            }
+        }
+        x
+    }
+
+    /// Replay a measured run: steer and vx interpolated linearly between samples, starting from
+    /// the first sample's measured yaw rate and lateral velocity (vy from the optional channel,
+    /// else 0). A run sampled uniformly (every run `vehsim synth` and the
+    /// Stanford conversion write) runs on the engine ([`super::replay`]: inputs at every
+    /// integration stage's time, the contact-temperature estimate from the engine's controller
+    /// sample). Any other runs on the model's own loop (`run_loop`).
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
+        if let Some((sim, _)) = super::replay::replay(self, run, p, None) {
+            return sim;
+        }
         self.run_loop(run, p, &mut |k, _, _| run.steer[k + 1]).0
     }
 
@@ -625,7 +661,10 @@ impl ReplayModel {
     /// run's measured speed profile. At every sample t_k the driver picks the steer for the next
     /// sample t_(k+1) (limited by the vehicle's steering lock and rate), and the steer ramps
     /// linearly between samples, so the recorded steer replays exactly as the measured-run replay
-    /// interpolates it. Returns the steer samples and the simulated channels.
+    /// interpolates it. Returns the steer samples and the simulated channels. On the engine
+    /// ([`super::replay`]) when the run is sampled uniformly: the driver then sees the state
+    /// predicted at the next sample and the engine's continuous rate limiter sets the steer there;
+    /// otherwise on its own loop, where the sampled limiter ([`limit_steer`]) does.
     pub fn simulate_closed_loop(
         &self,
         run: &MeasuredRun,
@@ -633,6 +672,9 @@ impl ReplayModel {
         path: &RefPath,
         driver: &mut Driver,
     ) -> (Vec<f64>, Simulated) {
+        if let Some((sim, steer)) = super::replay::replay(self, run, p, Some((path, &mut *driver))) {
+            return (steer, sim);
+        }
         let v = &self.vehicle;
         let mut source = |k: usize, x: &State, current: f64| {
             let kin = Kinematics {
@@ -651,8 +693,14 @@ impl ReplayModel {
         (steer, sim)
     }
 
-    /// The integration loop shared by the replay and the closed loop: `next_steer(k, state,
-    /// steer_k)` gives the steer at sample k + 1 from the state at sample k.
+    /// The replay's own integration loop, for runs whose sampling is not uniform (the engine's
+    /// step is fixed, so it cannot land on every sample), open and closed loop: `next_steer(k,
+    /// state, steer_k)` gives the steer at sample k + 1 from the state at sample k. Each sample
+    /// interval is split into the fewest equal sub-steps no longer than [`H_MAX`], the inputs are
+    /// held over a sub-step at its midpoint (the steering lag follows the steer's ramp), the
+    /// same step as the engine's [`crate::sim::Method::Rk4Lag`] ([`Self::step`]), and the
+    /// contact-temperature estimate, when on, is updated at the start of every sub-step,
+    /// consistent with the force it allows, and held over it.
     fn run_loop(
         &self,
         run: &MeasuredRun,
@@ -696,24 +744,7 @@ impl ReplayModel {
         };
         let tread = p.tread() && run.on_ice;
         let tread_cap = melt_cap_k(run.ice_temp_c);
-        let mut x = State::zeros();
-        x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
-        x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
-        x[4] = steer[0];
-        if p.sigma_y_m > 0.0 {
-            let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
-            x[2] = f.axle[0].fy_n;
-            x[3] = f.axle[1].fy_n;
-        }
-        if p.transient_slip() {
-            // Start relaxed: the lagged slip angles at their kinematic values (a fixed point,
-            // since the compliance acts through the lagged force).
-            for _ in 0..8 {
-                let f = self.forces(&x, &drive_at(0, 0.0, contact_c, &steer), p);
-                x[8] = f.alpha_kin[0];
-                x[9] = f.alpha_kin[1];
-            }
-        }
+        let mut x = self.initial_state(run, p, &drive_at(0, 0.0, contact_c, &steer));
         for k in 0..n {
             let d = drive_at(k, 0.0, contact_c, &steer);
             let (ay, af) = self.ay(&x, &d, p);
