@@ -9,7 +9,8 @@
 //!    whole number of steps, on its own clock: the period does not follow the step): the
 //!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the end of the
 //!    coming control period*, t + T_c, along the tangent at t (x_k + T_c f(x_k); the slope is the
-//!    coming step's first RK4 stage, so the prediction costs no model evaluation). Their outputs
+//!    coming step's first RK4 stage, so the prediction costs no model evaluation; under
+//!    [`Method::Rk4Lag`] the lag states follow their exact relaxation instead). Their outputs
 //!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
 //!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
 //!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
@@ -24,12 +25,17 @@
 //!    consistent estimate), and its output ramps likewise.
 //! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
-//!    difference at the step's start). Inputs that are known functions of time (an open-loop steer
-//!    profile, [`Maneuver::steer_at`]) are evaluated at every stage. An output row, when one is
-//!    due, is recorded from the first stage's model evaluation (no evaluation of its own).
-//! 3. [`Simulation::check_end`]: divergence (non-finite state), the onset and recovery of the
-//!    model's unphysical conditions (wheel lift, negative normal load; [`super::watch`]),
-//!    spin-out (|sideslip| > 60 deg above 1 m/s; its event carries the crossing time interpolated
+//!    difference at the step's start, or RK4 with the model's first-order lag states relaxed
+//!    exactly, [`Method::Rk4Lag`]). Inputs that are known functions of time (an open-loop steer
+//!    profile, [`Maneuver::steer_at`]) are evaluated at every stage, and every stage's inputs carry
+//!    its time ([`Inputs::t_s`]: a model with prescribed channels reads them by it). An output
+//!    row, when one is due, is recorded from the first stage's model evaluation (no evaluation of
+//!    its own; under [`Method::Rk4Lag`] the observation is the model's own call).
+//! 3. [`Simulation::check_end`]: the model's projection of the new state
+//!    ([`VehicleModel::project`]: bounds, prescribed components), divergence (non-finite state),
+//!    the onset and recovery of the model's unphysical conditions (wheel lift, negative normal
+//!    load; [`super::watch`]), spin-out (|sideslip| > 60 deg above 1 m/s, for models that keep
+//!    the rule, [`VehicleModel::SPIN_OUT`]; its event carries the crossing time interpolated
 //!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
 //!
 //! Divergence and spin-out end the run with an event; they are results, not errors. The model's
