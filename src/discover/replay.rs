@@ -334,7 +334,9 @@ pub(super) fn replay(
     let mut samples = Samples { dt, n, rows: Vec::with_capacity(n) };
     let mut sim = Simulation::new(&rm, env, &mut maneuver, contact, &controls, &settings, &mut samples);
     while sim.step().is_none() {}
-    sim.finish();
+    // Not finished: `Simulation::finish` would record the final state, which after an early end
+    // is the one that left the bounds (the samples from there on hold the last one within them).
+    drop(sim);
     let rows = samples.rows;
     let mut out = Simulated { ok: rows.len() == n, ..Default::default() };
     let mut steer = Vec::with_capacity(n);
@@ -519,5 +521,24 @@ mod tests {
             worst = worst.max(d);
         }
         assert!(worst < 1e-4, "{worst}");
+    }
+
+    /// A replay that leaves its bounds (here a yaw inertia 1e-4 of the car's, whose yaw mode RK4
+    /// cannot follow at 10 ms) ends there: not ok, every sample finite, |r| within 1e2 rad/s, the
+    /// last samples holding the last value recorded within the bounds.
+    #[test]
+    fn a_diverging_replay_holds_its_last_sample_within_bounds() {
+        let m = model();
+        let runs = synth::generate(&m, &EffectParams::default(), 5);
+        let p = EffectParams { yaw_inertia_scale: 1e-4, ..EffectParams::default() };
+        let s = m.simulate(&runs[1].0, &p);
+        assert!(!s.ok);
+        assert!(s.yaw_rate.iter().chain(&s.ay).chain(&s.vy).all(|v| v.is_finite()));
+        assert!(s.yaw_rate.iter().all(|r| r.abs() <= R_LIMIT) && s.vy.iter().all(|v| v.abs() <= VY_LIMIT));
+        let n = s.yaw_rate.len();
+        assert_eq!(n, runs[1].0.t.len());
+        let held = s.yaw_rate.iter().rev().take_while(|&&r| r == s.yaw_rate[n - 1]).count();
+        eprintln!("held over the last {held} of {n} samples");
+        assert!(held > 1 && held < n);
     }
 }
