@@ -170,6 +170,15 @@ pub struct FlashTable {
     /// Temperature coefficient c_T of the dry friction law, 1/K: R0 at start temperature T is
     /// the stored R0 (built at [`DRY_LAW_COLD_C`]) times exp(-c_T (clamp(T) - DRY_LAW_COLD_C)).
     c_t: f64,
+    /// The rise's factors beyond the ends of the w range ([`w_caps`]).
+    caps: [f64; 2],
+}
+
+/// The factors the rise takes beyond the ends w0 < w1 of the table's w range: exp(soft_cap(w0) -
+/// w0) (times dtm below w0) and exp(soft_cap(w1)) (times R0 above w1).
+fn w_caps(w: &Axis) -> [f64; 2] {
+    let (w0, w1) = (w.nodes[0], w.nodes[w.n() - 1]);
+    [(soft_cap(w0) - w0).exp(), soft_cap(w1).exp()]
 }
 
 /// Which statistic of the patch's rise field the table stores (see the module docs).
@@ -397,7 +406,8 @@ impl FlashTable {
             ln_g.extend(g);
         }
         let vs_min = slide.node(0).exp();
-        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry, c_t })
+        let caps = w_caps(&w);
+        Ok(FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min, mu_dry: tyre.params.mu_dry, c_t, caps })
     }
 
     /// Interpolated rise (the table's statistic), K, at load `fz_n`, sliding speed `vs_mps`,
@@ -431,8 +441,8 @@ impl FlashTable {
         }
         let vs_min = self.vs_min;
         let (scale, vs) = if vs_mps < vs_min { (vs_mps / vs_min, vs_min) } else { (1.0, vs_mps) };
-        let (il, fl) = self.load.locate(fz_n.ln());
-        let (is, fs) = self.slide.locate(vs.ln());
+        let (il, fl) = self.load.locate(fast_ln(fz_n));
+        let (is, fs) = self.slide.locate(fast_ln(vs));
         let (ir, fr) = self.roll.locate(fast_ln(slip_fraction(vs_mps, if vr_mps.is_finite() { vr_mps } else { 0.0 })));
         // below the smallest sliding-speed node the rise scales with v_slide, so the cap does too
         let dtm = (MELT_C - t_c) / scale;
@@ -476,9 +486,9 @@ impl FlashTable {
         // below it (rise proportional to dtm)
         let (w0, w1) = (self.w.nodes[0], self.w.nodes[nw - 1]);
         let capped = if wq >= w1 {
-            r0 * soft_cap(w1).exp()
+            r0 * self.caps[1]
         } else if wq <= w0 {
-            dtm * (soft_cap(w0) - w0).exp()
+            dtm * self.caps[0]
         } else {
             r0 * dtm / (r0 + dtm)
         };
@@ -864,6 +874,7 @@ mod tests {
             vs_min: 0.01,
             mu_dry: 0.15,
             c_t: 0.0,
+            caps: w_caps(&Axis::new(-2.0, 2.0, 2)),
         };
         let bulk = BulkParams {
             heat_capacity_j_k: 1500.0,
@@ -992,7 +1003,8 @@ mod tests {
         // a deterministic, uneven fill: ln R0 from -3 to 4, ln G within +-0.3
         let ln_r0 = (0..cells).map(|k| -3.0 + 7.0 * ((k * 37 % 17) as f64 / 16.0)).collect();
         let ln_g = (0..cells * w.n()).map(|k| 0.3 * (((k * 53 % 29) as f64 / 14.0) - 1.0)).collect();
-        let table = FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min: 0.01, mu_dry: 0.15, c_t: 0.03 };
+        let caps = w_caps(&w);
+        let table = FlashTable { load, slide, roll, w, ln_r0, ln_g, vs_min: 0.01, mu_dry: 0.15, c_t: 0.03, caps };
         let mut worst: f64 = 0.0;
         let mut seen = [0usize; 3];
         for fz in [1500.0, 2600.0, 4000.0, 11000.0, 15000.0] {
