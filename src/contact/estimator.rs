@@ -571,9 +571,29 @@ pub struct AtiimEstimator {
     pub t_bulk_c: Vec<f64>,
     /// Ice effusivity, W s^0.5/(m^2 K) (cached).
     e_ice: f64,
-    /// The last two estimates per tyre (latest first) and the last period, s (NaN: none), for the
-    /// coupled update's first trial point.
-    last: ([f64; 4], [f64; 4], f64),
+    /// The last two estimates, for the coupled update's first trial point.
+    recent: Recent,
+}
+
+/// The estimator's last two estimates per tyre (of the first four) and the period between them.
+#[derive(Debug, Clone, Copy)]
+struct Recent {
+    /// The latest estimate per tyre, degC (NaN: none yet).
+    latest: [f64; 4],
+    /// The one before it, degC (NaN: none yet).
+    before: [f64; 4],
+    /// The last update's period, s (NaN: none yet).
+    period_s: f64,
+}
+
+impl Recent {
+    /// Record tyre `i`'s new estimate `t_c` (tyres beyond the fourth are not tracked).
+    fn push(&mut self, i: usize, t_c: f64) {
+        if i < 4 {
+            self.before[i] = self.latest[i];
+            self.latest[i] = t_c;
+        }
+    }
 }
 
 /// The per-sample constants of [`AtiimEstimator::update`] that depend only on the bulk parameters
@@ -596,7 +616,7 @@ impl AtiimEstimator {
             bulk,
             t_bulk_c: vec![f64::NAN; n_tyres],
             e_ice: ICE.effusivity(),
-            last: ([f64::NAN; 4], [f64::NAN; 4], f64::NAN),
+            recent: Recent { latest: [f64::NAN; 4], before: [f64::NAN; 4], period_s: f64::NAN },
         }
     }
 
@@ -694,12 +714,9 @@ impl ContactTemperature for AtiimEstimator {
             let (tb, tc) = self.advance_tyre(&k, tb, h, t);
             self.t_bulk_c[i] = tb;
             *o = tc;
-            if i < 4 {
-                self.last.1[i] = self.last.0[i];
-                self.last.0[i] = tc;
-            }
+            self.recent.push(i, tc);
         }
-        self.last.2 = h;
+        self.recent.period_s = h;
     }
 
     /// The contact temperature consistent with the force it lets the tyre transmit. Per tyre,
@@ -744,8 +761,8 @@ impl ContactTemperature for AtiimEstimator {
         for i in 0..n {
             x[i] = finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C));
             // the trend of the last two estimates carried on over the period
-            let (l0, l1, h_prev) = self.last;
-            let ext = x[i] + (l0[i] - l1[i]) * (h / h_prev);
+            let r = &self.recent;
+            let ext = x[i] + (r.latest[i] - r.before[i]) * (h / r.period_s);
             if ext.is_finite() {
                 x[i] = ext;
             }
@@ -808,13 +825,12 @@ impl ContactTemperature for AtiimEstimator {
                 break;
             }
         }
-        self.last.2 = h;
+        self.recent.period_s = h;
         for i in 0..n {
             if let Some((_, tb, g, t)) = best[i] {
                 self.t_bulk_c[i] = tb;
                 out[i] = g;
-                self.last.1[i] = self.last.0[i];
-                self.last.0[i] = g;
+                self.recent.push(i, g);
                 tyres[i] = t;
             }
         }
