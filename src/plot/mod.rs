@@ -122,6 +122,12 @@ pub struct XyChart {
 impl XyChart {
     /// The data ranges (padded) the chart draws unless `x_range`/`y_range` are set.
     pub fn data_ranges(&self) -> ((f64, f64), (f64, f64)) {
+        let (x, y) = self.data_extent();
+        (padded(x), padded(y))
+    }
+
+    /// The smallest and largest x and y of the data (unpadded; (inf, -inf) without data).
+    fn data_extent(&self) -> ((f64, f64), (f64, f64)) {
         let pts = || {
             self.series
                 .iter()
@@ -131,7 +137,7 @@ impl XyChart {
                 .chain(self.markers.iter().copied())
                 .chain(self.bands.iter().flat_map(|b| b.points.iter().flat_map(|p| [(p.0, p.1), (p.0, p.2)])))
         };
-        (bounds(pts().map(|p| p.0)), bounds(pts().map(|p| p.1).chain(self.ref_lines.iter().map(|r| r.y))))
+        (extent(pts().map(|p| p.0)), extent(pts().map(|p| p.1).chain(self.ref_lines.iter().map(|r| r.y))))
     }
 
     /// The style of curve `i`.
@@ -236,12 +242,19 @@ pub fn palette(i: usize) -> RGBColor {
 /// Colour of reference lines and reference paths (outside the palette).
 const REFERENCE: RGBColor = RGBColor(90, 90, 90);
 
-fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
+/// The smallest and largest finite value, (inf, -inf) when there is none.
+fn extent(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);
         hi = hi.max(v);
     }
+    (lo, hi)
+}
+
+/// An axis range around the extent (lo, hi): 5 % of the span on either side (10 % of |lo|, or 1,
+/// for a single value; (0, 1) without data).
+fn padded((lo, hi): (f64, f64)) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
@@ -633,19 +646,23 @@ pub fn grid(n: usize) -> (usize, usize) {
 /// ranges a panel sets itself are kept.
 pub fn shared_axes(panels: &[XyChart]) -> Vec<XyChart> {
     let ranges: Vec<_> =
-        panels.iter().filter(|p| !p.series.is_empty() || !p.bands.is_empty()).map(XyChart::data_ranges).collect();
+        panels.iter().filter(|p| !p.series.is_empty() || !p.bands.is_empty()).map(XyChart::data_extent).collect();
+    // the union of the data, padded once (padding each panel first would leave the panel that
+    // sets an end with its own, possibly tiny, margin: a trace on the axis' edge)
     let union = |f: &dyn Fn(&((f64, f64), (f64, f64))) -> (f64, f64)| {
         ranges.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| (a.0.min(r.0), a.1.max(r.1)))
     };
     let (x, y) = (union(&|r| r.0), union(&|r| r.1));
+    if !x.0.is_finite() || !y.0.is_finite() {
+        return panels.to_vec();
+    }
+    let (x, y) = (padded(x), padded(y));
     panels
         .iter()
         .map(|p| {
             let mut p = p.clone();
-            if x.0.is_finite() {
-                p.x_range = p.x_range.or(Some(x));
-                p.y_range = p.y_range.or(Some(y));
-            }
+            p.x_range = p.x_range.or(Some(x));
+            p.y_range = p.y_range.or(Some(y));
             p
         })
         .collect()
@@ -728,7 +745,7 @@ where
     let ((x0, x1), (y0, y1)) = (h.x_range, h.y_range);
     let xf = move |v: &f64| tick_label(*v, x0, x1, 10);
     let yf = move |v: &f64| tick_label(*v, y0, y1, 10);
-    let (lo, hi) = bounds(h.values.iter().flatten().copied());
+    let (lo, hi) = padded(extent(h.values.iter().flatten().copied()));
     let span = (hi - lo).max(1e-300);
     let rows = h.values.len();
     let cols = h.values.iter().map(|r| r.len()).max().unwrap_or(0);
@@ -854,8 +871,8 @@ pub fn chart_size(chart: &XyChart) -> (u32, u32) {
             .flat_map(|s| s.points.iter().copied())
             .chain(chart.markers.iter().copied())
     };
-    let (x0, x1) = bounds(all().map(|p| p.0));
-    let (y0, y1) = bounds(all().map(|p| p.1));
+    let (x0, x1) = padded(extent(all().map(|p| p.0)));
+    let (y0, y1) = padded(extent(all().map(|p| p.1)));
     let plot_w = f64::from(SIZE.0 - legend_width(&chart.legend()) - 110);
     let notes = 18 * note_lines(&chart.note, SIZE.0 as usize / 8).len() as u32;
     let h = (plot_w * (y1 - y0) / (x1 - x0)).round() as u32 + 130 + notes;
@@ -1100,6 +1117,15 @@ mod tests {
         assert_eq!(s[0].x_range, s[1].x_range);
         assert_eq!(s[0].y_range, Some(b.data_ranges().1));
         assert_eq!(s[0].x_range, Some(b.data_ranges().0));
+        // The union is padded by 5 % of its own span at both ends, even where the panel that sets
+        // an end spans little (y from 2 to 2.1 here, the union from -5 to 2.1).
+        let c = XyChart {
+            series: vec![Series { label: String::new(), points: vec![(0.0, 2.0), (1.0, 2.1)] }],
+            ..XyChart::default()
+        };
+        let s = shared_axes(&[b, c]);
+        let (lo, hi) = s[1].y_range.unwrap();
+        assert!((hi - (2.1 + 0.05 * 7.1)).abs() < 1e-12 && (lo - (-5.0 - 0.05 * 7.1)).abs() < 1e-12, "{lo} {hi}");
     }
 
     #[test]

@@ -815,6 +815,13 @@ impl PacejkaTyre {
     #[inline]
     pub fn forces_prepared_scaled(&self, prepared: &super::Prepared, i: &TyreInput, m: &Scale) -> TyreForces {
         let (a, g) = self.file_angles(i);
+        // The prepared load (the usual case) inlined on its own, so the scaled coefficients need
+        // not be built on the stack for an outlined call.
+        if let Some(p) = &prepared.pacejka {
+            if prepared.matches_load(i) {
+                return self.forces_from(&p.scaled(m), i, a, g);
+            }
+        }
         self.with_prepared_pure(prepared, i, g, m, |p| self.forces_from(p, i, a, g)).unwrap_or_default()
     }
 
