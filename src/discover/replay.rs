@@ -38,8 +38,8 @@
 //!   uneven, interpolated up to the last row) then hold its values and [`Simulated::ok`] is
 //!   false. No spin-out: the replay follows the run to its end whatever its sideslip.
 //! - Contact temperature (thermal_friction on ice): the engine's estimator update at every step
-//!   (control period h, or dt closed loop on a uniform run), from the tyres' conditions at the state predicted at
-//!   the step's end, its output ramped across the step.
+//!   (control period h, or dt closed loop on a uniform run), from the tyres' conditions at the
+//!   state predicted at the step's end, its output ramped across the step.
 //!
 //! Discovery has no time loop of its own: every replay, whatever its sampling, open or closed
 //! loop, is this one on the engine. Uneven sampling is tested against the same inputs sampled at
