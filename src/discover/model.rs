@@ -13,8 +13,8 @@
 //! tread-temperature rises dT_f, dT_r (K) of the tread-state thermal form and the forward speed vx
 //! (m/s, index 12: the measured one, which the replay on the engine sets after every step for the
 //! kinematics; the equations read vx from their inputs). A replay runs on the engine
-//! ([`super::replay`], which wraps this model and a run's channels as an engine model) when the
-//! run is sampled uniformly, else on the model's own loop (`ReplayModel::run_loop`).
+//! ([`super::replay`], which wraps this model and a run's channels as an engine model), whatever
+//! the run's sampling: this module has the equations, not a time loop.
 //!
 //! Equations (body frame, ISO 8855): the engine's bicycle's lateral pair, from
 //! [`crate::vehicle::single_track`],
@@ -85,14 +85,12 @@ use super::measured::MeasuredRun;
 use crate::contact::estimator::AtiimEstimator;
 use crate::contact::spec::ContactSpec;
 use crate::contact::thermal::MELT_C;
-use crate::contact::{ContactTemperature, TyreContact};
-use crate::control::driver::{limit_steer, Driver};
+use crate::contact::TyreContact;
+use crate::control::driver::Driver;
 use crate::maneuver::path::RefPath;
-use crate::sim::integrator::{rk4_lag_step, rk4_step};
 use crate::spec::vehicle::Vehicle;
 use crate::tyre::{TyreForces, TyreInput, TyreModel};
 use crate::vehicle::wheel::slide_speed;
-use crate::vehicle::Kinematics;
 use crate::vehicle::{lateral, single_track};
 
 /// Parameters of every candidate effect; the default is the baseline.
@@ -254,12 +252,11 @@ pub struct Simulated {
 
 /// Floor on |vx| in slip denominators, m/s.
 pub(super) const V_FLOOR: f64 = 1.0;
-/// Largest integration step, s (the engine's replay and [`ReplayModel::run_loop`]): one step
-/// per sample at 100 Hz. The lateral modes decay at
-/// 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120 < 2e-5 relative,
-/// far below sensor noise. The first-order lags (force relaxation, steering lag, transient slip)
-/// are integrated exactly over the step ([`rk4_lag_step`]), so however fast they are they do not
-/// shorten it.
+/// Largest integration step of the engine's replay, s: one step per sample at 100 Hz. The lateral
+/// modes decay at 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120
+/// < 2e-5 relative, far below sensor noise. The first-order lags (force relaxation, steering lag,
+/// transient slip) are integrated exactly over the step
+/// ([`crate::sim::integrator::rk4_lag_step`]), so however fast they are they do not shorten it.
 pub(super) const H_MAX: f64 = 0.01;
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.
@@ -287,9 +284,6 @@ pub struct ReplayModel {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Drive {
     pub(super) steer: f64,
-    /// Rate of the measured steer over the sample interval (it is linear in between), rad/s: the
-    /// steering lag follows the steer's ramp over a step, not its held value.
-    pub(super) steer_rate: f64,
     pub(super) vx: f64,
     /// Surface friction with the friction_change factor applied.
     pub(super) mu: f64,
@@ -544,7 +538,6 @@ impl ReplayModel {
     ) -> [f64; 5] {
         let d = Drive {
             steer: steer_rad,
-            steer_rate: 0.0,
             vx: vx_mps,
             mu: mu * p.mu_factor(0.0),
             mu_axle: [1.0; 2],
@@ -569,20 +562,6 @@ impl ReplayModel {
             }
         }
         dx
-    }
-
-    /// One step of length h with the input `d` held: RK4 on the body states, each lag state
-    /// relaxed exactly ([`rk4_lag_step`]); the steering lag's input is the steer's ramp over the
-    /// step (`d` holds its midpoint value). Stable for any lag rate.
-    fn step(&self, x0: &State, d: &Drive, p: &EffectParams, h: f64) -> State {
-        let k = self.lag_rates(x0, d, p);
-        let steer_at = |c: f64| d.steer + (c - 0.5) * h * d.steer_rate;
-        let body = |y: &State, c: f64| {
-            let (dx, mut u) = self.body(y, d, p);
-            u[2] = steer_at(c);
-            (dx, u)
-        };
-        rk4_lag_step(body, x0, h, &LAGS, &k)
     }
 
     /// Lateral acceleration (body frame, at the CG, m/s^2) and front slip angle (rad) of a state.
@@ -644,27 +623,23 @@ impl ReplayModel {
         x
     }
 
-    /// Replay a measured run: steer and vx interpolated linearly between samples, starting from
-    /// the first sample's measured yaw rate and lateral velocity (vy from the optional channel,
-    /// else 0). A run sampled uniformly (every run `vehsim synth` and the
-    /// Stanford conversion write) runs on the engine ([`super::replay`]: inputs at every
-    /// integration stage's time, the contact-temperature estimate from the engine's controller
-    /// sample). Any other runs on the model's own loop (`run_loop`).
+    /// Replay a measured run on the engine ([`super::replay`]): steer and vx interpolated
+    /// linearly between samples and read at every integration stage's time, starting from the
+    /// first sample's measured yaw rate and lateral velocity (vy from the optional channel, else
+    /// 0). A run sampled uniformly (every run `vehsim synth` and the Stanford conversion write)
+    /// is integrated with the samples on step boundaries; any other on a uniform grid of steps
+    /// across it, the simulated channels interpolated to its samples.
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
-        if let Some((sim, _)) = super::replay::replay(self, run, p, None) {
-            return sim;
-        }
-        self.run_loop(run, p, &mut |k, _, _| run.steer[k + 1]).0
+        super::replay::replay(self, run, p, None).0
     }
 
-    /// Drive a run closed loop: `driver` follows `path` from the origin heading along +X, at the
-    /// run's measured speed profile. At every sample t_k the driver picks the steer for the next
-    /// sample t_(k+1) (limited by the vehicle's steering lock and rate), and the steer ramps
-    /// linearly between samples, so the recorded steer replays exactly as the measured-run replay
-    /// interpolates it. Returns the steer samples and the simulated channels. On the engine
-    /// ([`super::replay`]) when the run is sampled uniformly: the driver then sees the state
-    /// predicted at the next sample and the engine's continuous rate limiter sets the steer there;
-    /// otherwise on its own loop, where the sampled limiter ([`limit_steer`]) does.
+    /// Drive a run closed loop on the engine ([`super::replay`]): `driver` follows `path` from
+    /// the origin heading along +X, at the run's measured speed profile. The driver samples
+    /// every sample interval (a run sampled uniformly, as every run `vehsim synth` drives) or
+    /// every step (uneven sampling), seeing the state predicted one control period ahead; the
+    /// engine's continuous rate limiter and the vehicle's steering lock set the steer, ramped
+    /// across the period, so on a uniform run the recorded steer replays exactly as the
+    /// measured-run replay interpolates it. Returns the steer samples and the simulated channels.
     pub fn simulate_closed_loop(
         &self,
         run: &MeasuredRun,
@@ -672,159 +647,7 @@ impl ReplayModel {
         path: &RefPath,
         driver: &mut Driver,
     ) -> (Vec<f64>, Simulated) {
-        if let Some((sim, steer)) = super::replay::replay(self, run, p, Some((path, &mut *driver))) {
-            return (steer, sim);
-        }
-        let v = &self.vehicle;
-        let mut source = |k: usize, x: &State, current: f64| {
-            let kin = Kinematics {
-                x_m: x[5],
-                y_m: x[6],
-                yaw_rad: x[7],
-                vx_mps: run.vx[k],
-                vy_mps: x[0],
-                yaw_rate_radps: x[1],
-            };
-            let target = driver.steer(path, &kin);
-            let dt = run.t[k + 1] - run.t[k];
-            limit_steer(current, target, v.steer_max_rad, v.steer_rate_max_radps, dt)
-        };
-        let (sim, steer) = self.run_loop(run, p, &mut source);
+        let (sim, steer) = super::replay::replay(self, run, p, Some((path, driver)));
         (steer, sim)
-    }
-
-    /// The replay's own integration loop, for runs whose sampling is not uniform (the engine's
-    /// step is fixed, so it cannot land on every sample), open and closed loop: `next_steer(k,
-    /// state, steer_k)` gives the steer at sample k + 1 from the state at sample k. Each sample
-    /// interval is split into the fewest equal sub-steps no longer than [`H_MAX`], the inputs are
-    /// held over a sub-step at its midpoint (the steering lag follows the steer's ramp), the
-    /// same step as the engine's [`crate::sim::Method::Rk4Lag`] ([`Self::step`]), and the
-    /// contact-temperature estimate, when on, is updated at the start of every sub-step,
-    /// consistent with the force it allows, and held over it.
-    fn run_loop(
-        &self,
-        run: &MeasuredRun,
-        p: &EffectParams,
-        next_steer: &mut dyn FnMut(usize, &State, f64) -> f64,
-    ) -> (Simulated, Vec<f64>) {
-        let n = run.t.len();
-        let mut out = Simulated { ok: true, ..Default::default() };
-        out.yaw_rate.reserve(n);
-        out.ay.reserve(n);
-        // Distance travelled at every sample (trapezoidal integral of vx), m.
-        let mut dist = Vec::with_capacity(n);
-        dist.push(0.0);
-        for k in 1..n {
-            dist.push(dist[k - 1] + 0.5 * (run.vx[k] + run.vx[k - 1]) * (run.t[k] - run.t[k - 1]));
-        }
-        let mut steer = vec![run.steer[0]; n];
-        let mut est = Self::estimator(run, p);
-        let mut contact_c = [run.ice_temp_c; 2];
-        let logged = match (run.channel("x"), run.channel("y"), run.channel("psi")) {
-            (Some(x), Some(y), Some(psi)) if p.on_ground() => Some([x, y, psi]),
-            _ => None,
-        };
-        let drive_at = |k: usize, frac: f64, contact_c: [f64; 2], steer: &[f64]| {
-            let k1 = (k + 1).min(n - 1);
-            Drive {
-                steer: steer[k] + frac * (steer[k1] - steer[k]),
-                steer_rate: if k1 > k { (steer[k1] - steer[k]) / (run.t[k1] - run.t[k]) } else { 0.0 },
-                vx: run.vx[k] + frac * (run.vx[k1] - run.vx[k]),
-                mu: run.mu * p.mu_factor(dist[k] + frac * (dist[k1] - dist[k])),
-                mu_axle: [1.0; 2],
-                pose: logged.map(|[x, y, psi]| {
-                    let at = |c: &[f64]| c[k] + frac * (c[k1] - c[k]);
-                    [at(x), at(y), at(psi)]
-                }),
-                ice_c: run.ice_temp_c,
-                contact_c,
-                on_ice: run.on_ice,
-                tread_rise_k: [0.0; 2],
-            }
-        };
-        let tread = p.tread() && run.on_ice;
-        let tread_cap = melt_cap_k(run.ice_temp_c);
-        let mut x = self.initial_state(run, p, &drive_at(0, 0.0, contact_c, &steer));
-        for k in 0..n {
-            let d = drive_at(k, 0.0, contact_c, &steer);
-            let (ay, af) = self.ay(&x, &d, p);
-            out.yaw_rate.push(x[1] + p.bias_yaw_rate_radps);
-            out.ay.push(ay + p.bias_ay_mps2);
-            out.vy.push(x[0]);
-            out.alpha_f.push(af);
-            out.contact_rise_k.push(if tread { x[10] } else { contact_c[0] - run.ice_temp_c });
-            if k + 1 == n {
-                break;
-            }
-            steer[k + 1] = next_steer(k, &x, steer[k]);
-            let dt = run.t[k + 1] - run.t[k];
-            let hmax = match self.reference_step_s {
-                None => H_MAX,
-                Some(h_ref) => {
-                    // Plain RK4 on the lags too: a twentieth of the fastest lag's time constant.
-                    let vmax = run.vx[k].abs().max(run.vx[k + 1].abs()).max(V_FLOOR);
-                    let mut hmax = h_ref;
-                    if p.sigma_y_m > 0.0 {
-                        hmax = hmax.min(0.05 * p.sigma_y_m / vmax);
-                    }
-                    if p.transient_slip() {
-                        let floor = if p.slip_relaxation_saturating { SLIP_SLOPE_FLOOR } else { 1.0 };
-                        hmax = hmax.min(0.05 * floor * p.slip_relaxation_m[0].min(p.slip_relaxation_m[1]) / vmax);
-                    }
-                    if p.steer_lag_s > 0.0 {
-                        hmax = hmax.min(0.05 * p.steer_lag_s);
-                    }
-                    if tread {
-                        hmax = hmax.min(0.05 * p.tread_cooling_s);
-                    }
-                    hmax
-                }
-            };
-            let m = ((dt / hmax).ceil() as usize).clamp(1, 1_000_000);
-            let h = dt / m as f64;
-            for j in 0..m {
-                if let Some(e) = est.as_mut() {
-                    // The estimate consistent with the force it allows (as in the engine:
-                    // `ContactTemperature::update_coupled`): the axles' conditions at trial
-                    // contact temperatures.
-                    let d0 = drive_at(k, j as f64 / m as f64, contact_c, &steer);
-                    let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
-                        let d = Drive { contact_c: [temps[0], temps[1]], ..d0 };
-                        out[..2].copy_from_slice(&self.contacts(&x, &d, p));
-                    };
-                    let guess = contact_c;
-                    let mut tyres = [TyreContact::default(); 2];
-                    e.update_coupled(h, &guess, &mut conditions, &mut tyres, &mut contact_c);
-                }
-                let dj = drive_at(k, (j as f64 + 0.5) / m as f64, contact_c, &steer);
-                x = if self.reference_step_s.is_some() {
-                    rk4_step(|s: &State| self.derivatives(s, &dj, p), &x, h).0
-                } else {
-                    self.step(&x, &dj, p, h)
-                };
-                if tread {
-                    // The melting cap: heat beyond it melts ice, the contact stays at 0 degC.
-                    x[10] = x[10].clamp(0.0, tread_cap);
-                    x[11] = x[11].clamp(0.0, tread_cap);
-                }
-            }
-            if !x.iter().all(|v| v.is_finite()) || x[0].abs() > 1e3 || x[1].abs() > 1e2 {
-                out.ok = false;
-                // Hold the last good values so the residual stays finite (and large).
-                let (lr, la, lv, lf, lt) =
-                    (out.yaw_rate[k], out.ay[k], out.vy[k], out.alpha_f[k], out.contact_rise_k[k]);
-                while out.yaw_rate.len() < n {
-                    out.yaw_rate.push(lr);
-                    out.ay.push(la);
-                    out.vy.push(lv);
-                    out.alpha_f.push(lf);
-                    out.contact_rise_k.push(lt);
-                }
-                let last = steer[k + 1];
-                steer[k + 1..].iter_mut().for_each(|s| *s = last);
-                break;
-            }
-        }
-        (out, steer)
     }
 }
