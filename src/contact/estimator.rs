@@ -747,9 +747,7 @@ impl ContactTemperature for AtiimEstimator {
         const MAX_TYRES: usize = 4;
         let n = tyres.len().min(out.len()).min(guess.len());
         if n > MAX_TYRES {
-            conditions(guess, tyres);
-            self.update(h, tyres, out);
-            return;
+            return super::update_at_guess(self, h, guess, conditions, tyres, out);
         }
         let k = self.bulk_constants();
         let h = finite_or(h, 0.0).max(0.0);

@@ -62,11 +62,26 @@ pub trait ContactTemperature: Send {
         tyres: &mut [TyreContact],
         out: &mut [f64],
     ) {
-        if self.needs_conditions() {
-            conditions(guess, tyres);
-        }
-        self.update(h, tyres, out);
+        update_at_guess(self, h, guess, conditions, tyres, out);
     }
+}
+
+/// The uncoupled update of an estimate `c`: the tyres' conditions once, at the contact
+/// temperatures `guess` (when `c` reads them), then [`ContactTemperature::update`]. The default
+/// [`ContactTemperature::update_coupled`]; the ATIIM estimator's for more tyres than it solves
+/// jointly.
+pub fn update_at_guess<C: ContactTemperature + ?Sized>(
+    c: &mut C,
+    h: f64,
+    guess: &[f64],
+    conditions: &mut dyn FnMut(&[f64], &mut [TyreContact]),
+    tyres: &mut [TyreContact],
+    out: &mut [f64],
+) {
+    if c.needs_conditions() {
+        conditions(guess, tyres);
+    }
+    c.update(h, tyres, out);
 }
 
 /// No heating: the contact temperature equals the surface temperature.
