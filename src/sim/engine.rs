@@ -48,6 +48,7 @@ use serde::Serialize;
 use super::integrator::{relax, rk4_exp_step_t, rk4_lag_step_k1, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
+use crate::contact::thermal::MELT_C;
 use crate::contact::{ContactTemperature, TyreContact};
 use crate::control::driver::rate_limited_steer;
 use crate::control::{Pid, PidParams};
@@ -403,17 +404,47 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let hc = self.hc;
         // The inputs at t: the end of the previous ramps (the start's values at the first sample).
         let u0 = Inputs { t_s: t, ..Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0) };
-        let u0 = match self.maneuver.steer_at(t) {
+        let mut u0 = match self.maneuver.steer_at(t) {
             Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
             None => u0,
         };
+        // The contact-temperature estimate at t, advanced over the period behind (none at the
+        // first sample) from the tyres' conditions at t, taken at the contact temperatures it
+        // returns (the friction force depends on them: `update_coupled` solves for the consistent
+        // estimate). Each evaluation of the conditions is a full evaluation of the model; the
+        // last one, at the accepted temperatures, is the coming step's first stage.
+        let previous = self.temps;
+        let (model, env, x) = (self.model, &self.env, &self.x);
+        let lag = self.method == Method::Rk4Lag;
+        let mut last: Option<([f64; 4], SVector<f64, N>, Option<Observation>)> = None;
+        let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
+            let mut u = u0;
+            u.contact_temp_c[..temps.len()].copy_from_slice(temps);
+            if lag {
+                model.tyre_contacts(x, &u, env, out);
+            } else {
+                let (d, o) = model.derivatives_contacts(x, &u, env, record, out);
+                last = Some((u.contact_temp_c, d, o));
+            }
+        };
+        let n = M::TYRES;
+        let h_behind = if self.k == 0 { 0.0 } else { hc };
+        self.contact.update_coupled(
+            h_behind,
+            &previous[..n],
+            &mut conditions,
+            &mut self.contacts[..n],
+            &mut self.temps[..n],
+        );
+        u0.contact_temp_c = self.temps;
+        let same = |a: &[f64; 4], b: &[f64; 4]| a.iter().zip(b).all(|(p, q)| p.to_bits() == q.to_bits());
         // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
         // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
         // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
         // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs. Under
         // [`Method::Rk4Lag`] the lag components follow their exact relaxation towards their
         // inputs at t instead (a tangent would overshoot a lag faster than 1 / T_c).
-        let (k1, obs, x_end) = if self.method == Method::Rk4Lag {
+        let (k1, obs, x_end) = if lag {
             let parts = self.lag_parts(&self.x, &u0);
             let k1 = self.lag_derivative(&parts);
             let mut x_end = self.x + parts.0 * hc;
@@ -424,17 +455,21 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             }
             self.pending_lag = Some(parts);
             (k1, record.then(|| self.model.observe(&self.x, &u0, &self.env)), x_end)
-        } else if record {
-            let (k1, obs) = self.model.derivatives_observed(&self.x, &u0, &self.env);
-            (k1, Some(obs), self.x + k1 * hc)
         } else {
-            let k1 = self.model.derivatives(&self.x, &u0, &self.env);
-            (k1, None, self.x + k1 * hc)
+            let (k1, obs) = match last {
+                Some((temps, d, o)) if same(&temps, &u0.contact_temp_c) => (d, o),
+                _ if record => {
+                    let (d, o) = self.model.derivatives_observed(&self.x, &u0, &self.env);
+                    (d, Some(o))
+                }
+                _ => (self.model.derivatives(&self.x, &u0, &self.env), None),
+            };
+            (k1, obs, self.x + k1 * hc)
         };
         self.pending_k1 = Some((k1, obs));
         let kin = self.model.kinematics(&x_end);
         let cmd = self.maneuver.command(t + hc, &kin);
-        let from = self.ramp_to;
+        let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
         let steer = match self.maneuver.steer_at(t + hc) {
             Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
             None => {
@@ -459,20 +494,19 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 0.0
             }
         };
-        let mut to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: from.contact_temp_c };
-        // The tyres' conditions at t + T_c as a function of their contact temperatures (the
-        // friction force depends on them): the estimate is the one consistent with them.
-        let (model, env) = (self.model, &self.env);
-        let u_end = Inputs { t_s: t + hc, ..Ramped::lerp(&from, &to, 1.0) };
-        let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
-            let mut u = u_end;
-            u.contact_temp_c[..temps.len()].copy_from_slice(temps);
-            model.tyre_contacts(&x_end, &u, env, out);
-        };
-        let n = M::TYRES;
-        let guess = from.contact_temp_c;
-        self.contact.update_coupled(hc, &guess[..n], &mut conditions, &mut self.contacts[..n], &mut self.temps[..n]);
-        to.contact_temp_c = self.temps;
+        // The contact temperatures at t + T_c: the estimate carried on by its change over the
+        // period behind (held at the first sample), not past melting (second order in T_c, like
+        // the ramp; the next sample replaces it by the estimate at the state reached).
+        let mut ahead = from.contact_temp_c;
+        if self.k > 0 {
+            for (a, p) in ahead.iter_mut().zip(previous) {
+                let e = *a + (*a - p);
+                if e.is_finite() {
+                    *a = e.min(MELT_C.max(*a));
+                }
+            }
+        }
+        let to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: ahead };
         (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
         self.path_error = self.maneuver.path_error_m();
         if let Some(e) = self.path_error {

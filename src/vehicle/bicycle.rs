@@ -165,6 +165,30 @@ impl Bicycle {
         f
     }
 
+    /// Each tyre's operating conditions (one tyre of each axle, the axle's quantities halved) for
+    /// axle quantities `ax` and the forces acting `acting`.
+    fn contacts_of(
+        &self,
+        x: &SVector<f64, N>,
+        env: &Environment,
+        ax: &Axles,
+        acting: &[TyreForces; 2],
+        out: &mut [TyreContact],
+    ) {
+        let radius = self.vehicle.tyre.rolling_radius_m;
+        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
+        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
+        for (i, o) in out.iter_mut().take(2).enumerate() {
+            *o = TyreContact {
+                fz_n: self.fz_tyre[i],
+                roll_speed_mps: (omega[i] * radius).abs(),
+                slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
+                friction_force_n: 0.5 * (acting[i].fx_n * acting[i].fx_n + acting[i].fy_n * acting[i].fy_n).sqrt(),
+                surface_temp_c: env.surface_temp_c,
+            };
+        }
+    }
+
     /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
     fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64) -> Axles {
         let v = &self.vehicle;
@@ -401,18 +425,22 @@ impl VehicleModel<N> for Bicycle {
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
         let ax = self.axles(x, u, env);
         let acting = self.acting(x, &ax);
-        let radius = self.vehicle.tyre.rolling_radius_m;
-        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
-        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
-        for (i, o) in out.iter_mut().take(2).enumerate() {
-            *o = TyreContact {
-                fz_n: self.fz_tyre[i],
-                roll_speed_mps: (omega[i] * radius).abs(),
-                slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
-                friction_force_n: 0.5 * acting[i].fx_n.hypot(acting[i].fy_n),
-                surface_temp_c: env.surface_temp_c,
-            };
-        }
+        self.contacts_of(x, env, &ax, &acting, out);
+    }
+
+    fn derivatives_contacts(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        observe: bool,
+        out: &mut [TyreContact],
+    ) -> (SVector<f64, N>, Option<Observation>) {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        self.contacts_of(x, env, &ax, &acting, out);
+        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
+        (self.derivative_of(x, u, &ax, loads), observe.then(|| self.observation_of(x, u, &ax, &acting, loads)))
     }
 
     fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {

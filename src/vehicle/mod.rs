@@ -169,6 +169,28 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// Operating conditions of every tyre (for the contact-temperature estimator), in `out[..TYRES]`.
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]);
 
+    /// [`Self::tyre_contacts`] into `out` and [`Self::derivatives`] (with [`Self::observe`] when
+    /// `observe`) of the same state and inputs together, the same values bit for bit as the
+    /// separate calls; models override it to evaluate their tyres once for all of them (the
+    /// engine's contact-temperature estimate at a controller sample and the coming step's first
+    /// stage share that evaluation). Default: the separate calls.
+    fn derivatives_contacts(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        observe: bool,
+        out: &mut [TyreContact],
+    ) -> (SVector<f64, N>, Option<Observation>) {
+        self.tyre_contacts(x, u, env, out);
+        if observe {
+            let (d, o) = self.derivatives_observed(x, u, env);
+            (d, Some(o))
+        } else {
+            (self.derivatives(x, u, env), None)
+        }
+    }
+
     /// Push the unphysical conditions this model watches, evaluated at state `x` under inputs `u`,
     /// onto `out`: the same conditions in the same order at every call (the engine reports when
     /// one starts or stops holding). The default watches nothing: the bicycle's normal loads are

@@ -336,6 +336,21 @@ impl Roll4Dof {
     /// Derivative together with the per-wheel quantities it used (inlined: a caller that does not
     /// read them does not copy them).
     #[inline(always)]
+    /// Each tyre's operating conditions for the wheel quantities `w`.
+    fn contacts_of(&self, x: &SVector<f64, N>, env: &Environment, w: &Wheels, out: &mut [TyreContact]) {
+        let radius = self.vehicle.tyre.rolling_radius_m;
+        for (i, o) in out.iter_mut().take(4).enumerate() {
+            let kappa = x[ix::KAPPA + i];
+            *o = TyreContact {
+                fz_n: w.fz[i],
+                roll_speed_mps: (x[ix::OMEGA + i] * radius).abs(),
+                slide_speed_mps: slide_speed(kappa, w.alpha[i], w.vxw[i].abs().max(V_LOW)),
+                friction_force_n: (w.f[i].fx_n * w.f[i].fx_n + w.f[i].fy_n * w.f[i].fy_n).sqrt(),
+                surface_temp_c: env.surface_temp_c,
+            };
+        }
+    }
+
     fn eval(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, Wheels) {
         let v = &self.vehicle;
         let ro = &self.roll;
@@ -512,18 +527,21 @@ impl VehicleModel<N> for Roll4Dof {
     }
 
     fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
-        let w = self.wheels(x, u, env);
-        let radius = self.vehicle.tyre.rolling_radius_m;
-        for (i, o) in out.iter_mut().take(4).enumerate() {
-            let kappa = x[ix::KAPPA + i];
-            *o = TyreContact {
-                fz_n: w.fz[i],
-                roll_speed_mps: (x[ix::OMEGA + i] * radius).abs(),
-                slide_speed_mps: slide_speed(kappa, w.alpha[i], w.vxw[i].abs().max(V_LOW)),
-                friction_force_n: w.f[i].fx_n.hypot(w.f[i].fy_n),
-                surface_temp_c: env.surface_temp_c,
-            };
-        }
+        self.contacts_of(x, env, &self.wheels(x, u, env), out);
+    }
+
+    fn derivatives_contacts(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        observe: bool,
+        out: &mut [TyreContact],
+    ) -> (SVector<f64, N>, Option<Observation>) {
+        let (d, w) = self.eval(x, u, env);
+        self.contacts_of(x, env, &w, out);
+        let o = observe.then(|| self.observation_of(x, u, &d, &w));
+        (d, o)
     }
 
     fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
