@@ -19,10 +19,16 @@
 //!    linearly across the period (from the last sample's command to the new one) and clamped to
 //!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
 //!    period early); the PID integrates its error by the trapezoidal rule. The
-//!    contact-temperature estimate is advanced over the period from the tyres' operating
-//!    conditions at the predicted t + T_c, taken at the contact temperatures it returns (the
-//!    friction force depends on them: [`ContactTemperature::update_coupled`] solves for the
-//!    consistent estimate), and its output ramps likewise.
+//!    contact-temperature estimate comes first: it is advanced over the period behind (none at
+//!    the first sample) to the tyres' operating conditions at t, taken at the contact
+//!    temperatures it returns (the friction force depends on them:
+//!    [`ContactTemperature::update_coupled`] solves for the consistent estimate). Each trial
+//!    evaluates the whole model ([`VehicleModel::derivatives_contacts`]); the last one, at the
+//!    accepted temperatures, is the coming step's first stage, so an estimate that converges at
+//!    its first trial costs no model evaluation of its own. Its ramp runs from the estimate at t
+//!    to the estimate carried on by its change over the period behind (second order in T_c like
+//!    the other ramps; held at the first sample, never past melting), and the next sample
+//!    replaces that end by the estimate at the state reached.
 //! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
 //!    difference at the step's start, or RK4 with the model's first-order lag states relaxed
@@ -395,10 +401,10 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         u
     }
 
-    /// Phase 1: sample the manoeuvre, the PID and the contact-temperature estimate at time `t`
-    /// from the state predicted one control period ahead, and ramp their outputs across the
-    /// period (see the module docs). The derivative at `t` the prediction needs is the coming
-    /// step's first stage: it is kept for [`Self::advance`] (with the observation when `record`).
+    /// Phase 1: the contact-temperature estimate at time `t`, then the manoeuvre and the PID
+    /// from the state predicted one control period ahead; ramp their outputs across the period
+    /// (see the module docs). The derivative at `t` the prediction needs is the coming step's
+    /// first stage: it is kept for [`Self::advance`] (with the observation when `record`).
     fn sample_controls(&mut self, t: f64, record: bool) {
         let c = self.controls;
         let hc = self.hc;
@@ -416,15 +422,17 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let previous = self.temps;
         let (model, env, x) = (self.model, &self.env, &self.x);
         let lag = self.method == Method::Rk4Lag;
-        let mut last: Option<([f64; 4], SVector<f64, N>, Option<Observation>)> = None;
+        // the temperatures of the last evaluation, whose result is left in `pending_k1`
+        let mut evaluated: Option<[f64; 4]> = None;
+        let pending = &mut self.pending_k1;
         let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
             let mut u = u0;
             u.contact_temp_c[..temps.len()].copy_from_slice(temps);
             if lag {
                 model.tyre_contacts(x, &u, env, out);
             } else {
-                let (d, o) = model.derivatives_contacts(x, &u, env, record, out);
-                last = Some((u.contact_temp_c, d, o));
+                *pending = Some(model.derivatives_contacts(x, &u, env, record, out));
+                evaluated = Some(u.contact_temp_c);
             }
         };
         let n = M::TYRES;
@@ -437,14 +445,13 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             &mut self.temps[..n],
         );
         u0.contact_temp_c = self.temps;
-        let same = |a: &[f64; 4], b: &[f64; 4]| a.iter().zip(b).all(|(p, q)| p.to_bits() == q.to_bits());
         // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
         // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
         // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
         // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs. Under
         // [`Method::Rk4Lag`] the lag components follow their exact relaxation towards their
         // inputs at t instead (a tangent would overshoot a lag faster than 1 / T_c).
-        let (k1, obs, x_end) = if lag {
+        let x_end = if lag {
             let parts = self.lag_parts(&self.x, &u0);
             let k1 = self.lag_derivative(&parts);
             let mut x_end = self.x + parts.0 * hc;
@@ -454,19 +461,22 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 }
             }
             self.pending_lag = Some(parts);
-            (k1, record.then(|| self.model.observe(&self.x, &u0, &self.env)), x_end)
+            self.pending_k1 = Some((k1, record.then(|| self.model.observe(&self.x, &u0, &self.env))));
+            x_end
         } else {
-            let (k1, obs) = match last {
-                Some((temps, d, o)) if same(&temps, &u0.contact_temp_c) => (d, o),
-                _ if record => {
+            // the last evaluation is the first stage when it was at the estimate (bit for bit)
+            let at_estimate =
+                evaluated.is_some_and(|e| e.iter().zip(&u0.contact_temp_c).all(|(p, q)| p.to_bits() == q.to_bits()));
+            if !at_estimate {
+                self.pending_k1 = Some(if record {
                     let (d, o) = self.model.derivatives_observed(&self.x, &u0, &self.env);
                     (d, Some(o))
-                }
-                _ => (self.model.derivatives(&self.x, &u0, &self.env), None),
-            };
-            (k1, obs, self.x + k1 * hc)
+                } else {
+                    (self.model.derivatives(&self.x, &u0, &self.env), None)
+                });
+            }
+            self.pending_k1.as_ref().map_or(self.x, |(k1, _)| self.x + k1 * hc)
         };
-        self.pending_k1 = Some((k1, obs));
         let kin = self.model.kinematics(&x_end);
         let cmd = self.maneuver.command(t + hc, &kin);
         let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
