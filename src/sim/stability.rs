@@ -39,7 +39,7 @@ pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// 10 m/s held, mu 0.15) the largest yaw-rate difference from a step = period = 0.25 ms run at
 /// step = period = 10 ms is, bicycle / 4-DOF: linear 1.3e-4 / 1.4e-4, polynomial 3.6e-4 / 3.3e-4,
 /// Pacejka 2.6e-4 / 1.9e-4, Dugoff 3.5e-4 / 3.7e-4, ATIIM-Pacejka with the ATIIM contact estimate
-/// 1.6e-4 / 2.0e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
+/// 9.8e-5 / 1.8e-4 rad/s, within the 5e-4 rad/s guard of tests/accuracy.rs; at 20 ms every
 /// saturating provider is beyond it (9.2e-4 to 1.1e-3 rad/s; ATIIM 6.4e-4 / 7.0e-4 with a 10 ms
 /// step) and the unsaturated linear tyre needs a shorter step than the period. So 10 ms.
 ///
@@ -51,8 +51,8 @@ pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// the consistent temperature, `crate::contact::ContactTemperature::update_coupled`); and the
 /// sampled steering rate limit left the lock up to a period early (now a continuous limiter
 /// across the period, `crate::control::driver::rate_limited_steer`). With both, the 4-DOF
-/// lane change converges at second order: 2.0e-4, 3.0e-5, 7.1e-6, 1.1e-6 rad/s at 10, 5, 2.5,
-/// 1 ms (docs/performance.md).
+/// lane change converges at second order: with the estimate solved at each sample's own state,
+/// 1.8e-4, 4.0e-5, 1.1e-5, 2.8e-6 rad/s at 10, 5, 2.5, 1.25 ms (docs/performance.md).
 pub const DEFAULT_CONTROL_PERIOD_S: f64 = 0.01;
 
 /// The linearised model at steady straight running at one speed.
