@@ -466,7 +466,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         } else {
             // the last evaluation is the first stage when it was at the estimate (bit for bit)
             let at_estimate =
-                evaluated.is_some_and(|e| e.iter().zip(&u0.contact_temp_c).all(|(p, q)| p.to_bits() == q.to_bits()));
+                evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
             if !at_estimate {
                 self.pending_k1 = Some(if record {
                     let (d, o) = self.model.derivatives_observed(&self.x, &u0, &self.env);
