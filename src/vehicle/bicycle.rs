@@ -466,7 +466,8 @@ mod tests {
 
     /// The prepared model (Magic Formula coefficients of the static loads) gives the same
     /// derivative and observation bit for bit as the unprepared one, on the prepared path
-    /// (isothermal) and on the fallback (a heated contact, a thermal friction law).
+    /// (isothermal) and on the fallback (a heated contact, a thermal friction law); and
+    /// `derivatives_contacts` gives the separate calls' values bit for bit.
     #[test]
     fn prepared_tyres_change_no_bit() {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
@@ -488,6 +489,16 @@ mod tests {
                 assert_eq!(plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
                 assert_eq!(plain.derivatives(&x, &u, &env), prepared.derivatives(&x, &u, &env));
                 assert_eq!(plain.observe(&x, &u, &env), plain.derivatives_observed(&x, &u, &env).1);
+                // the engine's shared evaluation: the separate calls' values, bit for bit
+                for m in [&plain, &prepared] {
+                    let (mut c, mut d) = ([TyreContact::default(); 2], [TyreContact::default(); 2]);
+                    m.tyre_contacts(&x, &u, &env, &mut c);
+                    let (k, o) = m.derivatives_observed(&x, &u, &env);
+                    assert_eq!(m.derivatives_contacts(&x, &u, &env, true, &mut d), (k, Some(o)));
+                    assert_eq!(c, d);
+                    assert_eq!(m.derivatives_contacts(&x, &u, &env, false, &mut d), (k, None));
+                    assert!(c[0].friction_force_n > 0.0 && c[0].slide_speed_mps > 0.0);
+                }
             }
         }
     }

@@ -649,7 +649,8 @@ mod tests {
 
     /// The prepared model gives the same derivative and observation bit for bit as the
     /// unprepared one, with load transfer (every wheel off its static load, one lifted), a heated
-    /// contact, for the Magic Formula and its ATIIM modification.
+    /// contact, for the Magic Formula and its ATIIM modification; and `derivatives_contacts`
+    /// gives the separate calls' values bit for bit.
     #[test]
     fn prepared_tyres_change_no_bit() {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
@@ -675,6 +676,15 @@ mod tests {
                         (plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
                     assert_eq!(a, b, "{kind:?} ay {ay} temp {temp}");
                     assert!(a.0.iter().all(|v| v.is_finite()));
+                    // the engine's shared evaluation: the separate calls' values, bit for bit
+                    for m in [&plain, &prepared] {
+                        let (mut c, mut d) = ([TyreContact::default(); 4], [TyreContact::default(); 4]);
+                        m.tyre_contacts(&x, &u, &env, &mut c);
+                        let (k, o) = m.derivatives_observed(&x, &u, &env);
+                        assert_eq!(m.derivatives_contacts(&x, &u, &env, true, &mut d), (k, Some(o)));
+                        assert_eq!(c, d);
+                        assert_eq!(m.derivatives_contacts(&x, &u, &env, false, &mut d), (k, None));
+                    }
                 }
             }
             assert!(plain.normal_loads(&x).contains(&0.0), "the last state lifts a wheel");
