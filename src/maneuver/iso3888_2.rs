@@ -324,6 +324,15 @@ fn first_beyond(p0: (f64, f64), p1: (f64, f64), g: &Gate, side: usize) -> Option
     }
 }
 
+/// Whether a corner sweeping from lateral position `y0` to `y1` stays between gate `g`'s
+/// boundaries by more than a rounding margin, so that [`first_beyond`] finds nothing on either side
+/// (the points it tests lie between `y0` and `y1` up to a few ulps). False for non-finite positions.
+fn inside_band(y0: f64, y1: f64, g: &Gate) -> bool {
+    let margin = 1e-9 * (1.0 + y0.abs() + y1.abs());
+    let (lo, hi) = (g.y_right_m + margin, g.y_left_m - margin);
+    y0 > lo && y1 > lo && y0 < hi && y1 < hi
+}
+
 /// Time at which a quantity moving linearly from `v0` (at `t0`) to `v1` (at `t1`) passes `level`.
 fn crossing_time(t0: f64, t1: f64, v0: f64, v1: f64, level: f64) -> f64 {
     if v1 > v0 && v0 <= level {
@@ -404,7 +413,7 @@ impl Maneuver for Iso3888_2 {
         let any_near = !self.gates.iter().all(far);
         for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate().filter(|_| any_near) {
             for (gi, g) in self.gates.iter().enumerate() {
-                if far(g) {
+                if far(g) || inside_band(p0.1, p1.1, g) {
                     continue;
                 }
                 for side in 0..2 {
