@@ -27,6 +27,8 @@
 //! takes the pair with the smallest peak curvature whose body outline, carried rigidly along the
 //! path (heading = path tangent), clears every gate boundary by `clearance_m`.
 
+use std::sync::Arc;
+
 use super::path::RefPath;
 use super::{Command, Event, EventKind, Maneuver, Outcome, Start};
 use crate::control::{Driver, DriverParams};
@@ -266,13 +268,38 @@ fn search_path(gates: &[Gate; 3], body: &Body, clearance: f64) -> (Transition, T
     }
 }
 
+/// The CG's reference path from `x0` to `x1` (m) through the transitions `(t1, t2)`: straight,
+/// then `t1`, then `t2` from `t1`'s end, sampled every 0.1 m. Runs of a batch or benchmark repeat
+/// it with the same inputs, so the last few are kept (the same path whether built or kept).
+fn reference_path(x0: f64, x1: f64, (t1, t2): (Transition, Transition)) -> Arc<RefPath> {
+    type Key = [u64; 10];
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<std::collections::HashMap<Key, Arc<RefPath>>>> =
+        std::sync::OnceLock::new();
+    /// Paths kept at most (about 100 kB each at the default lengths).
+    const KEEP: usize = 8;
+    let key: Key = [x0, x1, t1.x0, t1.x1, t1.y0, t1.y1, t2.x0, t2.x1, t2.y0, t2.y1].map(f64::to_bits);
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(p) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return p;
+    }
+    let y = move |x: f64| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 };
+    let path = Arc::new(RefPath::from_fn(x0, x1, 0.1, y));
+    if let Ok(mut c) = cache.lock() {
+        if c.len() >= KEEP {
+            c.clear();
+        }
+        c.insert(key, path.clone());
+    }
+    path
+}
+
 /// The running manoeuvre.
 #[derive(Debug, Clone)]
 pub struct Iso3888_2 {
     pub params: Iso3888_2Params,
     pub gates: [Gate; 3],
     pub body: Body,
-    pub path: RefPath,
+    pub path: Arc<RefPath>,
     /// The two lateral transitions of the reference path.
     pub transitions: (Transition, Transition),
     driver: Driver,
@@ -346,10 +373,7 @@ impl Iso3888_2 {
     pub fn new(params: Iso3888_2Params, body: Body, driver: DriverParams) -> Self {
         let gates = layout(body.width_m, params.lane5_min_width_m);
         let transitions = design_path(&gates, &body, params.clearance_m);
-        let (t1, t2) = transitions;
-        let y = move |x: f64| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 };
-        let x_end = params.end_x_m() + 100.0;
-        let path = RefPath::from_fn(-params.approach_m - 50.0, x_end, 0.1, y);
+        let path = reference_path(-params.approach_m - 50.0, params.end_x_m() + 100.0, transitions);
         let driver = Driver::new(driver, body.wheelbase_m);
         Self {
             params,
@@ -480,16 +504,102 @@ impl Maneuver for Iso3888_2 {
             .collect();
         let x_end = self.params.end_x_m();
         let (t1, t2) = self.transitions;
-        let path: Vec<[f64; 2]> = (0..)
+        // [x, y] pairs every 0.5 m, built as the values serde_json makes of a Vec<[f64; 2]>
+        let path: Vec<serde_json::Value> = (0..)
             .map(|i| -self.params.approach_m + 0.5 * i as f64)
             .take_while(|x| *x <= x_end)
+            .map(|x| serde_json::Value::Array(vec![x.into(), (if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 }).into()]))
+            .collect();
+        // The object json!({"kind", "gates", "body", "reference_path"}) makes, in that order,
+        // without serialising the arrays a second time.
+        let mut layout = serde_json::Map::new();
+        layout.insert("kind".into(), "iso3888_2".into());
+        layout.insert("gates".into(), serde_json::Value::Array(gates));
+        let body =
+            serde_json::json!({"front_m": self.body.front_m, "rear_m": self.body.rear_m, "width_m": self.body.width_m});
+        layout.insert("body".into(), body);
+        layout.insert("reference_path".into(), serde_json::Value::Array(path));
+        Some(serde_json::Value::Object(layout))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn course() -> Iso3888_2 {
+        let params = Iso3888_2Params {
+            speed_mps: 10.0,
+            mode: SpeedMode::Hold,
+            approach_m: 30.0,
+            exit_m: 20.0,
+            lane5_min_width_m: 3.0,
+            clearance_m: 0.1,
+        };
+        let body = Body { width_m: 1.8, front_m: 2.3, rear_m: 2.2, wheelbase_m: 2.7 };
+        Iso3888_2::new(params, body, DriverParams::default())
+    }
+
+    /// The layout is the object `json!` makes of the gates, the body and the path as a
+    /// `Vec<[f64; 2]>`, to the byte.
+    #[test]
+    fn layout_is_the_json_of_its_parts() {
+        let m = course();
+        let gates: Vec<_> = m
+            .gates
+            .iter()
+            .map(|g| serde_json::json!({"name": g.name, "x0_m": g.x0_m, "x1_m": g.x1_m, "y_right_m": g.y_right_m, "y_left_m": g.y_left_m}))
+            .collect();
+        let (t1, t2) = m.transitions;
+        let path: Vec<[f64; 2]> = (0..)
+            .map(|i| -30.0 + 0.5 * i as f64)
+            .take_while(|x| *x <= COURSE_LENGTH_M + 20.0)
             .map(|x| [x, if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 }])
             .collect();
-        Some(serde_json::json!({
+        let want = serde_json::json!({
             "kind": "iso3888_2",
             "gates": gates,
-            "body": {"front_m": self.body.front_m, "rear_m": self.body.rear_m, "width_m": self.body.width_m},
+            "body": {"front_m": 2.3, "rear_m": 2.2, "width_m": 1.8},
             "reference_path": path,
-        }))
+        });
+        let got = m.layout().unwrap();
+        assert_eq!(got, want);
+        assert_eq!(serde_json::to_string_pretty(&got).unwrap(), serde_json::to_string_pretty(&want).unwrap());
+    }
+
+    /// The kept reference path is the one built afresh.
+    #[test]
+    fn kept_path_is_the_built_one() {
+        let (a, b) = (course(), course());
+        assert!(Arc::ptr_eq(&a.path, &b.path));
+        let (t1, t2) = a.transitions;
+        let fresh =
+            RefPath::from_fn(-80.0, COURSE_LENGTH_M + 120.0, 0.1, |x| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 });
+        assert_eq!(*a.path, fresh);
+    }
+
+    /// A corner sweep inside a gate's band finds no strike on either side, for sweeps ending at
+    /// up to a few ulps from the boundaries (where the band test gives way to the full one).
+    #[test]
+    fn inside_the_band_no_side_is_struck() {
+        let g = layout(1.8, 3.0)[1];
+        let mut inside = 0;
+        for k in 0..2000 {
+            let f = k as f64 / 1999.0;
+            for (y0, y1) in [
+                (g.y_right_m + f * g.width_m(), g.y_left_m - f * g.width_m()),
+                (g.y_right_m, g.y_right_m + f * 1e-12),
+                (g.y_left_m - f * 1e-9, g.y_left_m - 2e-9),
+                (g.y_right_m + 1e-8 * f, g.centre_m()),
+            ] {
+                let (p0, p1) = ((g.x0_m + 3.0 * f, y0), (g.x0_m + 3.0 * f + 0.1, y1));
+                if inside_band(y0, y1, &g) {
+                    inside += 1;
+                    assert_eq!((first_beyond(p0, p1, &g, 0), first_beyond(p0, p1, &g, 1)), (None, None), "{y0} {y1}");
+                }
+            }
+        }
+        assert!(inside > 2000, "{inside}");
+        assert!(!inside_band(f64::NAN, 0.0, &g) && !inside_band(g.centre_m(), f64::INFINITY, &g));
     }
 }
