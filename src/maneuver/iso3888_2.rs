@@ -306,8 +306,9 @@ pub struct Iso3888_2 {
     /// Struck (gate index, side 0 = right / 1 = left).
     struck: Vec<(usize, usize)>,
     course_done: bool,
-    /// Time and body corners at the end of the previous step (the start of the segments swept next).
-    previous: Option<(f64, [(f64, f64); 4])>,
+    /// Time, body corners and the corners' x range (lowest, highest) at the end of the previous
+    /// step (the start of the segments swept next).
+    previous: Option<(f64, [(f64, f64); 4], (f64, f64))>,
     /// CG x at the end of the previous step, m.
     previous_x: Option<f64>,
     /// Interpolated time at which the CG passed the end of the run, s.
@@ -423,16 +424,15 @@ impl Maneuver for Iso3888_2 {
 
     fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool {
         let corners = self.corners(kin);
+        let range1 = corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
         // The previous step's corners; on the first call the segment degenerates to a point.
-        let (t0, prev) = self.previous.unwrap_or((t, corners));
-        self.previous = Some((t, corners));
+        let (t0, prev, range0) = self.previous.unwrap_or((t, corners, range1));
+        self.previous = Some((t, corners, range1));
         let mut strikes: Vec<(f64, usize, usize, usize, f64, f64)> = Vec::new();
         // The x range the body swept in this step: a gate outside it cannot be struck (the swept
         // segments' clipping to the gate's x range would be empty), so most steps test no gate.
-        let (x_lo, x_hi) = prev
-            .iter()
-            .chain(corners.iter())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
+        // (The range of both steps' corners: each step's range is kept for the next.)
+        let (x_lo, x_hi) = (range0.0.min(range1.0), range0.1.max(range1.1));
         let far = |g: &Gate| g.x1_m < x_lo || g.x0_m > x_hi;
         let any_near = !self.gates.iter().all(far);
         for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate().filter(|_| any_near) {
@@ -469,8 +469,8 @@ impl Maneuver for Iso3888_2 {
                 ),
             });
         }
-        let rear = |c: &[(f64, f64); 4]| c.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
-        let (rear0, rear1) = (rear(&prev), rear(&corners));
+        // The rearmost corner's x at the start and end of the step (the x ranges' lower ends).
+        let (rear0, rear1) = (range0.0, range1.0);
         if !self.course_done && rear1 > COURSE_LENGTH_M {
             self.course_done = true;
             events.push(Event {
