@@ -151,9 +151,17 @@ impl Plausibility {
         let o = &row.obs;
         let mut bound = 0.0;
         let mut load = 0.0;
+        // The first tyre's peak friction, kept for its twin (the same prepared input and load: the
+        // same coefficients, matched or not alike, and the same value).
+        let mut first = None;
         for slot in 2 * axle..2 * axle + 2 {
             let fz = o.fz_n[slot];
             if fz.is_nan() || fz <= 0.0 {
+                continue;
+            }
+            if let Some(mu) = first.filter(|_| self.twin[axle] && fz.to_bits() == o.fz_n[slot - 1].to_bits()) {
+                bound += if f64::is_finite(mu) { mu } else { self.env.mu } * fz;
+                load += fz;
                 continue;
             }
             let input = self.input(row, axle, fz);
@@ -169,6 +177,7 @@ impl Plausibility {
             };
             bound += if mu.is_finite() { mu } else { self.env.mu } * fz;
             load += fz;
+            first = Some(mu);
         }
         (bound, load)
     }
@@ -534,33 +543,45 @@ mod tests {
         assert!(with.events.len() >= 4 && with.reasons().len() == 3, "{:?}", with.events);
     }
 
-    /// Two tyres of an axle prepared from the same input share their floor when their loads are
-    /// the same bits: the pre-test says the same as with every floor computed, row by row, for
-    /// rows on both sides of the floor and with equal and unequal loads.
+    /// Two tyres of an axle prepared from the same input share their floor and their peak
+    /// friction when their loads are the same bits: the pre-test and the exact checks say the
+    /// same as with every value computed, row by row, for rows on both sides of the floor and of
+    /// the limits, with equal and unequal loads, for a provider with a floor (ATIIM Pacejka) and
+    /// one without (the unsaturated linear tyre: every row checked exactly).
     #[test]
-    fn twin_tyres_share_their_floor() {
+    fn twin_tyres_share_their_floor_and_bound() {
         let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
         let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
-        let tyre = spec.build(path, crate::tyre::spec::TyreModelKind::AtiimPacejka).unwrap().model;
-        let (mut shared, mut each) = (Plausibility::new(tyre.clone(), ENV, None), Plausibility::new(tyre, ENV, None));
-        let (mut reused, mut within) = (0, 0);
-        for k in 0..300 {
-            let w = (0.05 * k as f64).sin();
-            let mut r = row(k as f64 * 0.01, [2600.0 * w, -1800.0 * w], 1.5 * w, 0.0);
-            r.obs.kappa = [0.02 * w, -0.05 * w];
-            r.obs.contact_temp_axle_c = [-3.0 + 2.0 * w.abs(), -3.0 + w.abs()];
-            if k % 3 == 1 {
-                r.obs.fz_n[1] = 4100.0; // unequal loads on the front axle: no sharing there
+        let atiim = spec.build(path, crate::tyre::spec::TyreModelKind::AtiimPacejka).unwrap().model;
+        for (tyre, with_floor) in [(atiim, true), (linear(false), false)] {
+            let (mut shared, mut each) =
+                (Plausibility::new(tyre.clone(), ENV, None), Plausibility::new(tyre, ENV, None));
+            let (mut reused, mut within) = (0, 0);
+            for k in 0..300 {
+                let w = (0.05 * k as f64).sin();
+                let mut r = row(k as f64 * 0.01, [2600.0 * w, -1800.0 * w], 1.8 * w, 0.0);
+                r.obs.kappa = [0.02 * w, -0.05 * w];
+                r.obs.contact_temp_axle_c = [-3.0 + 2.0 * w.abs(), -3.0 + w.abs()];
+                if k % 3 == 1 {
+                    r.obs.fz_n[1] = 4100.0; // unequal loads on the front axle: no sharing there
+                }
+                each.twin = [false; 2];
+                let (a, b) = (shared.well_within(&r), each.well_within(&r));
+                assert_eq!(a, b, "row {k}");
+                reused += usize::from(shared.twin == [true; 2] && k % 3 != 1);
+                within += usize::from(a);
+                shared.check(&r);
+                each.twin = [false; 2];
+                each.check(&r);
+                let bits =
+                    |p: &Plausibility| p.worst.map(|w| (w.value.to_bits(), w.t_s.to_bits(), w.axle, w.first_t_s));
+                assert_eq!(bits(&shared), bits(&each), "row {k}");
             }
-            each.twin = [false; 2];
-            let (a, b) = (shared.well_within(&r), each.well_within(&r));
-            assert_eq!(a, b, "row {k}");
-            reused += usize::from(shared.twin == [true; 2] && k % 3 != 1);
-            within += usize::from(a);
-            shared.check(&r);
-            each.check(&r);
+            assert!(reused > 100, "{reused} rows shared");
+            assert!(!with_floor || (within > 50 && within < 250), "{within} rows within the floor");
+            assert!(shared.events.len() >= 4, "{:?}", shared.events);
+            assert_eq!(shared.events, each.events);
+            assert_eq!(shared.reasons(), each.reasons());
         }
-        assert!(reused > 100 && within > 50 && within < 250, "{reused} rows shared, {within} within");
-        assert_eq!(shared.events, each.events);
     }
 }
