@@ -408,8 +408,11 @@ impl Maneuver for Iso3888_2 {
     }
 
     fn command(&mut self, _t: f64, kin: &Kinematics) -> Command {
-        let steer_rad = self.driver.steer(&self.path, kin);
-        let front_x = kin.body_point(self.body.front_m, 0.0).0;
+        // The yaw's sine and cosine once, for the driver and the front of the body.
+        let (s, c) = kin.yaw_rad.sin_cos();
+        let steer_rad = self.driver.steer_with(&self.path, kin, (s, c));
+        // x of the body point (front_m, 0), as [`Kinematics::body_point`] computes it
+        let front_x = kin.x_m + self.body.front_m * c - 0.0 * s;
         let speed_target_mps = match self.params.mode {
             SpeedMode::Hold => Some(self.params.speed_mps),
             SpeedMode::Coast if front_x < 0.0 => Some(self.params.speed_mps),
