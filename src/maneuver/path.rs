@@ -15,7 +15,8 @@ pub struct RefPath {
     /// Total length, m ([`RefPath::length`]).
     length: f64,
     /// Per block of [`BLOCK`] consecutive segments, the box (x_lo, x_hi, y_lo, y_hi) around their
-    /// end points (non-finite coordinates left out: such a segment is never the closest).
+    /// end points (NaN coordinates left out: a segment with one has a NaN distance and is never
+    /// the closest).
     boxes: Vec<[f64; 4]>,
 }
 
@@ -145,7 +146,8 @@ impl RefPath {
         let nseg = self.n_segments();
         // (squared distance, position along the segment, segment) of the closest so far
         let mut best = (f64::INFINITY, 0.0, 0);
-        // Coordinate gap from (x, y) to block k's box, less the margin (NaN for a NaN query).
+        // Coordinate gap from (x, y) to block k's box, less the margin. (For a NaN query every
+        // distance is NaN and nothing is closer than infinity, whatever is passed over.)
         let gap_to = |k: usize| {
             let [x_lo, x_hi, y_lo, y_hi] = self.boxes[k];
             (x_lo - x).max(x - x_hi).max(y_lo - y).max(y - y_hi) - 1e-6
