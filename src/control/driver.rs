@@ -80,6 +80,11 @@ impl Driver {
 
     /// Desired road-wheel steer angle (before limits) for the vehicle at `kin`.
     pub fn steer(&mut self, path: &RefPath, kin: &Kinematics) -> f64 {
+        self.steer_with(path, kin, kin.yaw_rad.sin_cos())
+    }
+
+    /// [`Driver::steer`] given `kin.yaw_rad.sin_cos()` (for a caller that needs it too).
+    pub fn steer_with(&mut self, path: &RefPath, kin: &Kinematics, (sy, cy): (f64, f64)) -> f64 {
         let p = &self.params;
         let (s, e_cg, idx) = match self.cursor {
             Some(i) => path.closest_from(kin.x_m, kin.y_m, i),
@@ -99,7 +104,6 @@ impl Driver {
         let (px, py) = (kin.x_m + dist * mid.cos(), kin.y_m + dist * mid.sin());
         let ((tx, ty), preview) = path.point_at_from(s + dist, idx, self.preview);
         self.preview = preview;
-        let (sy, cy) = kin.yaw_rad.sin_cos();
         let e = -(tx - px) * sy + (ty - py) * cy;
         let lk = self.wheelbase_m + p.understeer_gradient_rad_per_mps2 * v * v;
         r * lk / v + p.gain * 2.0 * lk * e / (v * v * tp * tp)

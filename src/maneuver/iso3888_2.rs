@@ -27,6 +27,8 @@
 //! takes the pair with the smallest peak curvature whose body outline, carried rigidly along the
 //! path (heading = path tangent), clears every gate boundary by `clearance_m`.
 
+use std::sync::Arc;
+
 use super::path::RefPath;
 use super::{Command, Event, EventKind, Maneuver, Outcome, Start};
 use crate::control::{Driver, DriverParams};
@@ -266,21 +268,47 @@ fn search_path(gates: &[Gate; 3], body: &Body, clearance: f64) -> (Transition, T
     }
 }
 
+/// The CG's reference path from `x0` to `x1` (m) through the transitions `(t1, t2)`: straight,
+/// then `t1`, then `t2` from `t1`'s end, sampled every 0.1 m. Runs of a batch or benchmark repeat
+/// it with the same inputs, so the last few are kept (the same path whether built or kept).
+fn reference_path(x0: f64, x1: f64, (t1, t2): (Transition, Transition)) -> Arc<RefPath> {
+    type Key = [u64; 10];
+    static CACHE: std::sync::OnceLock<std::sync::Mutex<std::collections::HashMap<Key, Arc<RefPath>>>> =
+        std::sync::OnceLock::new();
+    /// Paths kept at most (about 100 kB each at the default lengths).
+    const KEEP: usize = 8;
+    let key: Key = [x0, x1, t1.x0, t1.x1, t1.y0, t1.y1, t2.x0, t2.x1, t2.y0, t2.y1].map(f64::to_bits);
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(p) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return p;
+    }
+    let y = move |x: f64| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 };
+    let path = Arc::new(RefPath::from_fn(x0, x1, 0.1, y));
+    if let Ok(mut c) = cache.lock() {
+        if c.len() >= KEEP {
+            c.clear();
+        }
+        c.insert(key, path.clone());
+    }
+    path
+}
+
 /// The running manoeuvre.
 #[derive(Debug, Clone)]
 pub struct Iso3888_2 {
     pub params: Iso3888_2Params,
     pub gates: [Gate; 3],
     pub body: Body,
-    pub path: RefPath,
+    pub path: Arc<RefPath>,
     /// The two lateral transitions of the reference path.
     pub transitions: (Transition, Transition),
     driver: Driver,
     /// Struck (gate index, side 0 = right / 1 = left).
     struck: Vec<(usize, usize)>,
     course_done: bool,
-    /// Time and body corners at the end of the previous step (the start of the segments swept next).
-    previous: Option<(f64, [(f64, f64); 4])>,
+    /// Time, body corners and the corners' x range (lowest, highest) at the end of the previous
+    /// step (the start of the segments swept next).
+    previous: Option<(f64, [(f64, f64); 4], (f64, f64))>,
     /// CG x at the end of the previous step, m.
     previous_x: Option<f64>,
     /// Interpolated time at which the CG passed the end of the run, s.
@@ -324,6 +352,15 @@ fn first_beyond(p0: (f64, f64), p1: (f64, f64), g: &Gate, side: usize) -> Option
     }
 }
 
+/// Whether a corner sweeping from lateral position `y0` to `y1` stays between gate `g`'s
+/// boundaries by more than a rounding margin, so that [`first_beyond`] finds nothing on either side
+/// (the points it tests lie between `y0` and `y1` up to a few ulps). False for non-finite positions.
+fn inside_band(y0: f64, y1: f64, g: &Gate) -> bool {
+    let margin = 1e-9 * (1.0 + y0.abs() + y1.abs());
+    let (lo, hi) = (g.y_right_m + margin, g.y_left_m - margin);
+    y0 > lo && y1 > lo && y0 < hi && y1 < hi
+}
+
 /// Time at which a quantity moving linearly from `v0` (at `t0`) to `v1` (at `t1`) passes `level`.
 fn crossing_time(t0: f64, t1: f64, v0: f64, v1: f64, level: f64) -> f64 {
     if v1 > v0 && v0 <= level {
@@ -337,10 +374,7 @@ impl Iso3888_2 {
     pub fn new(params: Iso3888_2Params, body: Body, driver: DriverParams) -> Self {
         let gates = layout(body.width_m, params.lane5_min_width_m);
         let transitions = design_path(&gates, &body, params.clearance_m);
-        let (t1, t2) = transitions;
-        let y = move |x: f64| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 };
-        let x_end = params.end_x_m() + 100.0;
-        let path = RefPath::from_fn(-params.approach_m - 50.0, x_end, 0.1, y);
+        let path = reference_path(-params.approach_m - 50.0, params.end_x_m() + 100.0, transitions);
         let driver = Driver::new(driver, body.wheelbase_m);
         Self {
             params,
@@ -374,8 +408,11 @@ impl Maneuver for Iso3888_2 {
     }
 
     fn command(&mut self, _t: f64, kin: &Kinematics) -> Command {
-        let steer_rad = self.driver.steer(&self.path, kin);
-        let front_x = kin.body_point(self.body.front_m, 0.0).0;
+        // The yaw's sine and cosine once, for the driver and the front of the body.
+        let (s, c) = kin.yaw_rad.sin_cos();
+        let steer_rad = self.driver.steer_with(&self.path, kin, (s, c));
+        // x of the body point (front_m, 0), as [`Kinematics::body_point`] computes it
+        let front_x = kin.x_m + self.body.front_m * c - 0.0 * s;
         let speed_target_mps = match self.params.mode {
             SpeedMode::Hold => Some(self.params.speed_mps),
             SpeedMode::Coast if front_x < 0.0 => Some(self.params.speed_mps),
@@ -390,21 +427,20 @@ impl Maneuver for Iso3888_2 {
 
     fn after_step(&mut self, t: f64, kin: &Kinematics, events: &mut Vec<Event>) -> bool {
         let corners = self.corners(kin);
+        let range1 = corners.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
         // The previous step's corners; on the first call the segment degenerates to a point.
-        let (t0, prev) = self.previous.unwrap_or((t, corners));
-        self.previous = Some((t, corners));
+        let (t0, prev, range0) = self.previous.unwrap_or((t, corners, range1));
+        self.previous = Some((t, corners, range1));
         let mut strikes: Vec<(f64, usize, usize, usize, f64, f64)> = Vec::new();
         // The x range the body swept in this step: a gate outside it cannot be struck (the swept
         // segments' clipping to the gate's x range would be empty), so most steps test no gate.
-        let (x_lo, x_hi) = prev
-            .iter()
-            .chain(corners.iter())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c.0), hi.max(c.0)));
+        // (The range of both steps' corners: each step's range is kept for the next.)
+        let (x_lo, x_hi) = (range0.0.min(range1.0), range0.1.max(range1.1));
         let far = |g: &Gate| g.x1_m < x_lo || g.x0_m > x_hi;
         let any_near = !self.gates.iter().all(far);
         for (ci, (&p0, &p1)) in prev.iter().zip(corners.iter()).enumerate().filter(|_| any_near) {
             for (gi, g) in self.gates.iter().enumerate() {
-                if far(g) {
+                if far(g) || inside_band(p0.1, p1.1, g) {
                     continue;
                 }
                 for side in 0..2 {
@@ -436,8 +472,8 @@ impl Maneuver for Iso3888_2 {
                 ),
             });
         }
-        let rear = |c: &[(f64, f64); 4]| c.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
-        let (rear0, rear1) = (rear(&prev), rear(&corners));
+        // The rearmost corner's x at the start and end of the step (the x ranges' lower ends).
+        let (rear0, rear1) = (range0.0, range1.0);
         if !self.course_done && rear1 > COURSE_LENGTH_M {
             self.course_done = true;
             events.push(Event {
@@ -471,16 +507,102 @@ impl Maneuver for Iso3888_2 {
             .collect();
         let x_end = self.params.end_x_m();
         let (t1, t2) = self.transitions;
-        let path: Vec<[f64; 2]> = (0..)
+        // [x, y] pairs every 0.5 m, built as the values serde_json makes of a Vec<[f64; 2]>
+        let path: Vec<serde_json::Value> = (0..)
             .map(|i| -self.params.approach_m + 0.5 * i as f64)
             .take_while(|x| *x <= x_end)
+            .map(|x| serde_json::Value::Array(vec![x.into(), (if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 }).into()]))
+            .collect();
+        // The object json!({"kind", "gates", "body", "reference_path"}) makes, in that order,
+        // without serialising the arrays a second time.
+        let mut layout = serde_json::Map::new();
+        layout.insert("kind".into(), "iso3888_2".into());
+        layout.insert("gates".into(), serde_json::Value::Array(gates));
+        let body =
+            serde_json::json!({"front_m": self.body.front_m, "rear_m": self.body.rear_m, "width_m": self.body.width_m});
+        layout.insert("body".into(), body);
+        layout.insert("reference_path".into(), serde_json::Value::Array(path));
+        Some(serde_json::Value::Object(layout))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn course() -> Iso3888_2 {
+        let params = Iso3888_2Params {
+            speed_mps: 10.0,
+            mode: SpeedMode::Hold,
+            approach_m: 30.0,
+            exit_m: 20.0,
+            lane5_min_width_m: 3.0,
+            clearance_m: 0.1,
+        };
+        let body = Body { width_m: 1.8, front_m: 2.3, rear_m: 2.2, wheelbase_m: 2.7 };
+        Iso3888_2::new(params, body, DriverParams::default())
+    }
+
+    /// The layout is the object `json!` makes of the gates, the body and the path as a
+    /// `Vec<[f64; 2]>`, to the byte.
+    #[test]
+    fn layout_is_the_json_of_its_parts() {
+        let m = course();
+        let gates: Vec<_> = m
+            .gates
+            .iter()
+            .map(|g| serde_json::json!({"name": g.name, "x0_m": g.x0_m, "x1_m": g.x1_m, "y_right_m": g.y_right_m, "y_left_m": g.y_left_m}))
+            .collect();
+        let (t1, t2) = m.transitions;
+        let path: Vec<[f64; 2]> = (0..)
+            .map(|i| -30.0 + 0.5 * i as f64)
+            .take_while(|x| *x <= COURSE_LENGTH_M + 20.0)
             .map(|x| [x, if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 }])
             .collect();
-        Some(serde_json::json!({
+        let want = serde_json::json!({
             "kind": "iso3888_2",
             "gates": gates,
-            "body": {"front_m": self.body.front_m, "rear_m": self.body.rear_m, "width_m": self.body.width_m},
+            "body": {"front_m": 2.3, "rear_m": 2.2, "width_m": 1.8},
             "reference_path": path,
-        }))
+        });
+        let got = m.layout().unwrap();
+        assert_eq!(got, want);
+        assert_eq!(serde_json::to_string_pretty(&got).unwrap(), serde_json::to_string_pretty(&want).unwrap());
+    }
+
+    /// The kept reference path is the one built afresh.
+    #[test]
+    fn kept_path_is_the_built_one() {
+        let (a, b) = (course(), course());
+        assert!(Arc::ptr_eq(&a.path, &b.path));
+        let (t1, t2) = a.transitions;
+        let fresh =
+            RefPath::from_fn(-80.0, COURSE_LENGTH_M + 120.0, 0.1, |x| if x < t1.x1 { t1.at(x).0 } else { t2.at(x).0 });
+        assert_eq!(*a.path, fresh);
+    }
+
+    /// A corner sweep inside a gate's band finds no strike on either side, for sweeps ending at
+    /// up to a few ulps from the boundaries (where the band test gives way to the full one).
+    #[test]
+    fn inside_the_band_no_side_is_struck() {
+        let g = layout(1.8, 3.0)[1];
+        let mut inside = 0;
+        for k in 0..2000 {
+            let f = k as f64 / 1999.0;
+            for (y0, y1) in [
+                (g.y_right_m + f * g.width_m(), g.y_left_m - f * g.width_m()),
+                (g.y_right_m, g.y_right_m + f * 1e-12),
+                (g.y_left_m - f * 1e-9, g.y_left_m - 2e-9),
+                (g.y_right_m + 1e-8 * f, g.centre_m()),
+            ] {
+                let (p0, p1) = ((g.x0_m + 3.0 * f, y0), (g.x0_m + 3.0 * f + 0.1, y1));
+                if inside_band(y0, y1, &g) {
+                    inside += 1;
+                    assert_eq!((first_beyond(p0, p1, &g, 0), first_beyond(p0, p1, &g, 1)), (None, None), "{y0} {y1}");
+                }
+            }
+        }
+        assert!(inside > 2000, "{inside}");
+        assert!(!inside_band(f64::NAN, 0.0, &g) && !inside_band(g.centre_m(), f64::INFINITY, &g));
     }
 }

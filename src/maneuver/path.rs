@@ -1,26 +1,61 @@
 //! Reference paths: polylines with arc length, densely sampled, open or closed.
 
+/// Segments per block of [`RefPath::closest_global`]'s bounding boxes.
+const BLOCK: usize = 32;
+
 /// A reference path: points (x, y) in the ground frame with cumulative arc length.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RefPath {
     pts: Vec<(f64, f64)>,
     s: Vec<f64>,
     closed: bool,
+    /// Length of each segment, m (hypot of its coordinate differences; the closing segment of a
+    /// closed path last), as summed into `s`.
+    seg_len: Vec<f64>,
+    /// Total length, m ([`RefPath::length`]).
+    length: f64,
+    /// Per block of [`BLOCK`] consecutive segments, the box (x_lo, x_hi, y_lo, y_hi) around their
+    /// end points (NaN coordinates left out: a segment with one has a NaN distance and is never
+    /// the closest).
+    boxes: Vec<[f64; 4]>,
 }
 
 impl RefPath {
     /// Path through `pts` (at least two distinct points). A closed path wraps around.
     pub fn new(pts: Vec<(f64, f64)>, closed: bool) -> Self {
-        let mut s = Vec::with_capacity(pts.len());
+        let n = pts.len();
+        let mut s = Vec::with_capacity(n);
+        let mut seg_len = Vec::with_capacity(n);
         let mut acc = 0.0;
         for (i, p) in pts.iter().enumerate() {
             if i > 0 {
                 let q = pts[i - 1];
-                acc += (p.0 - q.0).hypot(p.1 - q.1);
+                let len = (p.0 - q.0).hypot(p.1 - q.1);
+                seg_len.push(len);
+                acc += len;
             }
             s.push(acc);
         }
-        Self { pts, s, closed }
+        let mut length = acc;
+        if closed && n > 1 {
+            let (a, b) = (pts[n - 1], pts[0]);
+            let len = (b.0 - a.0).hypot(b.1 - a.1);
+            seg_len.push(len);
+            length = acc + len;
+        }
+        let nseg = if closed { n } else { n.saturating_sub(1) };
+        let boxes = (0..nseg.div_ceil(BLOCK))
+            .map(|k| {
+                let mut bx = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
+                // the end points of segments k B .. (k + 1) B: points k B ..= (k + 1) B (wrapping)
+                for j in k * BLOCK..=((k + 1) * BLOCK).min(nseg) {
+                    let p = pts[if j < n { j } else { 0 }];
+                    bx = [bx[0].min(p.0), bx[1].max(p.0), bx[2].min(p.1), bx[3].max(p.1)];
+                }
+                bx
+            })
+            .collect();
+        Self { pts, s, closed, seg_len, length, boxes }
     }
 
     /// Sample y = f(x) from x0 to x1 every `dx`.
@@ -35,13 +70,7 @@ impl RefPath {
 
     /// Total length, m (closing segment included for a closed path).
     pub fn length(&self) -> f64 {
-        let open = *self.s.last().unwrap_or(&0.0);
-        if self.closed && self.pts.len() > 1 {
-            let (a, b) = (self.pts[0], self.pts[self.pts.len() - 1]);
-            open + (a.0 - b.0).hypot(a.1 - b.1)
-        } else {
-            open
-        }
+        self.length
     }
 
     pub fn start_s(&self) -> f64 {
@@ -92,9 +121,13 @@ impl RefPath {
             return self.pts.first().copied().unwrap_or((0.0, 0.0));
         }
         let s = self.wrap(s);
-        let i = self.index_at(s);
+        self.point_in(self.index_at(s), s)
+    }
+
+    /// The point at arc length `s` on the line of segment `i` (extrapolated beyond its ends).
+    fn point_in(&self, i: usize, s: f64) -> (f64, f64) {
         let (a, b, s0) = self.segment(i);
-        let len = (b.0 - a.0).hypot(b.1 - a.1).max(1e-12);
+        let len = self.seg_len[i].max(1e-12);
         let u = (s - s0) / len;
         (a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1))
     }
@@ -102,35 +135,54 @@ impl RefPath {
     /// Closest point to (x, y) over the whole path. Returns (arc length, signed lateral offset of
     /// the point, positive to the left of the path direction).
     ///
-    /// An inner segment (a, b) whose every point is farther than a segment already projected by a
-    /// coordinate alone (|x - a_x| - |b_x - a_x| or the same in y, less a 1 um margin for
-    /// rounding, squared, beyond that squared distance) cannot be closer and is not projected: the
-    /// same answer as projecting every segment, at a few comparisons per far segment. The end
-    /// segments of an open path extend beyond their ends and are always projected.
+    /// The first segment (in path order) of the smallest squared distance; segments that cannot be
+    /// that close are not projected. A block of segments whose box lies farther than a distance
+    /// already found, by a coordinate alone (less a 1 um margin for rounding, squared), is passed
+    /// over whole; so is an inner segment (a, b) farther by |x - a_x| - |b_x - a_x| or the same in
+    /// y. The threshold is seeded with the block whose box is nearest. Either test skips only
+    /// segments strictly farther than one projected, so the answer is that of projecting every
+    /// segment. The end segments of an open path extend beyond their ends and are always projected.
     pub fn closest_global(&self, x: f64, y: f64) -> (f64, f64) {
         let nseg = self.n_segments();
-        let mut best = (f64::INFINITY, 0.0, 0.0);
-        // The segment starting nearest (x, y), projected first: its distance is a tight threshold
-        // from the start (the search keeps the first closest segment in order, as before).
-        let near = (0..nseg)
-            .map(|i| (self.pts[i].0 - x).powi(2) + (self.pts[i].1 - y).powi(2))
-            .enumerate()
-            .fold((0, f64::INFINITY), |b, (i, d2)| if d2 < b.1 { (i, d2) } else { b });
-        let seed = if nseg > 0 { self.project(near.0, x, y).0 } else { f64::INFINITY };
-        for i in 0..nseg {
-            if self.closed || (i > 0 && i + 1 < nseg) {
-                let (a, b, _) = self.segment(i);
-                let gap = ((x - a.0).abs() - (b.0 - a.0).abs()).max((y - a.1).abs() - (b.1 - a.1).abs()) - 1e-6;
-                if gap > 0.0 && gap * gap > best.0.min(seed) {
-                    continue;
+        // (squared distance, position along the segment, segment) of the closest so far
+        let mut best = (f64::INFINITY, 0.0, 0);
+        // Coordinate gap from (x, y) to block k's box, less the margin. (For a NaN query every
+        // distance is NaN and nothing is closer than infinity, whatever is passed over.)
+        let gap_to = |k: usize| {
+            let [x_lo, x_hi, y_lo, y_hi] = self.boxes[k];
+            (x_lo - x).max(x - x_hi).max(y_lo - y).max(y - y_hi) - 1e-6
+        };
+        let blocks = 0..self.boxes.len();
+        let nearest = blocks
+            .clone()
+            .map(|k| (k, gap_to(k)))
+            .fold((0, f64::INFINITY), |b, (k, g)| if g < b.1 { (k, g) } else { b });
+        let seed = (nearest.0 * BLOCK..((nearest.0 + 1) * BLOCK).min(nseg))
+            .map(|i| self.distance(i, x, y).0)
+            .fold(f64::INFINITY, f64::min);
+        for k in blocks {
+            let gap = gap_to(k);
+            let end_segment = !self.closed && (k == 0 || (k + 1) * BLOCK >= nseg);
+            if !end_segment && gap > 0.0 && gap * gap > best.0.min(seed) {
+                continue;
+            }
+            for i in k * BLOCK..((k + 1) * BLOCK).min(nseg) {
+                if self.closed || (i > 0 && i + 1 < nseg) {
+                    let (a, b, _) = self.segment(i);
+                    let gap = ((x - a.0).abs() - (b.0 - a.0).abs()).max((y - a.1).abs() - (b.1 - a.1).abs()) - 1e-6;
+                    if gap > 0.0 && gap * gap > best.0.min(seed) {
+                        continue;
+                    }
+                }
+                let (d2, u) = self.distance(i, x, y);
+                if d2 < best.0 {
+                    best = (d2, u, i);
                 }
             }
-            let p = self.project(i, x, y);
-            if p.0 < best.0 {
-                best = p;
-            }
         }
-        (self.wrap(best.1), best.2)
+        // (nothing closer than infinity, e.g. a NaN query: arc length 0 and offset 0, as before)
+        let (s, e) = if best.0 < f64::INFINITY { self.place(best.2, best.1, x, y) } else { (0.0, 0.0) };
+        (self.wrap(s), e)
     }
 
     /// Closest point to (x, y) found by walking from the segment at arc length `hint_s` to
@@ -167,7 +219,9 @@ impl RefPath {
                 None
             }
         };
-        let mut best = (start, self.project(start, x, y));
+        // (segment, (squared distance, position along it)); the arc length and offset of the
+        // best only.
+        let mut best = (start, self.distance(start, x, y));
         for fwd in [true, false] {
             if !fwd && best.0 != start {
                 // The forward walk moved: the segment behind the best is the one it left, farther.
@@ -178,7 +232,7 @@ impl RefPath {
             for _ in 0..nseg {
                 match step(i, fwd) {
                     Some(j) => {
-                        let p = self.project(j, x, y);
+                        let p = self.distance(j, x, y);
                         if p.0 < best.1 .0 {
                             best = (j, p);
                             i = j;
@@ -190,7 +244,7 @@ impl RefPath {
                 }
             }
         }
-        let (_, s, e) = best.1;
+        let (s, e) = self.place(best.0, best.1 .1, x, y);
         (self.wrap(s), e, best.0)
     }
 
@@ -214,17 +268,24 @@ impl RefPath {
         if self.s[i] > s {
             return (self.point_at(s), from);
         }
-        let (a, b, s0) = self.segment(i);
-        let len = (b.0 - a.0).hypot(b.1 - a.1).max(1e-12);
-        let u = (s - s0) / len;
-        ((a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1)), i)
+        (self.point_in(i, s), i)
     }
 
     /// Projection of (x, y) on segment i: (squared distance, arc length, signed offset). The end
     /// segments of an open path extend beyond their ends.
+    #[cfg(test)]
     fn project(&self, i: usize, x: f64, y: f64) -> (f64, f64, f64) {
+        let (d2, u) = self.distance(i, x, y);
+        let (s, e) = self.place(i, u, x, y);
+        (d2, s, e)
+    }
+
+    /// The squared distance of (x, y) from segment i and the fraction u along it of the
+    /// projection ([`RefPath::project`]'s first part).
+    #[inline]
+    fn distance(&self, i: usize, x: f64, y: f64) -> (f64, f64) {
         let nseg = self.n_segments();
-        let (a, b, s0) = self.segment(i);
+        let (a, b, _) = self.segment(i);
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         let len2 = (dx * dx + dy * dy).max(1e-24);
         let mut u = ((x - a.0) * dx + (y - a.1) * dy) / len2;
@@ -235,8 +296,17 @@ impl RefPath {
             u = u.clamp(0.0, 1.0);
         }
         let (px, py) = (a.0 + u * dx, a.1 + u * dy);
-        let len = len2.sqrt();
-        ((x - px).powi(2) + (y - py).powi(2), s0 + u * len, (dx * (y - a.1) - dy * (x - a.0)) / len)
+        ((x - px).powi(2) + (y - py).powi(2), u)
+    }
+
+    /// The arc length of the point a fraction `u` along segment i and the signed offset of
+    /// (x, y) from the segment's line ([`RefPath::project`]'s second part).
+    #[inline]
+    fn place(&self, i: usize, u: f64, x: f64, y: f64) -> (f64, f64) {
+        let (a, b, s0) = self.segment(i);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len = (dx * dx + dy * dy).max(1e-24).sqrt();
+        (s0 + u * len, (dx * (y - a.1) - dy * (x - a.0)) / len)
     }
 }
 
@@ -308,6 +378,42 @@ mod tests {
         }
         let (x, y) = open.point_at(12.34);
         assert_eq!(open.closest_global(x, y), brute_closest(&open, x, y));
+        // Ties: a path out along y = 0 and back along y = 2 (many blocks apart), queried on
+        // y = 1 (exactly as far from both legs: the first, outbound, segment wins) and on the
+        // vertices of a straight line (two segments at distance 0).
+        let mut pts: Vec<(f64, f64)> = (0..=500).map(|i| (0.1 * i as f64, 0.0)).collect();
+        pts.extend((0..=500).rev().map(|i| (0.1 * i as f64, 2.0)));
+        let hairpin = RefPath::new(pts, false);
+        let line = RefPath::from_fn(0.0, 100.0, 0.5, |_| 0.0);
+        for k in -10..=600 {
+            let x = 0.1 * k as f64;
+            for (p, y) in [(&hairpin, 1.0), (&hairpin, 0.7), (&hairpin, -3.0), (&line, 0.0), (&line, 0.25)] {
+                assert_eq!(p.closest_global(x, y), brute_closest(p, x, y), "({x}, {y})");
+            }
+        }
+        // A non-finite query: nothing is closer than infinity (arc length 0, offset 0, as brute force).
+        for (x, y) in [(f64::NAN, 1.0), (1.0, f64::NAN), (f64::INFINITY, 0.0)] {
+            assert_eq!(open.closest_global(x, y), brute_closest(&open, x, y));
+            assert_eq!(open.closest_global(x, y), (0.0, 0.0));
+        }
+    }
+
+    /// Arc lengths, lengths and points from the stored segment lengths are those of the
+    /// coordinate differences (hypot) at every use.
+    #[test]
+    fn stored_segment_lengths_are_the_hypot_of_the_segment() {
+        let circle =
+            RefPath::new((0..77).map(|i| (3.0 * (0.1 * i as f64).cos(), 2.0 * (0.1 * i as f64).sin())).collect(), true);
+        let open = RefPath::from_fn(-3.0, 7.0, 0.37, |x| (0.4 * x).sin());
+        for p in [&circle, &open] {
+            for i in 0..p.n_segments() {
+                let (a, b, _) = p.segment(i);
+                assert_eq!(p.seg_len[i].to_bits(), (b.0 - a.0).hypot(b.1 - a.1).to_bits());
+            }
+        }
+        let (a, b) = (circle.pts[0], circle.pts[76]);
+        assert_eq!(circle.length(), circle.s[76] + (a.0 - b.0).hypot(a.1 - b.1));
+        assert_eq!(open.length(), *open.s.last().unwrap());
     }
 
     #[test]

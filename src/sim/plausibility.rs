@@ -101,6 +101,26 @@ pub struct Plausibility {
     /// with load transfer uses their load-independent part. Re-prepared only if the surface
     /// (friction, camber) changes.
     prepared: [Option<Prepared>; 4],
+    /// Per axle: whether its two slots were prepared from the same input, bit for bit (so hold
+    /// the same coefficients: the provider is pure). A row whose two loads on that axle are the
+    /// same bits then gives both tyres the same input and the same floor, computed once.
+    twin: [bool; 2],
+    /// The bits of the input each slot was prepared from ([`input_bits`]).
+    prepared_from: [Option<[u64; 8]>; 4],
+}
+
+/// The bits of every field of a tyre input (equal bits: the same input to a pure provider).
+fn input_bits(i: &TyreInput) -> [u64; 8] {
+    [
+        i.fz_n.to_bits(),
+        i.kappa.to_bits(),
+        i.alpha_rad.to_bits(),
+        i.camber_rad.to_bits(),
+        i.vx_mps.to_bits(),
+        i.mu_surface.to_bits(),
+        i.surface_temp_c.to_bits(),
+        i.contact_temp_c.to_bits(),
+    ]
 }
 
 impl Plausibility {
@@ -116,6 +136,8 @@ impl Plausibility {
             worst: [Worst::default(); 3],
             events: Vec::new(),
             prepared: [None; 4],
+            twin: [false; 2],
+            prepared_from: [None; 4],
         }
     }
 
@@ -129,14 +151,25 @@ impl Plausibility {
         let o = &row.obs;
         let mut bound = 0.0;
         let mut load = 0.0;
+        // The first tyre's peak friction, kept for its twin (the same prepared input and load: the
+        // same coefficients, matched or not alike, and the same value).
+        let mut first = None;
         for slot in 2 * axle..2 * axle + 2 {
             let fz = o.fz_n[slot];
             if fz.is_nan() || fz <= 0.0 {
                 continue;
             }
+            if let Some(mu) = first.filter(|_| self.twin[axle] && fz.to_bits() == o.fz_n[slot - 1].to_bits()) {
+                bound += if f64::is_finite(mu) { mu } else { self.env.mu } * fz;
+                load += fz;
+                continue;
+            }
             let input = self.input(row, axle, fz);
             if !matches!(&self.prepared[slot], Some(p) if p.matches_surface(&input)) {
                 self.prepared[slot] = Some(self.tyre.prepare(&input));
+                self.prepared_from[slot] = Some(input_bits(&input));
+                let (a, b) = (self.prepared_from[2 * axle], self.prepared_from[2 * axle + 1]);
+                self.twin[axle] = a.is_some() && a == b;
             }
             let mu = match &self.prepared[slot] {
                 Some(p) => self.tyre.peak_friction_prepared(p, &input),
@@ -144,6 +177,7 @@ impl Plausibility {
             };
             bound += if mu.is_finite() { mu } else { self.env.mu } * fz;
             load += fz;
+            first = Some(mu);
         }
         (bound, load)
     }
@@ -162,17 +196,23 @@ impl Plausibility {
         let (mut floor_sum, mut load_sum) = (0.0, 0.0);
         for axle in 0..2 {
             let mut floor = 0.0;
+            // The first tyre's floor, kept for its twin (the same prepared input and load).
+            let mut first = None;
             for slot in 2 * axle..2 * axle + 2 {
                 let fz = o.fz_n[slot];
                 let Some(p) = &self.prepared[slot] else { return false };
                 if fz.is_nan() || fz <= 0.0 {
                     return false;
                 }
-                let input = self.input(row, axle, fz);
-                match self.tyre.peak_force_floor_prepared(p, &input) {
-                    Some(f) => floor += f,
-                    None => return false,
-                }
+                let f = match first {
+                    Some(f) if self.twin[axle] && fz.to_bits() == o.fz_n[slot - 1].to_bits() => f,
+                    _ => match self.tyre.peak_force_floor_prepared(p, &self.input(row, axle, fz)) {
+                        Some(f) => f,
+                        None => return false,
+                    },
+                };
+                floor += f;
+                first = Some(f);
                 load_sum += fz;
             }
             // |F| <= floor, squared (false for a NaN force; rounding is far inside the 5 % margin)
@@ -501,5 +541,47 @@ mod tests {
         assert_eq!(with.events, without.events);
         assert_eq!(with.reasons(), without.reasons());
         assert!(with.events.len() >= 4 && with.reasons().len() == 3, "{:?}", with.events);
+    }
+
+    /// Two tyres of an axle prepared from the same input share their floor and their peak
+    /// friction when their loads are the same bits: the pre-test and the exact checks say the
+    /// same as with every value computed, row by row, for rows on both sides of the floor and of
+    /// the limits, with equal and unequal loads, for a provider with a floor (ATIIM Pacejka) and
+    /// one without (the unsaturated linear tyre: every row checked exactly).
+    #[test]
+    fn twin_tyres_share_their_floor_and_bound() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
+        let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
+        let atiim = spec.build(path, crate::tyre::spec::TyreModelKind::AtiimPacejka).unwrap().model;
+        for (tyre, with_floor) in [(atiim, true), (linear(false), false)] {
+            let (mut shared, mut each) =
+                (Plausibility::new(tyre.clone(), ENV, None), Plausibility::new(tyre, ENV, None));
+            let (mut reused, mut within) = (0, 0);
+            for k in 0..300 {
+                let w = (0.05 * k as f64).sin();
+                let mut r = row(k as f64 * 0.01, [2600.0 * w, -1800.0 * w], 1.8 * w, 0.0);
+                r.obs.kappa = [0.02 * w, -0.05 * w];
+                r.obs.contact_temp_axle_c = [-3.0 + 2.0 * w.abs(), -3.0 + w.abs()];
+                if k % 3 == 1 {
+                    r.obs.fz_n[1] = 4100.0; // unequal loads on the front axle: no sharing there
+                }
+                each.twin = [false; 2];
+                let (a, b) = (shared.well_within(&r), each.well_within(&r));
+                assert_eq!(a, b, "row {k}");
+                reused += usize::from(shared.twin == [true; 2] && k % 3 != 1);
+                within += usize::from(a);
+                shared.check(&r);
+                each.twin = [false; 2];
+                each.check(&r);
+                let bits =
+                    |p: &Plausibility| p.worst.map(|w| (w.value.to_bits(), w.t_s.to_bits(), w.axle, w.first_t_s));
+                assert_eq!(bits(&shared), bits(&each), "row {k}");
+            }
+            assert!(reused > 100, "{reused} rows shared");
+            assert!(!with_floor || (within > 50 && within < 250), "{within} rows within the floor");
+            assert!(shared.events.len() >= 4, "{:?}", shared.events);
+            assert_eq!(shared.events, each.events);
+            assert_eq!(shared.reasons(), each.reasons());
+        }
     }
 }
