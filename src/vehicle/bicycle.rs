@@ -491,13 +491,7 @@ mod tests {
                 assert_eq!(plain.observe(&x, &u, &env), plain.derivatives_observed(&x, &u, &env).1);
                 // the engine's shared evaluation: the separate calls' values, bit for bit
                 for m in [&plain, &prepared] {
-                    let (mut c, mut d) = ([TyreContact::default(); 2], [TyreContact::default(); 2]);
-                    m.tyre_contacts(&x, &u, &env, &mut c);
-                    let (k, o) = m.derivatives_observed(&x, &u, &env);
-                    assert_eq!(m.derivatives_contacts(&x, &u, &env, true, &mut d), (k, Some(o)));
-                    assert_eq!(c, d);
-                    assert_eq!(m.derivatives_contacts(&x, &u, &env, false, &mut d), (k, None));
-                    assert!(c[0].friction_force_n > 0.0 && c[0].slide_speed_mps > 0.0);
+                    crate::vehicle::assert_shared_evaluation(m, &x, &u, &env);
                 }
             }
         }

@@ -243,3 +243,22 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// nothing.
     fn project(&self, _t_s: f64, _x: &mut SVector<f64, N>) {}
 }
+
+/// Test helper: [`VehicleModel::derivatives_contacts`] gives what the separate calls give, bit for
+/// bit, with and without the observation (the engine's contact estimate relies on it).
+#[cfg(test)]
+pub(crate) fn assert_shared_evaluation<const N: usize, M: VehicleModel<N>>(
+    m: &M,
+    x: &SVector<f64, N>,
+    u: &Inputs,
+    env: &Environment,
+) {
+    let (mut c, mut d) = ([TyreContact::default(); 4], [TyreContact::default(); 4]);
+    m.tyre_contacts(x, u, env, &mut c[..M::TYRES]);
+    let (k, o) = m.derivatives_observed(x, u, env);
+    assert_eq!(m.derivatives_contacts(x, u, env, true, &mut d[..M::TYRES]), (k, Some(o)));
+    assert_eq!(c, d);
+    assert_eq!(m.derivatives_contacts(x, u, env, false, &mut d[..M::TYRES]), (k, None));
+    // not trivially empty (a lifted wheel transmits nothing, so not every tyre)
+    assert!(c[..M::TYRES].iter().any(|t| t.friction_force_n > 0.0 && t.slide_speed_mps > 0.0), "{c:?}");
+}

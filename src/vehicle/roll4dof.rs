@@ -678,12 +678,7 @@ mod tests {
                     assert!(a.0.iter().all(|v| v.is_finite()));
                     // the engine's shared evaluation: the separate calls' values, bit for bit
                     for m in [&plain, &prepared] {
-                        let (mut c, mut d) = ([TyreContact::default(); 4], [TyreContact::default(); 4]);
-                        m.tyre_contacts(&x, &u, &env, &mut c);
-                        let (k, o) = m.derivatives_observed(&x, &u, &env);
-                        assert_eq!(m.derivatives_contacts(&x, &u, &env, true, &mut d), (k, Some(o)));
-                        assert_eq!(c, d);
-                        assert_eq!(m.derivatives_contacts(&x, &u, &env, false, &mut d), (k, None));
+                        crate::vehicle::assert_shared_evaluation(m, &x, &u, &env);
                     }
                 }
             }
