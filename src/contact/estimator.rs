@@ -784,8 +784,9 @@ impl ContactTemperature for AtiimEstimator {
     /// exceed 1, so the plain lagged update (T_next = G(T_prev)) would alternate between a
     /// melting and a cooler contact from sample to sample instead of converging. Solved per tyre,
     /// all tyres in lockstep (one `conditions` call evaluates all of them): G at a first point
-    /// (`guess` carried on over the period by the change between the last two values of G
-    /// accepted: in smooth running it is already within the tolerance, one evaluation), then G
+    /// (the last value of G accepted, closer to its root than the estimate, carried on over the
+    /// period by the change between the last two; `guess` before there is one: in smooth
+    /// running it is already within the tolerance, one evaluation), then G
     /// at that value, which brackets the root when G falls, then regula falsi (Illinois) within
     /// the bracket until |T - G(T)| <= [`coupled_tol_k`]`(h)`, at most [`COUPLED_MAX_EVALS`]
     /// evaluations. The estimate is the accepted trial point T itself, not G(T): the conditions
@@ -813,7 +814,8 @@ impl ContactTemperature for AtiimEstimator {
         let tol = coupled_tol_k(h);
         let tb0: [f64; MAX_TYRES] = std::array::from_fn(|i| if i < n { self.bulk_of(i) } else { f64::NAN });
         // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
-        // the accepted point (|residual|, bulk, output, conditions), whether it is done, and the
+        // the accepted point (|residual|, bulk, trial temperature = output, G, conditions),
+        // whether it is done, and the
         // Illinois side marker (-1 / +1: the end kept last time)
         let mut x = [0.0; MAX_TYRES];
         for i in 0..n {
