@@ -815,8 +815,7 @@ impl ContactTemperature for AtiimEstimator {
         let tb0: [f64; MAX_TYRES] = std::array::from_fn(|i| if i < n { self.bulk_of(i) } else { f64::NAN });
         // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
         // the accepted point (|residual|, bulk, trial temperature = output, G, conditions),
-        // whether it is done, and the
-        // Illinois side marker (-1 / +1: the end kept last time)
+        // whether it is done, and the Illinois side marker (-1 / +1: the end kept last time)
         let mut x = [0.0; MAX_TYRES];
         for i in 0..n {
             // the last G accepted (closer to its root than the estimate) carried on over the
