@@ -704,6 +704,13 @@ mod tests {
         }
     }
 
+    /// The uneven-sampling tests' runs: the synthetic set's ice sine and dry step, cut to their
+    /// first 401 samples (4 s at 100 Hz).
+    fn sine_and_step(m: &ReplayModel) -> [MeasuredRun; 2] {
+        let runs = synth::generate(m, &EffectParams::default(), 5);
+        [head(&runs[0].0, 401), head(&runs[2].0, 401)]
+    }
+
     /// An unevenly sampled run is integrated on a uniform grid and its channels interpolated to
     /// its samples. Here the samples of a 100 Hz run (the ice sine and the dry step) plus one
     /// more 3 ms into every other interval (on the same inputs: the extra samples lie on the
@@ -713,18 +720,15 @@ mod tests {
     ///   (measured <= 7e-17 rad/s): fails if the interpolation is linear, dropped (the row before
     ///   taken) or shifted by a sample;
     /// - against the same inputs sampled at 1 kHz (replayed at 1 ms steps) it stays within 5e-5
-    ///   rad/s, a thirtieth of the synthetic yaw-rate noise (measured 3.0e-5 on the sine, 1.7e-5
+    ///   rad/s, a thirtieth of the synthetic yaw-rate noise (measured 2.1e-5 on the sine, 1.7e-5
     ///   on the step, the same at the 100 Hz and at the extra samples: the 10 ms step's own error).
     ///   On the 1 kHz trajectory itself, linear interpolation between its 10 ms points misses by up
     ///   to 9.8e-6 and 3.0e-5 rad/s, the cubic by 5.1e-7 and 1.7e-6.
     #[test]
     fn uneven_sampling_on_the_engine_matches_a_fine_even_run() {
-        let m = model();
-        let runs = synth::generate(&m, &EffectParams::default(), 5);
-        let p = lagged_heated();
+        let (m, p) = (model(), lagged_heated());
         let mut worst = 0.0_f64;
-        for (run, _) in [&runs[0], &runs[2]] {
-            let even = head(run, 401);
+        for even in sine_and_step(&m) {
             let dense_t: Vec<f64> = (0..4001).map(|k| even.t[0] + k as f64 * 1e-3).collect();
             let dense = resample(&even, &dense_t);
             // Indices into the dense run: every 10 ms, and 3 ms into every other interval.
@@ -798,12 +802,9 @@ mod tests {
     /// by a sample (4.4e-3).
     #[test]
     fn jittered_sampling_matches_even_sampling() {
-        let m = model();
-        let runs = synth::generate(&m, &EffectParams::default(), 5);
-        let p = lagged_heated();
+        let (m, p) = (model(), lagged_heated());
         let mut worst = 0.0_f64;
-        for (run, _) in [&runs[0], &runs[2]] {
-            let even = head(run, 401);
+        for even in sine_and_step(&m) {
             let mut uneven = even.clone();
             for i in (1..400).step_by(2) {
                 uneven.t[i] += 2e-5;
