@@ -390,10 +390,10 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
 }
 
 /// The `thermal_factor_clamped` event carries the time of the first step at which a tyre's published
-/// H is negative, not the run's end. The sine steer on -10 degC ice at mu 0.3 with thermal Dugoff
-/// (bicycle, ATIIM contact, a row at every step) is checked against H recomputed from the rows
-/// (at mu 0.15 the contact estimate consistent with the force, `ContactTemperature::update_coupled`,
-/// keeps H above 0.2 throughout; the lagged estimate's alternation reached a negative H): the
+/// H is negative, not the run's end. The sine steer at 12 m/s on -20 degC ice at mu 0.5 with thermal
+/// Dugoff (bicycle, ATIIM contact, a row at every step) is checked against H recomputed from the
+/// rows (H < 0 needs a rise above 5.08 K + 0.75 mu; since the ice friction law's fall at road
+/// sliding speeds, the 10 m/s run on -10 degC ice at mu 0.3 stays below it, as mu 0.15 did before): the
 /// engine evaluates the state reached by a step with the inputs held over that step, i.e. row k's
 /// slip ratios with row k-1's contact temperatures; the event is at the first such row with
 /// H < 0 on either axle, and reported once. The same run on the 4-DOF model reports it once too,
@@ -403,8 +403,9 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/dissertation/bicycle_sine_steer_ice.toml");
     let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
     file.tyre_model = "dugoff_thermal".into();
-    file.surface.temperature_c = -10.0;
-    file.surface.mu = 0.3;
+    file.surface.temperature_c = -20.0;
+    file.surface.mu = 0.5;
+    file.maneuver.insert("speed_mps".into(), toml::Value::Float(12.0));
     file.sweep = None;
     let mut cfg = file.build(&path).unwrap();
     cfg.settings.output_interval_s = cfg.settings.step_s;

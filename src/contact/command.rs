@@ -123,6 +123,7 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
             "critical_film_m": sc.params.critical_film_m, "brush": sc.params.brush, "lock_time_s": sc.params.lock_time_s,
             "adhesion_peak": sc.params.dry.peak_gain, "peak_speed_mps": sc.params.dry.peak_speed_mps,
             "pressure_exponent": sc.params.dry.pressure_exponent, "temp_coeff_per_k": sc.params.dry.temp_coeff_per_k,
+            "speed_scale_mps": sc.params.dry.speed_scale_mps, "speed_exponent": sc.params.dry.speed_exponent,
             "carcass_stiffness_n_per_m": sc.params.carcass_n_per_m, "rolling_resistance": sc.params.rolling_resistance,
             "slip_stiffness_per_fz": slip_stiffness_per_fz(&sc.grid, &sc.params, sc.speed_mps, sc.ice_temp_c),
         },

@@ -298,10 +298,10 @@ pub const REFERENCE_GRID: (usize, usize) = (64, 48);
 const DRY_ICE_C: f64 = -1e6;
 
 /// Coldest temperature the dry friction law distinguishes (its clamp), degC.
-pub const DRY_LAW_COLD_C: f64 = -40.0;
+pub const DRY_LAW_COLD_C: f64 = super::friction::COLD_PLATEAU_C;
 
 /// ln of the dry law's temperature factor relative to [`DRY_LAW_COLD_C`]:
-/// -c_T (clamp(T, -40, 0) - (-40)).
+/// -c_T (clamp(T, T_cold, 0) - T_cold).
 #[inline]
 fn ln_temp_factor(c_t: f64, t_c: f64) -> f64 {
     -c_t * (t_c.clamp(DRY_LAW_COLD_C, MELT_C) - DRY_LAW_COLD_C)

@@ -1,5 +1,6 @@
 //! Friction laws of the patch model, pure functions in SI units:
-//! - [`DryIceFriction`]: dry rubber-ice friction mu(T, v_slide, p) with an adhesion peak;
+//! - [`IceFriction`]: the rubber-ice friction law mu(T, v_slide, p) with an adhesion peak, used by
+//!   the contact patch and by the car's tyre alike;
 //! - [`WetFilm`]: one friction law for a pixel carrying a water film of height h, from which both the
 //!   shear stress tau = mu p and the frictional heat q = tau v_slide follow (eq. 2.1 with the viscous
 //!   friction of eq. 4.13 as its floor);
@@ -11,59 +12,81 @@
 //! the interface (assumptions 2, 3, 9) and splits it between tread and ice by effusivity, which
 //! gives eps directly (`heat::tread_fraction`). Eq. 4.16 also reuses S for both slip and area.
 
-/// Dry rubber-ice friction coefficient mu(T, v_slide, p) (no water film).
+/// Coldest interface temperature the ice friction law distinguishes, degC: below it the friction
+/// holds its cold plateau (the dissertation, 2.5 citing its ref. [37]: dry ice below about -10 degC
+/// holds 0.16-0.20, i.e. the rise with cold levels off). Assumption: -12 degC, so that with
+/// c_T = 0.028 /K the plateau is 6 % above the -10 degC value (0.157 -> 0.166 on the rig's ice,
+/// inside 0.16-0.20).
+pub const COLD_PLATEAU_C: f64 = -12.0;
+
+/// The rubber-ice friction law of vehsim: mu(T, v_slide, p), one function used by the contact
+/// patch (every dry pixel, and the dry limit of every wet one) and by the car's Magic Formula tyre
+/// (its peak friction, `tyre::ice::SurfaceFriction`).
 ///
-/// mu = mu_ref * S(v) / S(v_ref) * (max(p, p_min) / p_ref)^(-n_p) * exp(-c_T (T - T_ref)),
+/// mu = mu_ref * Phi(T, v, p) / Phi(T_ref, v_ref, p_ref),
+/// Phi = exp(-c_T clamp(T, T_cold, 0)) * S(v) * (1 + v / v_c)^(-n_v) * max(p, p_min)^(-n_p),
 /// S(v) = 1 + g exp(-ln^2(v / v_pk) / (2 w^2)),
 ///
-/// with T clamped to [-40, 0] degC and v to >= 1e-6 m/s. The trends are those of the
-/// dissertation's Fig. 2.14 (rubber on ice): friction falls with sliding speed (above the adhesion
-/// peak), with contact pressure and with temperature. The bell S is the adhesion peak of rubber
-/// friction versus log sliding speed (a Grosch-type master curve: adhesion adds to a hysteresis
-/// base at speeds near the compound's peak speed). A tread element sticks until its stress reaches
-/// the peak value ([`DryIceFriction::static_mu`]).
+/// with T the interface (contact) temperature, degC, T_cold = [`COLD_PLATEAU_C`], and v clamped to
+/// >= 1e-6 m/s. Trends (the dissertation's 2.2, Fig. 2.4 and Fig. 2.14): the friction is higher on
+/// colder ice down to a plateau, falls toward melting, falls with sliding speed above the adhesion
+/// peak (Fig. 2.14 and 2.5.4: 'a decrease in rubber friction with increasing sliding velocity for
+/// v > 0.01 m/s') and falls with contact pressure. The bell S is the adhesion peak of rubber
+/// friction versus log sliding speed (a Grosch-type master curve) that gives the rig's drawbar
+/// peak at 5-10 % slip; the power (1 + v/v_c)^(-n_v) is its fall at road sliding speeds. A tread
+/// element sticks until its stress reaches the peak value ([`IceFriction::static_mu`]). The water
+/// film (the contact at 0 degC) is not in this law: the patch adds it pixel by pixel
+/// ([`WetFilm`]), the car's ATIIM-Pacejka tyre through its melt law.
 ///
-/// Parameters (defaults in [`DryIceFriction::srtt`]; each a source or a stated assumption):
-/// - `mu_ref` = the scenario's `mu_dry`, the value at the reference conditions below;
-/// - reference conditions: v_ref 0.028 m/s (the rig's 40 % slip at 7 cm/s, where it reports the
-///   saturated level), p_ref 250 kPa (about the SRTT's 35 psi inflation), T_ref -10 degC (the
-///   rig's dry-ice temperature);
+/// Parameters (defaults in [`IceFriction::srtt`]; each a source or a stated assumption):
+/// - `mu_ref`: the friction at the reference conditions (T_ref, v_ref, p_ref), which the caller
+///   states (a patch scenario: the rig's `mu_dry` at -10 degC, 0.028 m/s, 250 kPa; a manoeuvre's
+///   surface: `mu` at its `mu_reference_temperature_c` and 1 m/s, see docs/tyres.md);
 /// - adhesion peak: gain g 0.35 at v_pk 5 mm/s, width w 1.0 (in ln v). Assumption, set from the
-///   rig's ratio of peak to saturated drawbar pull (about 1.2) and its peak at 5–10 % slip at
-///   7 cm/s travel (3.5–7 mm/s sliding); Fig. 2.14 gives no numbers;
+///   rig's ratio of peak to saturated drawbar pull (about 1.2) and its peak at 5-10 % slip at
+///   7 cm/s travel (3.5-7 mm/s sliding); Fig. 2.14 gives no numbers;
+/// - speed fall: v_c 0.1 m/s, n_v 0.1. Assumption: the fall starts near 0.01-0.1 m/s (2.5.4) and
+///   is mild, so that the rig's friction at mm/s sliding (0.16-0.21 peaks) and a road tyre's peak
+///   on ice at about 1 m/s sliding stay of one size (0.8x from 0.028 to 1 m/s), and a locked
+///   wheel at 25 m/s keeps about 0.7x of the friction at 1 m/s;
 /// - pressure exponent n_p 0.25 (assumption: real contact area growing less than in proportion
 ///   to load, between 0 for Amontons and 1/3 for Hertzian asperities), p_min 10 kPa;
-/// - temperature coefficient c_T 0.03 /K (assumption: friction about 20 % lower at -3 than at
-///   -10 degC, the direction of Fig. 2.14 and of the rig's -3 degC runs).
+/// - temperature coefficient c_T 0.028 /K: the rig's peak drawbar pull fell 18 % from -10 to
+///   -3 degC (0.179 -> 0.146, the dissertation's 5.3.3 and Fig. 5.7/5.8); exp(-0.028 * 7) = 0.82.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DryIceFriction {
-    /// Friction at the reference conditions, 0.02–0.6.
+pub struct IceFriction {
+    /// Friction at the reference conditions, 0.02-0.6.
     pub mu_ref: f64,
     /// Reference sliding speed, m/s.
     pub v_ref_mps: f64,
     /// Reference contact pressure, Pa.
     pub p_ref_pa: f64,
-    /// Reference temperature, degC.
+    /// Reference interface temperature, degC (<= 0).
     pub t_ref_c: f64,
-    /// Adhesion-peak gain g over the base, 0–2 (0 = no peak).
+    /// Adhesion-peak gain g over the base, 0-2 (0 = no peak).
     pub peak_gain: f64,
-    /// Sliding speed of the adhesion peak, m/s (1e-4 – 1).
+    /// Sliding speed of the adhesion peak, m/s (1e-4 - 1).
     pub peak_speed_mps: f64,
-    /// Width of the peak in ln(v), 0.2–5.
+    /// Width of the peak in ln(v), 0.2-5.
     pub peak_width: f64,
-    /// Pressure exponent n_p, 0–1.
+    /// Pressure exponent n_p, 0-1.
     pub pressure_exponent: f64,
-    /// Temperature coefficient c_T, 1/K, 0–0.2.
+    /// Temperature coefficient c_T, 1/K, 0-0.2.
     pub temp_coeff_per_k: f64,
+    /// Sliding speed v_c where the road-speed fall sets in, m/s (0.001-10).
+    pub speed_scale_mps: f64,
+    /// Exponent n_v of the road-speed fall, 0-1 (0 = none).
+    pub speed_exponent: f64,
 }
 
 /// Smallest pressure used in the pressure factor, Pa (edge pixels carry almost none).
 const P_MIN_PA: f64 = 10e3;
 
-impl DryIceFriction {
-    /// The SRTT defaults documented on the type, with reference friction `mu_ref`.
+impl IceFriction {
+    /// The SRTT defaults documented on the type, with reference friction `mu_ref` at -10 degC,
+    /// 0.028 m/s and 250 kPa (the rig's conditions).
     pub fn srtt(mu_ref: f64) -> Self {
-        DryIceFriction {
+        IceFriction {
             mu_ref,
             v_ref_mps: 0.028,
             p_ref_pa: 250e3,
@@ -72,39 +95,64 @@ impl DryIceFriction {
             peak_speed_mps: 0.005,
             peak_width: 1.0,
             pressure_exponent: 0.25,
-            temp_coeff_per_k: 0.03,
+            temp_coeff_per_k: 0.028,
+            speed_scale_mps: 0.1,
+            speed_exponent: 0.1,
         }
     }
 
-    /// A constant friction `mu` (no peak, no pressure or temperature dependence).
+    /// A constant friction `mu` (no peak, no speed, pressure or temperature dependence).
     pub fn constant(mu: f64) -> Self {
-        DryIceFriction { peak_gain: 0.0, pressure_exponent: 0.0, temp_coeff_per_k: 0.0, ..Self::srtt(mu) }
+        IceFriction {
+            peak_gain: 0.0,
+            pressure_exponent: 0.0,
+            temp_coeff_per_k: 0.0,
+            speed_exponent: 0.0,
+            ..Self::srtt(mu)
+        }
     }
 
-    fn bell(&self, v_mps: f64) -> f64 {
-        let l = (v_mps.max(1e-6) / self.peak_speed_mps).ln() / self.peak_width;
-        1.0 + self.peak_gain * (-0.5 * l * l).exp()
+    /// The speed factor S(v) (1 + v/v_c)^(-n_v), dimensionless.
+    pub fn speed_factor(&self, v_mps: f64) -> f64 {
+        let v = if v_mps.is_finite() { v_mps.abs().max(1e-6) } else { 1e-6 };
+        let l = (v / self.peak_speed_mps).ln() / self.peak_width;
+        let bell = 1.0 + self.peak_gain * (-0.5 * l * l).exp();
+        if self.speed_exponent > 0.0 {
+            bell * (1.0 + v / self.speed_scale_mps).powf(-self.speed_exponent)
+        } else {
+            bell
+        }
+    }
+
+    /// The temperature factor exp(-c_T (clamp(T) - T_ref)) relative to the reference, with T the
+    /// interface temperature, degC (a non-finite T counts as T_ref).
+    pub fn temp_factor(&self, t_c: f64) -> f64 {
+        let t = if t_c.is_finite() { t_c.clamp(COLD_PLATEAU_C, 0.0) } else { self.t_ref_c };
+        (-self.temp_coeff_per_k * (t - self.t_ref_c.clamp(COLD_PLATEAU_C, 0.0))).exp()
+    }
+
+    /// The pressure factor relative to the reference.
+    fn pressure_factor(&self, p_pa: f64) -> f64 {
+        if self.pressure_exponent > 0.0 {
+            (p_pa.max(P_MIN_PA) / self.p_ref_pa).powf(-self.pressure_exponent)
+        } else {
+            1.0
+        }
     }
 
     /// Pressure and temperature factor times mu_ref / S(v_ref).
     fn scale(&self, t_c: f64, p_pa: f64) -> f64 {
-        let t = if t_c.is_finite() { t_c.clamp(-40.0, 0.0) } else { self.t_ref_c };
-        let pf = if self.pressure_exponent > 0.0 {
-            (p_pa.max(P_MIN_PA) / self.p_ref_pa).powf(-self.pressure_exponent)
-        } else {
-            1.0
-        };
-        self.mu_ref / self.bell(self.v_ref_mps) * pf * (-self.temp_coeff_per_k * (t - self.t_ref_c)).exp()
+        self.mu_ref / self.speed_factor(self.v_ref_mps) * self.pressure_factor(p_pa) * self.temp_factor(t_c)
     }
 
     /// Sliding friction at interface temperature `t_c` (degC), sliding speed `v_mps` and contact
     /// pressure `p_pa`.
     pub fn mu(&self, t_c: f64, v_mps: f64, p_pa: f64) -> f64 {
-        self.scale(t_c, p_pa) * self.bell(v_mps)
+        self.scale(t_c, p_pa) * self.speed_factor(v_mps)
     }
 
-    /// Static (sticking) limit: the friction at the adhesion peak, >= every sliding value at the
-    /// same temperature and pressure.
+    /// Static (sticking) limit: the friction at the adhesion peak (no road-speed fall), >= every
+    /// sliding value at the same temperature and pressure.
     pub fn static_mu(&self, t_c: f64, p_pa: f64) -> f64 {
         self.scale(t_c, p_pa) * (1.0 + self.peak_gain)
     }
@@ -221,26 +269,36 @@ mod tests {
 
     #[test]
     fn dry_law_is_mu_ref_at_reference_and_follows_fig_2_14_trends() {
-        let f = DryIceFriction::srtt(0.15);
+        let f = IceFriction::srtt(0.15);
         assert!((f.mu(-10.0, 0.028, 250e3) - 0.15).abs() < 1e-12);
         // falls with speed above the peak, with pressure and with temperature
         assert!(f.mu(-10.0, 0.01, 250e3) > f.mu(-10.0, 0.1, 250e3));
         assert!(f.mu(-10.0, 0.1, 250e3) > f.mu(-10.0, 1.0, 250e3));
         assert!(f.mu(-10.0, 0.028, 150e3) > f.mu(-10.0, 0.028, 350e3));
         assert!(f.mu(-10.0, 0.028, 250e3) > f.mu(-3.0, 0.028, 250e3));
-        // the adhesion peak: the static limit is the maximum over speed, reached at v_pk
+        // the adhesion peak: the static limit bounds every sliding value and is the bell's top
+        // (the road-speed fall aside: at v_pk it is (1 + 0.005/0.1)^-0.1 = 0.9951 of it)
         let s = f.static_mu(-10.0, 250e3);
-        assert!((f.mu(-10.0, 0.005, 250e3) - s).abs() < 1e-12);
+        let at_peak = f.mu(-10.0, 0.005, 250e3);
+        assert!((at_peak / s - 1.05f64.powf(-0.1)).abs() < 1e-12, "{at_peak} {s}");
         for k in 0..200 {
             let v = 1e-5 * 1.1f64.powi(k);
             assert!(f.mu(-10.0, v, 250e3) <= s + 1e-15);
         }
-        // hand value: g = 0.35, w = 1, ln(0.028/0.005) = 1.7228 -> S(v_ref) = 1 + 0.35 e^-1.4840
-        let sref = 1.0 + 0.35 * (-0.5 * (0.028f64 / 0.005).ln().powi(2)).exp();
+        // hand value: g = 0.35, w = 1, ln(0.028/0.005) = 1.7228 -> S(v_ref) = 1 + 0.35 e^-1.4840,
+        // times the fall (1 + 0.28)^-0.1
+        let sref = (1.0 + 0.35 * (-0.5 * (0.028f64 / 0.005).ln().powi(2)).exp()) * 1.28f64.powf(-0.1);
         assert!((s - 0.15 * 1.35 / sref).abs() < 1e-12);
+        // the cold plateau: no change below COLD_PLATEAU_C; -10 -> -3 degC: exp(-0.028 * 7)
+        assert_eq!(f.mu(-12.0, 0.5, 2e5), f.mu(-30.0, 0.5, 2e5));
+        assert!(f.mu(-11.0, 0.5, 2e5) < f.mu(-12.0, 0.5, 2e5));
+        assert!((f.mu(-3.0, 0.5, 2e5) / f.mu(-10.0, 0.5, 2e5) - (-0.028f64 * 7.0).exp()).abs() < 1e-12);
+        // the road-speed fall: 1 -> 25 m/s keeps (251/11)^-0.1 = 0.73 (the bell is 1 + 3e-7 there)
+        let r = f.mu(-10.0, 25.0, 2e5) / f.mu(-10.0, 1.0, 2e5);
+        assert!((r - (251.0f64 / 11.0).powf(-0.1)).abs() < 1e-6, "{r}");
         // extreme temperatures are clamped, not overflowed
         assert!(f.mu(-1e6, 1.0, 2e5).is_finite() && f.mu(f64::NAN, 1.0, 2e5).is_finite());
-        let c = DryIceFriction::constant(0.2);
+        let c = IceFriction::constant(0.2);
         assert_eq!(c.mu(-3.0, 5.0, 1e5), 0.2);
         assert_eq!(c.static_mu(-30.0, 9e5), 0.2);
     }

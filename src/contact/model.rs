@@ -18,7 +18,7 @@
 //!    first loaded pixel carries k sigma xi (sigma = v_s / v_r, the theoretical slip); it sticks
 //!    until that reaches the static (peak) friction times p and slides from there on (simple brush
 //!    model, sub-pixel onset). The stress points against the sliding velocity (isotropic brush).
-//! 2. Dry sliding pixel: tau = mu_dry(T, v_s, p) p with [`DryIceFriction`], T the interface
+//! 2. Dry sliding pixel: tau = mu_dry(T, v_s, p) p with [`IceFriction`], T the interface
 //!    temperature left by the earlier pixels; heat q = tau v_s.
 //! 3. Rolling (hysteresis) heat in every loaded pixel: the rolling-resistance power f_rr F_z V,
 //!    distributed like the pressure, is released through the tread depth d; during the tread's
@@ -36,7 +36,7 @@
 //! > 0 driving), `friction_coeff` = |F| / F_z.
 
 use super::film::{advance_wet, FilmCoeffs, FilmParams};
-use super::friction::{beta_from_critical_height, DryIceFriction, WetFilm};
+use super::friction::{beta_from_critical_height, IceFriction, WetFilm};
 use super::heat::{centre_weights, duhamel_weights, effective_effusivity};
 use super::patch::PressureGrid;
 use super::thermal::{Compound, ICE, MELT_C, WATER_VISCOSITY_PA_S};
@@ -50,11 +50,11 @@ pub const CARCASS_REF_INFLATION_PA: f64 = 241.3e3;
 pub struct PatchParams {
     /// Tread compound (thermal properties, Shore A).
     pub compound: Compound,
-    /// Dry rubber-ice friction at the reference conditions of [`DryIceFriction`], 0.02–0.6
+    /// Dry rubber-ice friction at the reference conditions of [`IceFriction`], 0.02–0.6
     /// (the scenario's `mu_dry`; equal to `dry.mu_ref`).
     pub mu_dry: f64,
     /// Dry rubber-ice friction law.
-    pub dry: DryIceFriction,
+    pub dry: IceFriction,
     /// Water-film parameters.
     pub film: FilmParams,
     /// Critical film height of eq. 2.1 (excess friction down to 25 %), m (20e-9 – 1e-6).
@@ -79,7 +79,7 @@ impl PatchParams {
         PatchParams {
             compound: Compound::generic(super::thermal::preset_shore_a("srtt", ice_temp_c).unwrap_or(67.3)),
             mu_dry: 0.15,
-            dry: DryIceFriction::srtt(0.15),
+            dry: IceFriction::srtt(0.15),
             film: FilmParams { kappa: 1.0, asperity_d_m: 2e-4, substeps: 8 },
             critical_film_m: 50e-9,
             tread_depth_m: 7.97e-3,
@@ -94,7 +94,7 @@ impl PatchParams {
     /// The same parameters with a constant friction `mu` (no rolling heat): the classic model.
     pub fn with_constant_friction(mut self, mu: f64) -> Self {
         self.mu_dry = mu;
-        self.dry = DryIceFriction::constant(mu);
+        self.dry = IceFriction::constant(mu);
         self.rolling_resistance = 0.0;
         self
     }

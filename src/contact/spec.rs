@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableRanges, TyreBuild};
 use super::film::FilmParams;
-use super::friction::DryIceFriction;
+use super::friction::IceFriction;
 use super::model::{carcass_stiffness_n_per_m, PatchParams};
 use super::patch::{
     parse_csv, read_png_map, synthesize, tilt_for_slip_angle, ImageLayout, PressureGrid, SynthInputs, TreadPattern,
@@ -79,7 +79,13 @@ fn d_p_exp() -> f64 {
     0.25
 }
 fn d_t_coeff() -> f64 {
-    0.03
+    IceFriction::srtt(0.15).temp_coeff_per_k
+}
+fn d_speed_scale() -> f64 {
+    IceFriction::srtt(0.15).speed_scale_mps
+}
+fn d_speed_exp() -> f64 {
+    IceFriction::srtt(0.15).speed_exponent
 }
 fn d_carcass() -> f64 {
     super::model::SRTT_CARCASS_N_PER_M * 1e-3
@@ -137,6 +143,12 @@ pub struct TyreSpec {
     /// Relative fall of the dry friction per kelvin of interface temperature, 1/K (0–0.2).
     #[serde(default = "d_t_coeff")]
     pub temp_coeff_per_k: f64,
+    /// Sliding speed where the friction's fall at road sliding speeds sets in, m/s (0.001–10).
+    #[serde(default = "d_speed_scale")]
+    pub speed_scale_mps: f64,
+    /// Exponent of that fall, (1 + v/v_c)^-n, 0–1 (0 = none).
+    #[serde(default = "d_speed_exp")]
+    pub speed_exponent: f64,
     /// Longitudinal carcass stiffness at 241.3 kPa inflation, kN/m (0 = rigid, else 50–5000);
     /// scaled in proportion to `inflation_kpa`.
     #[serde(default = "d_carcass")]
@@ -194,6 +206,8 @@ impl TyreSpec {
         ck.range(&k("peak_width"), self.peak_width, 0.2, 5.0)?;
         ck.range(&k("pressure_exponent"), self.pressure_exponent, 0.0, 1.0)?;
         ck.range(&k("temp_coeff_per_k"), self.temp_coeff_per_k, 0.0, 0.2)?;
+        ck.range(&k("speed_scale_mps"), self.speed_scale_mps, 0.001, 10.0)?;
+        ck.range(&k("speed_exponent"), self.speed_exponent, 0.0, 1.0)?;
         let c = self.carcass_stiffness_kn_per_m;
         ck.require(
             &k("carcass_stiffness_kn_per_m"),
@@ -223,14 +237,16 @@ impl TyreSpec {
         Ok(PatchParams {
             compound: Compound::generic(shore),
             mu_dry: self.mu_dry,
-            dry: DryIceFriction {
+            dry: IceFriction {
                 mu_ref: self.mu_dry,
                 peak_gain: self.adhesion_peak,
                 peak_speed_mps: self.peak_speed_mps,
                 peak_width: self.peak_width,
                 pressure_exponent: self.pressure_exponent,
                 temp_coeff_per_k: self.temp_coeff_per_k,
-                ..DryIceFriction::srtt(self.mu_dry)
+                speed_scale_mps: self.speed_scale_mps,
+                speed_exponent: self.speed_exponent,
+                ..IceFriction::srtt(self.mu_dry)
             },
             carcass_n_per_m: carcass_stiffness_n_per_m(self.carcass_stiffness_kn_per_m * 1e3, self.inflation_kpa * 1e3),
             rolling_resistance: self.rolling_resistance,

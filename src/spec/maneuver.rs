@@ -50,6 +50,70 @@ pub struct SurfaceSection {
     /// Surface (ice) temperature, degC, in [-60, 40].
     #[serde(default = "minus_three")]
     pub temperature_c: f64,
+    /// How `mu` acts (docs/tyres.md, "Ice friction"): "ice" (the Magic Formula tyres' peak
+    /// friction follows the rubber-ice friction law at the tyre's ice or contact temperature and
+    /// sliding speed, with `mu` the friction at the reference conditions) or "fixed" (`mu` at
+    /// every temperature and sliding speed). Default: "ice" on ice (temperature_c <= 0 and
+    /// mu <= 0.6), "fixed" otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_law: Option<String>,
+    /// Ice temperature at which `mu` is stated (with friction_law "ice"), degC, in [-60, 0];
+    /// default -3 (a fixed temperature, not the surface's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu_reference_temperature_c: Option<f64>,
+}
+
+/// Largest `mu` the ice friction law accepts at its reference conditions (ice friction is
+/// 0.05-0.3; studded tyres on rough ice reach about 0.4).
+pub const ICE_MU_MAX: f64 = 0.6;
+
+impl SurfaceSection {
+    /// The surface friction law of this surface (None: `mu` is fixed), validated.
+    pub fn friction(&self, path: &Path) -> Result<Option<crate::tyre::ice::SurfaceFriction>> {
+        let c = Checker::new(path);
+        let on_ice = self.temperature_c <= 0.0 && self.mu <= ICE_MU_MAX;
+        let ice = match self.friction_law.as_deref() {
+            None => on_ice,
+            Some("fixed") => false,
+            Some("ice") => {
+                c.require(
+                    "surface.temperature_c",
+                    self.temperature_c,
+                    self.temperature_c <= 0.0,
+                    "friction_law \"ice\" needs ice: temperature_c <= 0 degC (or friction_law = \"fixed\")",
+                )?;
+                c.require(
+                    "surface.mu",
+                    self.mu,
+                    self.mu <= ICE_MU_MAX,
+                    &format!("friction_law \"ice\" takes mu <= {ICE_MU_MAX} (ice); use friction_law = \"fixed\" for another surface"),
+                )?;
+                true
+            }
+            Some(other) => {
+                return Err(Error::key(
+                    path,
+                    "surface.friction_law",
+                    format!("unknown friction law '{other}'; allowed: ice, fixed"),
+                ))
+            }
+        };
+        let t_ref = match self.mu_reference_temperature_c {
+            Some(t) => c.range("surface.mu_reference_temperature_c", t, -60.0, 0.0)?,
+            None => crate::tyre::ice::DEFAULT_REFERENCE_C,
+        };
+        if !ice {
+            if self.mu_reference_temperature_c.is_some() {
+                return Err(Error::key(
+                    path,
+                    "surface.mu_reference_temperature_c",
+                    "applies only with friction_law = \"ice\" (on ice: temperature_c <= 0, mu <= 0.6)",
+                ));
+            }
+            return Ok(None);
+        }
+        Ok(Some(crate::tyre::ice::SurfaceFriction::new(t_ref, self.temperature_c)))
+    }
 }
 
 fn minus_three() -> f64 {
@@ -672,6 +736,11 @@ impl ManeuverFile {
                     path.display()
                 ),
             ));
+        }
+        // The ice friction law: the Magic Formula tyres take their peak friction from it.
+        let mut vehicle = vehicle;
+        if let Some(law) = self.surface.friction(path)? {
+            vehicle.tyre = vehicle.tyre.on_ice(&law);
         }
         let (step_s, control_period_s, exp) =
             self.step_and_period(path, &vehicle, vehicle_model, &maneuver, method == Method::Rk4)?;

@@ -170,6 +170,10 @@ impl TyreModel for AtiimPacejkaTyre {
         self.base.forces_scaled(i, &self.law.scale_for(i))
     }
 
+    fn on_ice(&self, law: &super::ice::SurfaceFriction) -> Option<std::sync::Arc<dyn TyreModel>> {
+        Some(std::sync::Arc::new(super::ice::IceSurfaceTyre::atiim(self.clone(), law.clone())))
+    }
+
     /// The base curve's coefficients without the modifier (it depends on the contact
     /// temperature, applied per input by [`Self::forces_prepared`]).
     fn prepare(&self, i: &TyreInput) -> super::Prepared {

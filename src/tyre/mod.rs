@@ -22,6 +22,7 @@
 pub mod atiim;
 pub mod combine;
 pub mod dugoff;
+pub mod ice;
 pub mod linear;
 pub mod pacejka;
 pub mod polynomial;
@@ -177,6 +178,12 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// provider has one far cheaper than the bound itself (`None`: it has none for this input).
     /// For checks that only need to know a force is well within the bound. Default: `None`.
     fn peak_force_floor_prepared(&self, _prepared: &Prepared, _input: &TyreInput) -> Option<f64> {
+        None
+    }
+
+    /// This provider on an ice surface whose friction follows `law` ([`ice::IceSurfaceTyre`]), or
+    /// `None` for a provider that keeps its `mu` fixed. Default: `None`.
+    fn on_ice(&self, _law: &ice::SurfaceFriction) -> Option<std::sync::Arc<dyn TyreModel>> {
         None
     }
 

@@ -891,6 +891,10 @@ impl TyreModel for PacejkaTyre {
         self.forces_scaled(i, &Scale::ONE)
     }
 
+    fn on_ice(&self, law: &super::ice::SurfaceFriction) -> Option<std::sync::Arc<dyn TyreModel>> {
+        Some(std::sync::Arc::new(super::ice::IceSurfaceTyre::pacejka(self.clone(), law.clone())))
+    }
+
     fn prepare(&self, i: &TyreInput) -> super::Prepared {
         self.prepare_scaled(i)
     }

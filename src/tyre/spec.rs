@@ -304,6 +304,21 @@ impl Tyre {
         &self.mounted[side as usize]
     }
 
+    /// The same tyre on an ice surface whose friction follows `law` ([`super::ice`]): the Magic
+    /// Formula providers (pacejka, atiim_pacejka) are wrapped; every other provider is unchanged
+    /// (its `mu` stays fixed).
+    pub fn on_ice(&self, law: &super::ice::SurfaceFriction) -> Tyre {
+        let wrap = |m: &Arc<dyn TyreModel>| m.on_ice(law).unwrap_or_else(|| m.clone());
+        let model = wrap(&self.model);
+        let mounted = if self.same_on_both_sides() {
+            let m = wrap(&self.mounted[0]);
+            [m.clone(), m]
+        } else {
+            [wrap(&self.mounted[0]), wrap(&self.mounted[1])]
+        };
+        Tyre { model, mounted, ..self.clone() }
+    }
+
     /// Whether the left and right wheels carry the same provider (no side-dependent coefficients).
     pub fn same_on_both_sides(&self) -> bool {
         Arc::ptr_eq(&self.mounted[0], &self.mounted[1])
