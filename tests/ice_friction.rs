@@ -96,6 +96,39 @@ fn envelope_passing_speed_rises_as_the_ice_gets_colder() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// The shipped sine steer versus ice temperature (maneuvers/sine_steer_ice_temperature.toml): peak
+/// a_y never falls as the ice gets colder, for both tyre models that use the law, and the -20 degC
+/// run is at least 15 % above the -3 degC one (the law's 1.29x friction, the front axle saturated).
+#[test]
+fn sine_steer_peak_ay_rises_as_the_ice_gets_colder() {
+    let out = tmp("sine");
+    let spec = root().join("maneuvers/sine_steer_ice_temperature.toml");
+    let o = vehsim(&["run", spec.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sine_steer_ice_temperature/summary.csv")).unwrap();
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+    let (ct, cm, ca, cp) = (col("surface.temperature_c"), col("tyre_model"), col("peak_ay_mps2"), col("plausible"));
+    for model in ["pacejka", "atiim_pacejka"] {
+        let mut rows: Vec<(f64, f64)> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|r| r[cm] == model)
+            .inspect(|r| assert_eq!(r[cp], "true", "{r:?}"))
+            .map(|r| (r[ct].parse().unwrap(), r[ca].parse().unwrap()))
+            .collect();
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(rows.len(), 7, "{model}");
+        for w in rows.windows(2) {
+            assert!(w[0].1 >= w[1].1, "{model}: colder {:?} below warmer {:?}", w[0], w[1]);
+        }
+        let at = |t: f64| rows.iter().find(|r| r.0 == t).unwrap().1;
+        assert!(at(-20.0) >= 1.15 * at(-3.0), "{model}: -20 {} vs -3 {}", at(-20.0), at(-3.0));
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// `friction_law = "fixed"` gives the old behaviour (no change with ice temperature); bad keys
 /// exit 2 naming the key.
 #[test]
@@ -128,5 +161,41 @@ fn fixed_law_and_bad_keys() {
     let p = write("ok", "friction_law = \"ice\"\nmu_reference_temperature_c = -5.0");
     let o = vehsim(&["validate", p.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // the fixed law: the same motion at -3 and -20 degC (Pacejka; only the contact estimate moves)
+    let peak = |t: &str, law: &str| -> String {
+        let text = base.replace("temperature_c = -3.0", &format!("temperature_c = {t}\nfriction_law = \"{law}\""));
+        let p = out.join(format!("fixed_{}_{law}.toml", t.replace('-', "m")));
+        std::fs::write(&p, text.replace("name = \"quickstart_dlc_ice\"", "name = \"q\"")).unwrap();
+        let o = vehsim(&["run", p.to_str().unwrap(), "--out", out.join("runs").to_str().unwrap(), "--quiet"]);
+        assert!(o.status.code() == Some(0) || o.status.code() == Some(1), "{}", String::from_utf8_lossy(&o.stderr));
+        let sum = std::fs::read_to_string(out.join("runs/q/summary.json")).unwrap();
+        let i = sum.find("\"peak_ay_mps2\"").unwrap();
+        sum[i..i + 40].to_string()
+    };
+    assert_eq!(peak("-3.0", "fixed"), peak("-20.0", "fixed"));
+    assert_ne!(peak("-3.0", "ice"), peak("-20.0", "ice"));
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The patch's wet friction falls with sliding speed (the dissertation's Fig. 2.14): a locked SRTT
+/// wheel at 7 kN on -1 and -3 degC ice, 0.5-25 m/s, with the default film parameters (the
+/// wet fraction is checked, so this is the wet regime: above 0.85 at -1 degC, 0.7 from 2 m/s at
+/// -3 degC).
+#[test]
+fn wet_friction_falls_with_sliding_speed() {
+    use vehsim::contact::model::{solve_patch_at, Kinematics};
+    let sc = scenario("srtt_7kN_locked");
+    for t_ice in [-1.0, -3.0] {
+        let mut last = f64::INFINITY;
+        for v in [0.5, 0.7, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 25.0] {
+            let kin = Kinematics { travel_speed_mps: v, slip_ratio: -1.0, slip_angle_rad: 0.0, ice_temp_c: t_ice };
+            let s = solve_patch_at(&sc.grid, &kin, &sc.params).summary;
+            println!("{t_ice} degC, {v} m/s: mu {:.4}, wet {:.3}", s.friction_coeff, s.wet_fraction);
+            assert!(s.friction_coeff < last, "{t_ice} degC: {} at {v} m/s after {last}", s.friction_coeff);
+            if t_ice == -1.0 || v >= 2.0 {
+                assert!(s.wet_fraction > if t_ice == -1.0 { 0.85 } else { 0.7 }, "{t_ice} {v}: {}", s.wet_fraction);
+            }
+            last = s.friction_coeff;
+        }
+    }
 }

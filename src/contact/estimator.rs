@@ -2,8 +2,9 @@
 //!
 //! Contact temperature of tyre i = min(0 degC, T_start + flash), where
 //! - T_b is a bulk tread-surface temperature state (one per tyre), heated by the tread's share of
-//!   the sliding power F v_slide and cooled toward the ice (conduction through the patch) and the
-//!   air (convection over the tread band): C dT_b/dt = f_t F v - G_ice (T_b - T_ice) - G_air (T_b - T_air).
+//!   the sliding power F v_slide and by the band's rolling (hysteresis) heat s f_rr F_z v_roll, and
+//!   cooled toward the ice (conduction through the patch) and the air (convection over the tread
+//!   band): C dT_b/dt = f_t F v + s f_rr F_z v_r - G_ice (T_b - T_ice) - G_air (T_b - T_air).
 //!   The ODE is linear over a step and is advanced exactly (exponential), so any step size is stable;
 //! - T_start = (e_tread T_b + e_ice T_ice) / (e_tread + e_ice) is the temperature two semi-infinite
 //!   bodies take on first contact;
@@ -597,7 +598,16 @@ pub struct BulkParams {
     pub width_m: f64,
     /// Tread effusivity, W s^0.5/(m^2 K).
     pub e_tread: f64,
+    /// Rolling (hysteresis) heat released in the tread band per unit load and rolling speed,
+    /// W/(N m/s): the tread's share of the rolling loss times the rolling-resistance coefficient
+    /// ([`TREAD_HYSTERESIS_SHARE`] f_rr; 0 = none).
+    pub rolling_heat_per_n_mps: f64,
 }
+
+/// Share of a passenger tyre's rolling (hysteresis) loss dissipated in the tread band, 0-1.
+/// Assumption: about half (the tread compound is the tyre's most hysteretic part; the sidewalls,
+/// belts and bead take the rest), within the 0.4-0.6 usually quoted for passenger tyres.
+pub const TREAD_HYSTERESIS_SHARE: f64 = 0.5;
 
 /// The ATIIM per-step estimator: one bulk state per tyre plus the flash table.
 #[derive(Debug, Clone)]
@@ -610,6 +620,11 @@ pub struct AtiimEstimator {
     e_ice: f64,
     /// The last two values of G, for the coupled update's first trial point.
     recent: Recent,
+    /// Per tyre, the bulk ODE's conductance G and source S = P + G_ice T_ice + G_air T_air at the
+    /// last accepted sample (NaN before the first): the period behind a sample is advanced with
+    /// the mean of these and the sample's own (the exponential midpoint rule, second order in the
+    /// period, where holding the sample's own would be first order).
+    forcing: Vec<[f64; 2]>,
 }
 
 /// The last two values of G per tyre (of the first four) at the estimates the coupled update
@@ -655,7 +670,21 @@ impl AtiimEstimator {
             t_bulk_c: vec![f64::NAN; n_tyres],
             e_ice: ICE.effusivity(),
             recent: Recent { latest: [f64::NAN; 4], before: [f64::NAN; 4], period_s: f64::NAN },
+            forcing: vec![[f64::NAN; 2]; n_tyres],
         }
+    }
+
+    /// The bulk ODE's forcing (G, S) at tyre `i`'s last accepted sample (NaN before the first).
+    fn forcing_of(&self, i: usize) -> [f64; 2] {
+        self.forcing.get(i).copied().unwrap_or([f64::NAN; 2])
+    }
+
+    /// Record tyre `i`'s forcing at the accepted sample (grows the state).
+    fn set_forcing(&mut self, i: usize, f: [f64; 2]) {
+        if self.forcing.len() <= i {
+            self.forcing.resize(i + 1, [f64::NAN; 2]);
+        }
+        self.forcing[i] = f;
     }
 
     /// Contact temperature for one tyre from its bulk temperature (no state change), degC.
@@ -693,8 +722,9 @@ impl AtiimEstimator {
     }
 
     /// One tyre's bulk temperature after `h` seconds (>= 0, finite) from `tb` under conditions
-    /// `t`, and its contact temperature then, degC (no state change).
-    fn advance_tyre(&self, k: &BulkConstants, tb: f64, h: f64, t: &TyreContact) -> (f64, f64) {
+    /// `t` at the period's end and forcing `prev` (G, S) at its start (NaN: none, the end's is
+    /// held), its contact temperature then, degC, and the forcing at `t` (no state change).
+    fn advance_tyre(&self, k: &BulkConstants, tb: f64, h: f64, t: &TyreContact, prev: [f64; 2]) -> (f64, f64, [f64; 2]) {
         let b = &self.bulk;
         let e_s = k.e_series;
         let t_ice = finite_or(t.surface_temp_c, MELT_C);
@@ -702,7 +732,9 @@ impl AtiimEstimator {
         let fz = finite_or(t.fz_n, 0.0).max(0.0);
         let vr = finite_or(t.roll_speed_mps, 0.0).abs();
         let vs = finite_or(t.slide_speed_mps, 0.0).abs();
-        let power = b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs;
+        // the tread's share of the sliding power, plus the rolling (hysteresis) heat of the band
+        let power =
+            b.tread_fraction * finite_or(t.friction_force_n, 0.0).abs() * vs + b.rolling_heat_per_n_mps * fz * vr;
         // conduction into the ice through the patch: area A, contact time t_c = L / v (L = A / W,
         // v = max(v_roll, v_slide, 0.1 m/s), t_c >= 1 us), two semi-infinite bodies in series:
         // G = A 2 e_s / sqrt(pi t_c) = 2 e_s sqrt(A W v / pi) (one root, no division)
@@ -712,8 +744,13 @@ impl AtiimEstimator {
             if area > 0.0 { 2.0 * e_s * (area * k.width_m * v * std::f64::consts::FRAC_1_PI).sqrt() } else { 0.0 };
         let g_air = b.band_area_m2 * (10.0 + 7.0 * vr.sqrt());
         let t_air = b.air_temp_c.unwrap_or(t_ice);
-        let g = g_ice + g_air;
-        let t_eq = (power + g_ice * t_ice + g_air * t_air) / g;
+        let here = [g_ice + g_air, power + g_ice * t_ice + g_air * t_air];
+        let (g, src) = if prev[0].is_finite() && prev[1].is_finite() {
+            (0.5 * (prev[0] + here[0]), 0.5 * (prev[1] + here[1]))
+        } else {
+            (here[0], here[1])
+        };
+        let t_eq = src / g;
         let x = g * h / k.heat_capacity_j_k;
         // exp(-x); the series is exact to 1e-13 below 1e-4 (typical steps give x ~ 1e-6)
         let decay = if x < 1e-4 { 1.0 - x + 0.5 * x * x } else { (-x).exp() };
@@ -722,7 +759,7 @@ impl AtiimEstimator {
             tb = t_ice;
         }
         let tt = TyreContact { surface_temp_c: t_ice, fz_n: fz, roll_speed_mps: vr, slide_speed_mps: vs, ..*t };
-        (tb, self.contact_temp_c(tb, &tt))
+        (tb, self.contact_temp_c(tb, &tt), here)
     }
 
     /// Bulk temperature of tyre `i` before this update (NaN until the first; grows the state).
@@ -769,8 +806,9 @@ impl ContactTemperature for AtiimEstimator {
         let h = finite_or(h, 0.0).max(0.0);
         for (i, (t, o)) in tyres.iter().zip(out.iter_mut()).enumerate() {
             let tb = self.bulk_of(i);
-            let (tb, tc) = self.advance_tyre(&k, tb, h, t);
+            let (tb, tc, f) = self.advance_tyre(&k, tb, h, t, self.forcing_of(i));
             self.t_bulk_c[i] = tb;
+            self.set_forcing(i, f);
             *o = tc;
             self.recent.push(i, tc);
         }
@@ -813,6 +851,7 @@ impl ContactTemperature for AtiimEstimator {
         let h = finite_or(h, 0.0).max(0.0);
         let tol = coupled_tol_k(h);
         let tb0: [f64; MAX_TYRES] = std::array::from_fn(|i| if i < n { self.bulk_of(i) } else { f64::NAN });
+        let f0: [[f64; 2]; MAX_TYRES] = std::array::from_fn(|i| self.forcing_of(i));
         // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
         // the accepted point (|residual|, bulk, trial temperature = output, G, conditions),
         // whether it is done, and the Illinois side marker (-1 / +1: the end kept last time)
@@ -829,7 +868,7 @@ impl ContactTemperature for AtiimEstimator {
         }
         let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
         let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
-        let mut best: [Option<(f64, f64, f64, f64, TyreContact)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut best: [Option<(f64, f64, f64, f64, TyreContact, [f64; 2])>; MAX_TYRES] = [None; MAX_TYRES];
         let mut done = [false; MAX_TYRES];
         let mut side = [0i8; MAX_TYRES];
         for eval in 0..COUPLED_MAX_EVALS {
@@ -838,10 +877,10 @@ impl ContactTemperature for AtiimEstimator {
                 if done[i] {
                     continue;
                 }
-                let (tb, g) = self.advance_tyre(&k, tb0[i], h, &tyres[i]);
+                let (tb, g, f) = self.advance_tyre(&k, tb0[i], h, &tyres[i], f0[i]);
                 let r = x[i] - g;
                 if best[i].is_none_or(|b| r.abs() < b.0) {
-                    best[i] = Some((r.abs(), tb, x[i], g, tyres[i]));
+                    best[i] = Some((r.abs(), tb, x[i], g, tyres[i], f));
                 }
                 if !r.is_finite() || r.abs() <= tol {
                     done[i] = true;
@@ -887,8 +926,9 @@ impl ContactTemperature for AtiimEstimator {
         }
         self.recent.period_s = h;
         for i in 0..n {
-            if let Some((_, tb, x, g, t)) = best[i] {
+            if let Some((_, tb, x, g, t, f)) = best[i] {
                 self.t_bulk_c[i] = tb;
+                self.set_forcing(i, f);
                 out[i] = x;
                 self.recent.push(i, g);
                 tyres[i] = t;
@@ -971,6 +1011,7 @@ mod tests {
             area_per_n: 1.0 / 200e3,
             width_m: 0.2,
             e_tread: 600.0,
+            rolling_heat_per_n_mps: 0.0,
         };
         AtiimEstimator::new(table, bulk, n)
     }

@@ -40,6 +40,15 @@
 
 use super::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
 
+/// Default asperity contact diameter D of the squeeze-out term, m: 20 µm. Assumption: the real
+/// contact spots of rubber on ice are micrometres to tens of micrometres across. D sets the wet
+/// regime: with 20 µm the squeeze-out holds the film near the height at which viscous friction
+/// takes over (h*), so a wet pixel's friction follows the friction law at 0 degC and falls with
+/// sliding speed, as the dissertation's Fig. 2.14 shows; with 0.2 mm (the chapter-4 film
+/// scenarios, which reproduce the dissertation's 110-155 nm films) the film thickens into the
+/// viscous regime of eq. 4.13, where friction rises as about v^0.5 on ice near melting.
+pub const DEFAULT_ASPERITY_D_M: f64 = 2e-5;
+
 /// Film-model parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilmParams {

@@ -80,7 +80,7 @@ impl PatchParams {
             compound: Compound::generic(super::thermal::preset_shore_a("srtt", ice_temp_c).unwrap_or(67.3)),
             mu_dry: 0.15,
             dry: IceFriction::srtt(0.15),
-            film: FilmParams { kappa: 1.0, asperity_d_m: 2e-4, substeps: 8 },
+            film: FilmParams { kappa: 1.0, asperity_d_m: super::film::DEFAULT_ASPERITY_D_M, substeps: 8 },
             critical_film_m: 50e-9,
             tread_depth_m: 7.97e-3,
             void_ratio: 0.3,

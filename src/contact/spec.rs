@@ -49,7 +49,7 @@ fn d_kappa() -> f64 {
     1.0
 }
 fn d_asp() -> f64 {
-    2e-4
+    super::film::DEFAULT_ASPERITY_D_M
 }
 fn d_hc() -> f64 {
     50.0
@@ -159,7 +159,8 @@ pub struct TyreSpec {
     /// Real-contact ratio kappa, (0, 1].
     #[serde(default = "d_kappa")]
     pub kappa: f64,
-    /// Asperity contact diameter D for squeeze-out, m (1e-6 – 1).
+    /// Asperity contact diameter D for squeeze-out, m (1e-6 – 1); default 20 µm
+    /// (`film::DEFAULT_ASPERITY_D_M`, docs/atiim.md).
     #[serde(default = "d_asp")]
     pub asperity_d_m: f64,
     /// Critical film height of eq. 2.1, nm (1–10000).
@@ -419,6 +420,7 @@ impl ContactSpec {
             area_per_n: 1.0 / (self.tyre.inflation_kpa * 1e3),
             width_m: self.tyre.tread_width_m,
             e_tread: s.effusivity(),
+            rolling_heat_per_n_mps: super::estimator::TREAD_HYSTERESIS_SHARE * self.tyre.rolling_resistance,
         };
         Ok(AtiimEstimator::new(table, bulk, n_tyres))
     }
