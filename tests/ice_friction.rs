@@ -64,6 +64,34 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
+/// From a results CSV: per tyre model that uses the law, `value` against `surface.temperature_c`
+/// never falls as the ice gets colder (-25 ... -1 degC, seven temperatures), and the -20 degC value
+/// is at least `ratio` times the -3 degC one. Rows whose `plausible` column (if any) is not true
+/// fail.
+fn assert_rises_as_colder(csv: &str, value: &str, ratio: f64) {
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|h| *h == n).unwrap_or_else(|| panic!("no column {n} in {head:?}"));
+    let (ct, cm, cv) = (col("surface.temperature_c"), col("tyre_model"), col(value));
+    let cp = head.iter().position(|h| *h == "plausible");
+    for model in ["pacejka", "atiim_pacejka"] {
+        let mut rows: Vec<(f64, f64)> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|r| r.get(cm) == Some(&model))
+            .inspect(|r| assert!(cp.is_none_or(|c| r[c] == "true"), "{r:?}"))
+            .map(|r| (r[ct].parse().unwrap(), r[cv].parse().unwrap()))
+            .collect();
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(rows.len(), 7, "{model}: {rows:?}");
+        for w in rows.windows(2) {
+            assert!(w[0].1 >= w[1].1, "{model} {value}: colder {:?} below warmer {:?}", w[0], w[1]);
+        }
+        let at = |t: f64| rows.iter().find(|r| r.0 == t).unwrap().1;
+        assert!(at(-20.0) >= ratio * at(-3.0), "{model} {value}: -20 {} vs -3 {}", at(-20.0), at(-3.0));
+    }
+}
+
 /// The shipped ice-temperature envelope: the passing speed never falls as the ice gets colder
 /// (both tyre models that use the law) and the -20 degC speed is at least 7 % above the -3 degC one.
 #[test]
@@ -73,26 +101,7 @@ fn envelope_passing_speed_rises_as_the_ice_gets_colder() {
     let o = vehsim(&["envelope", spec.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("envelope_ice_temperature/envelope.csv")).unwrap();
-    let mut lines = csv.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |n: &str| head.iter().position(|h| *h == n).unwrap_or_else(|| panic!("no column {n} in {head:?}"));
-    let (ct, cm, cv) = (col("surface.temperature_c"), col("tyre_model"), col("highest_passing_speed_mps"));
-    for model in ["pacejka", "atiim_pacejka"] {
-        let mut rows: Vec<(f64, f64)> = csv
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').collect::<Vec<_>>())
-            .filter(|r| r.get(cm) == Some(&model))
-            .map(|r| (r[ct].parse().unwrap(), r[cv].parse().unwrap()))
-            .collect();
-        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-        assert_eq!(rows.len(), 7, "{model}: {rows:?}");
-        for w in rows.windows(2) {
-            assert!(w[0].1 >= w[1].1, "{model}: colder {:?} below warmer {:?}", w[0], w[1]);
-        }
-        let at = |t: f64| rows.iter().find(|r| r.0 == t).unwrap().1;
-        assert!(at(-20.0) >= 1.07 * at(-3.0), "{model}: -20 {} vs -3 {}", at(-20.0), at(-3.0));
-    }
+    assert_rises_as_colder(&csv, "highest_passing_speed_mps", 1.07);
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -106,26 +115,7 @@ fn sine_steer_peak_ay_rises_as_the_ice_gets_colder() {
     let o = vehsim(&["run", spec.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("sine_steer_ice_temperature/summary.csv")).unwrap();
-    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
-    let (ct, cm, ca, cp) = (col("surface.temperature_c"), col("tyre_model"), col("peak_ay_mps2"), col("plausible"));
-    for model in ["pacejka", "atiim_pacejka"] {
-        let mut rows: Vec<(f64, f64)> = csv
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').collect::<Vec<_>>())
-            .filter(|r| r[cm] == model)
-            .inspect(|r| assert_eq!(r[cp], "true", "{r:?}"))
-            .map(|r| (r[ct].parse().unwrap(), r[ca].parse().unwrap()))
-            .collect();
-        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-        assert_eq!(rows.len(), 7, "{model}");
-        for w in rows.windows(2) {
-            assert!(w[0].1 >= w[1].1, "{model}: colder {:?} below warmer {:?}", w[0], w[1]);
-        }
-        let at = |t: f64| rows.iter().find(|r| r.0 == t).unwrap().1;
-        assert!(at(-20.0) >= 1.15 * at(-3.0), "{model}: -20 {} vs -3 {}", at(-20.0), at(-3.0));
-    }
+    assert_rises_as_colder(&csv, "peak_ay_mps2", 1.15);
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -24,7 +24,9 @@
 //! 1 when the contact reaches melting), equal to the base at Delta-T = 0 on any ice, and for the
 //! same rise colder ice gives a smaller p (w is increasing, M larger), so colder ice never gives
 //! a lower peak. The spec's mu (the surface friction `mu_surface` and the base curve's peak) is
-//! the friction with the contact at the ice temperature, no frictional heating.
+//! the friction with the contact at the ice temperature, no frictional heating. On an ice surface
+//! with the friction law on (the default), [`super::ice::IceSurfaceTyre`] applies this law on top
+//! of the rubber-ice friction law taken at the contact temperature.
 //!
 //! k_shift families (a in 1/K^2, b dimensionless): srtt 25/3, 5/3 (eq. 5.14); all_season 7/3, 1/3
 //! (5.15); directional 64/5, 1/8 (5.16); average 352/45, 17/24 (5.17, printed as a cube in the
