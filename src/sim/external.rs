@@ -81,11 +81,11 @@ impl ExternalInputs {
             if v.is_finite() && v >= lo && v <= hi {
                 Ok(())
             } else {
-                let v = crate::output::num::sig(v, 6);
                 Err(format!(
-                    "{name} = {v} is not allowed; expected a finite number in [{}, {}] {unit} (the vehicle's limit)",
-                    crate::output::num::sig(lo, 6),
-                    crate::output::num::sig(hi, 6)
+                    "{name} = {} is not allowed; expected a finite number in [{}, {}] {unit} (the vehicle's limit)",
+                    short(v),
+                    short(lo),
+                    short(hi)
                 ))
             }
         };
@@ -97,6 +97,16 @@ impl ExternalInputs {
             within("brake_torque_nm", t.brake_nm, 0.0, lim.brake_max_nm, "N m")?;
         }
         Ok(())
+    }
+}
+
+/// `v` for a message: the shortest text that reads back as `v` between 1e-4 and 1e6 in
+/// magnitude, short scientific notation outside (no 301-digit 1e300).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
