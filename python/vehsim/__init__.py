@@ -27,6 +27,7 @@ __all__ = [
     "Simulation",
     "OBSERVATION",
     "SweepInterrupted",
+    "max_jobs",
     "Tyre",
     "TyreForces",
     "atiim",
@@ -151,8 +152,14 @@ def sweep(
 
     The sweep is the spec's ``[sweep]`` table (dotted key -> list of values, the last key varying
     fastest), replaced by ``grid`` when given. ``jobs``: worker threads (default all cores);
-    results are identical whatever the thread count. An invalid combination is kept with status
-    ``invalid`` and its message; a spec whose every combination is invalid raises ValueError.
+    results are identical whatever the thread count. ``jobs`` is bounded as the command line
+    bounds ``--jobs``: 1 to :func:`max_jobs` (4 per core); anything else raises ValueError. An
+    invalid combination is kept with status ``invalid`` and its message; a spec whose every
+    combination is invalid raises ValueError.
+
+    Ctrl-C stops the sweep within a second: the runs in progress are abandoned and
+    :class:`SweepInterrupted` (a KeyboardInterrupt) is raised, its ``results`` holding every run
+    that finished (the rest with status ``interrupted``).
     """
     args = _spec_args(spec, overrides)
     if grid is not None:
@@ -179,6 +186,11 @@ def sweep(
             raise SweepInterrupted(out, done, len(out)) from None
         raise interrupt
     return out
+
+
+def max_jobs() -> int:
+    """The most worker threads :func:`sweep` accepts: 4 per core, as ``vehsim run --jobs``."""
+    return _vehsim.max_jobs()
 
 
 def _grid_values(key: str, values: Any) -> List[Any]:
