@@ -183,7 +183,8 @@ impl Instance {
             return self.error("fmi2DoStep: call fmi2ExitInitializationMode first");
         }
         if !(h.is_finite() && h > 0.0 && current.is_finite()) {
-            return self.error(&format!("fmi2DoStep: communication step {h} at t = {current} is not a positive finite time"));
+            return self
+                .error(&format!("fmi2DoStep: communication step {h} at t = {current} is not a positive finite time"));
         }
         let e = self.external();
         let Some(run) = self.run.as_mut() else { return self.error("fmi2DoStep: no run") };
@@ -223,7 +224,10 @@ impl Instance {
         match ended {
             Some(r) if !reached => {
                 self.terminated = true;
-                self.log(WARNING, &format!("the run ended ({}) at t = {t_now} s, before the communication point", r.as_str()));
+                self.log(
+                    WARNING,
+                    &format!("the run ended ({}) at t = {t_now} s, before the communication point", r.as_str()),
+                );
                 DISCARD
             }
             _ => OK,
@@ -311,7 +315,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
             return std::ptr::null_mut();
         }
         if text(guid).as_deref() != Some(variables::GUID) {
-            inst.log(ERROR, &format!("fmi2Instantiate: GUID {:?} does not match this FMU's {}", text(guid), variables::GUID));
+            inst.log(
+                ERROR,
+                &format!("fmi2Instantiate: GUID {:?} does not match this FMU's {}", text(guid), variables::GUID),
+            );
             return std::ptr::null_mut();
         }
         Box::into_raw(Box::new(inst)) as *mut c_void
@@ -348,7 +355,12 @@ pub extern "C" fn vehsim_fmu_model_description() -> *const c_char {
 /// # Safety
 /// FMI calling convention.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetDebugLogging(c: *mut c_void, on: c_int, _n: usize, _cats: *const *const c_char) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: *mut c_void,
+    on: c_int,
+    _n: usize,
+    _cats: *const *const c_char,
+) -> Fmi2Status {
     with_instance(c, |i| {
         i.logging_on = on != 0;
         OK
@@ -456,15 +468,25 @@ pub unsafe extern "C" fn fmi2GetReal(c: *mut c_void, vr: *const c_uint, n: usize
 /// # Safety
 /// `vr` and `value` point to `n` elements.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetReal(c: *mut c_void, vr: *const c_uint, n: usize, value: *const c_double) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetReal(
+    c: *mut c_void,
+    vr: *const c_uint,
+    n: usize,
+    value: *const c_double,
+) -> Fmi2Status {
     with_instance(c, |i| {
-        let Some((vr, vals)) = slices(vr, n, value as *mut c_double) else { return i.error("fmi2SetReal: null pointer") };
+        let Some((vr, vals)) = slices(vr, n, value as *mut c_double) else {
+            return i.error("fmi2SetReal: null pointer");
+        };
         for (r, v) in vr.iter().zip(vals.iter()) {
             let Some(k) = REAL_IN.iter().position(|x| x.0 == *r) else {
                 return i.error(&format!("fmi2SetReal: value reference {r} is not a settable Real (an output?)"));
             };
             if REAL_IN[k].2 == "parameter" && i.phase == Phase::Stepping {
-                return i.error(&format!("fmi2SetReal: {} is a fixed parameter; set it before initialization", REAL_IN[k].1));
+                return i.error(&format!(
+                    "fmi2SetReal: {} is a fixed parameter; set it before initialization",
+                    REAL_IN[k].1
+                ));
             }
             i.real[k] = *v;
         }
@@ -476,14 +498,26 @@ pub unsafe extern "C" fn fmi2SetReal(c: *mut c_void, vr: *const c_uint, n: usize
 /// `vr` and `value` point to `n` elements.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetInteger(c: *mut c_void, vr: *const c_uint, n: usize, _v: *mut c_int) -> Fmi2Status {
-    with_instance(c, |i| if n == 0 || vr.is_null() { OK } else { i.error("fmi2GetInteger: this FMU has no Integer variables") })
+    with_instance(c, |i| {
+        if n == 0 || vr.is_null() {
+            OK
+        } else {
+            i.error("fmi2GetInteger: this FMU has no Integer variables")
+        }
+    })
 }
 
 /// # Safety
 /// `vr` and `value` point to `n` elements.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetInteger(c: *mut c_void, vr: *const c_uint, n: usize, _v: *const c_int) -> Fmi2Status {
-    with_instance(c, |i| if n == 0 || vr.is_null() { OK } else { i.error("fmi2SetInteger: this FMU has no Integer variables") })
+    with_instance(c, |i| {
+        if n == 0 || vr.is_null() {
+            OK
+        } else {
+            i.error("fmi2SetInteger: this FMU has no Integer variables")
+        }
+    })
 }
 
 /// # Safety
@@ -505,11 +539,19 @@ pub unsafe extern "C" fn fmi2GetBoolean(c: *mut c_void, vr: *const c_uint, n: us
 /// # Safety
 /// `vr` and `value` point to `n` elements.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetBoolean(c: *mut c_void, vr: *const c_uint, n: usize, value: *const c_int) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: *mut c_void,
+    vr: *const c_uint,
+    n: usize,
+    value: *const c_int,
+) -> Fmi2Status {
     with_instance(c, |i| {
-        let Some((vr, vals)) = slices(vr, n, value as *mut c_int) else { return i.error("fmi2SetBoolean: null pointer") };
+        let Some((vr, vals)) = slices(vr, n, value as *mut c_int) else {
+            return i.error("fmi2SetBoolean: null pointer");
+        };
         if i.phase == Phase::Stepping && n > 0 {
-            return i.error("fmi2SetBoolean: the Boolean variables are fixed parameters; set them before initialization");
+            return i
+                .error("fmi2SetBoolean: the Boolean variables are fixed parameters; set them before initialization");
         }
         for (r, v) in vr.iter().zip(vals.iter()) {
             let Some(k) = BOOL_IN.iter().position(|x| x.0 == *r) else {
@@ -524,7 +566,12 @@ pub unsafe extern "C" fn fmi2SetBoolean(c: *mut c_void, vr: *const c_uint, n: us
 /// # Safety
 /// `vr` and `value` point to `n` elements.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2GetString(c: *mut c_void, vr: *const c_uint, n: usize, value: *mut *const c_char) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2GetString(
+    c: *mut c_void,
+    vr: *const c_uint,
+    n: usize,
+    value: *mut *const c_char,
+) -> Fmi2Status {
     with_instance(c, |i| {
         let Some((vr, out)) = slices(vr, n, value) else { return i.error("fmi2GetString: null pointer") };
         // the returned pointers stay valid until the next fmi2GetString or fmi2SetString
@@ -551,9 +598,16 @@ impl Instance {
 /// # Safety
 /// `vr` and `value` point to `n` elements, each value a C string.
 #[no_mangle]
-pub unsafe extern "C" fn fmi2SetString(c: *mut c_void, vr: *const c_uint, n: usize, value: *const *const c_char) -> Fmi2Status {
+pub unsafe extern "C" fn fmi2SetString(
+    c: *mut c_void,
+    vr: *const c_uint,
+    n: usize,
+    value: *const *const c_char,
+) -> Fmi2Status {
     with_instance(c, |i| {
-        let Some((vr, vals)) = slices(vr, n, value as *mut *const c_char) else { return i.error("fmi2SetString: null pointer") };
+        let Some((vr, vals)) = slices(vr, n, value as *mut *const c_char) else {
+            return i.error("fmi2SetString: null pointer");
+        };
         if i.phase == Phase::Stepping && n > 0 {
             return i.error("fmi2SetString: the String variables are fixed parameters; set them before initialization");
         }

@@ -19,7 +19,13 @@ pub const GUID: &str = "{6d2f3c1e-7a51-4b8e-9c3a-0f4e5d6c7b8a}";
 /// Real parameters and inputs (value reference, name, causality, start, description).
 pub const REAL_IN: &[(u32, &str, &str, f64, &str)] = &[
     (0, "mu", "parameter", 0.15, "peak friction coefficient of the surface (replaces the spec's [surface] mu)"),
-    (1, "surface_temperature_c", "parameter", -3.0, "bulk ice temperature, degC (replaces the spec's [surface] temperature_c)"),
+    (
+        1,
+        "surface_temperature_c",
+        "parameter",
+        -3.0,
+        "bulk ice temperature, degC (replaces the spec's [surface] temperature_c)",
+    ),
     (2, "steer_cmd_rad", "input", 0.0, "front road-wheel steer angle, rad, positive left (used when external_steer)"),
     (3, "drive_torque_cmd_nm", "input", 0.0, "total drive torque at the wheels, N m, >= 0 (used when external_torque)"),
     (4, "brake_torque_cmd_nm", "input", 0.0, "total brake torque at the wheels, N m, >= 0 (used when external_torque)"),

@@ -3,10 +3,14 @@
 //! (`batch::from_table`), run execution (`run::execute`), tyre files (`TyreFileSpec`), ATIIM
 //! scenarios (`ScenarioSpec`, `solve_patch_at`, `drawbar_curve`) and discovery (`run_discover`).
 //!
-//! Every simulation and every tyre loop runs with the GIL released. Library errors become Python
-//! exceptions carrying the command line's message: bad input or a bad option `ValueError`, I/O
-//! `OSError`, an interruption `KeyboardInterrupt`, anything else `RuntimeError`. The pure-Python half
-//! (`vehsim/__init__.py`) turns these raw values into result objects and broadcasts arrays.
+//! Every simulation and every tyre loop runs with the GIL released; runs and sweeps go on a
+//! worker thread while the calling thread polls for signals, so Ctrl-C stops them within a second
+//! ([`interruptible`]). Library errors become Python exceptions carrying the command line's
+//! message: bad input or a bad option `ValueError`, I/O `OSError`, an interruption
+//! `KeyboardInterrupt`, anything else `RuntimeError`. Spec values from Python nest at most
+//! [`MAX_DEPTH`] levels. `simulation.rs` holds the stepped run (`vehsim.Simulation`). The
+//! pure-Python half (`vehsim/`) turns these raw values into result objects and reads broadcast
+//! arrays chunk by chunk.
 //!
 //! Units and sign conventions are the library's: SI, angles in rad, ISO 8855 axes (see the
 //! README's Python section and `src/tyre/mod.rs`).
@@ -83,7 +87,9 @@ fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>, depth: usize) -> Result
             Error::key(
                 file,
                 key,
-                format!("integer {text} does not fit a spec integer (-2^63 to 2^63 - 1); give a float for large values"),
+                format!(
+                    "integer {text} does not fit a spec integer (-2^63 to 2^63 - 1); give a float for large values"
+                ),
             )
         });
     }
@@ -258,10 +264,7 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 /// signal handlers, normally KeyboardInterrupt) `stop` is set, the work is told to wind up and
 /// its (partial) result is returned with the exception. The work checks `stop` between runs and
 /// after every step, so control returns well within a second.
-fn interruptible<T: Send>(
-    py: Python<'_>,
-    work: impl FnOnce(&AtomicBool) -> T + Send,
-) -> PyResult<(T, Option<PyErr>)> {
+fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
     let stop = AtomicBool::new(false);
     std::thread::scope(|scope| {
         let (tx, rx) = mpsc::channel();
