@@ -28,7 +28,7 @@ use crate::maneuver::{Event, Maneuver, Outcome};
 use crate::run::{build_maneuver, controls, row_values, COLUMNS};
 use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::RunConfig;
-use crate::vehicle::{Bicycle, Environment, Inputs, Roll4Dof, VehicleModel};
+use crate::vehicle::{bicycle, roll4dof, Bicycle, Environment, Inputs, Roll4Dof, VehicleModel};
 
 /// Inputs the caller sets in place of the controllers' (see the module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -244,20 +244,26 @@ impl StepRun {
         let inner: Box<dyn Stepper> = match cfg.vehicle_model {
             VehicleModelKind::Bicycle => {
                 let model = Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env);
-                let contact =
-                    cfg.contact.build(&cfg.spec_file, <Bicycle as VehicleModel<13>>::TYRES, cfg.env.surface_temp_c)?;
+                let contact = cfg.contact.build(
+                    &cfg.spec_file,
+                    <Bicycle as VehicleModel<{ bicycle::N }>>::TYRES,
+                    cfg.env.surface_temp_c,
+                )?;
                 let parts = Parts { model, maneuver, contact, controls: ctl, observer: NoOutput };
-                Box::new(Owned::<13, Bicycle>::new(parts, cfg.env, s))
+                Box::new(Owned::<{ bicycle::N }, Bicycle>::new(parts, cfg.env, s))
             }
             VehicleModelKind::Roll4Dof => {
                 let roll = cfg.vehicle.roll.clone().ok_or_else(|| {
                     Error::key(&cfg.vehicle_file, "roll", "the 4-DOF model needs the vehicle's [roll] table")
                 })?;
                 let model = Roll4Dof::new(cfg.vehicle.clone(), roll).prepared_for(&cfg.env);
-                let contact =
-                    cfg.contact.build(&cfg.spec_file, <Roll4Dof as VehicleModel<18>>::TYRES, cfg.env.surface_temp_c)?;
+                let contact = cfg.contact.build(
+                    &cfg.spec_file,
+                    <Roll4Dof as VehicleModel<{ roll4dof::N }>>::TYRES,
+                    cfg.env.surface_temp_c,
+                )?;
                 let parts = Parts { model, maneuver, contact, controls: ctl, observer: NoOutput };
-                Box::new(Owned::<18, Roll4Dof>::new(parts, cfg.env, s))
+                Box::new(Owned::<{ roll4dof::N }, Roll4Dof>::new(parts, cfg.env, s))
             }
         };
         let max_steps = ((s.duration_s / s.step_s) - 1e-9).ceil().max(0.0) as u64;
