@@ -224,3 +224,57 @@ def test_ctrl_c_while_stepping_a_simulation_is_a_keyboard_interrupt(root):
     )
     assert "PanicException" not in err and code == 0 and "finished" not in lines, (lines, err)
     assert delay is not None and delay < 1.0, delay
+
+
+# ---------------------------------------------------------------------------------------------
+# random values through the conversion layer (a seeded fuzz of the Python -> spec conversion)
+
+
+def random_value(rng, depth=0):
+    kinds = ["int", "bigint", "float", "nan", "str", "bool", "none", "bytes", "object", "array"]
+    if depth < 40:
+        kinds += ["list", "dict", "tuple"]
+    k = rng.choice(kinds)
+    if k == "int":
+        return int(rng.integers(-(10**6), 10**6))
+    if k == "bigint":
+        return int(rng.integers(1, 10**6)) * 10 ** int(rng.integers(18, 400))
+    if k == "float":
+        return float(rng.normal() * 10.0 ** rng.integers(-5, 300))
+    if k == "nan":
+        return float(rng.choice([np.nan, np.inf, -np.inf]))
+    if k == "str":
+        return "".join(rng.choice(list("ab.[]=\"'\\\x00é ")) for _ in range(int(rng.integers(0, 8))))
+    if k == "bool":
+        return bool(rng.integers(0, 2))
+    if k == "none":
+        return None
+    if k == "bytes":
+        return b"\xff\x00"
+    if k == "object":
+        return object()
+    if k == "array":
+        return np.arange(int(rng.integers(0, 4)), dtype=rng.choice([np.float64, np.int64, np.bool_]))
+    n = int(rng.integers(0, 4))
+    if k == "dict":
+        keys = ["surface", "mu", "maneuver", "kind", "x", "sweep", "name", "integrator", "duration_s"]
+        return {str(rng.choice(keys)): random_value(rng, depth + 1) for _ in range(n)}
+    items = [random_value(rng, depth + 1) for _ in range(n)]
+    return items if k == "list" else tuple(items)
+
+
+def test_random_values_as_overrides_raise_clean_errors_or_run():
+    rng = np.random.default_rng(34)
+    keys = ["surface__mu", "surface", "maneuver", "duration_s", "integrator", "tyre_model", "sweep", "output", "name"]
+    outcomes = {}
+    for _ in range(300):
+        key = str(rng.choice(keys))
+        value = random_value(rng)
+        try:
+            vehsim.run(SINE, **{key: value, "duration_s": 0.05} if key != "duration_s" else {key: value})
+            outcome = "ran"
+        except (ValueError, TypeError, OSError) as e:
+            assert str(e), (key, value)
+            outcome = type(e).__name__
+        outcomes[outcome] = outcomes.get(outcome, 0) + 1
+    assert outcomes.get("ValueError", 0) > 100, outcomes
