@@ -35,8 +35,25 @@ use crate::vehicle::{bicycle, roll4dof, Bicycle, Environment, Inputs, Roll4Dof, 
 pub struct ExternalInputs {
     /// Front road-wheel steer angle, rad, positive left; `None`: the manoeuvre's driver steers.
     pub steer_rad: Option<f64>,
+    /// Steer rate instead of an angle (takes precedence over `steer_rad`): see [`SteerRate`].
+    pub steer_rate: Option<SteerRate>,
     /// Total drive and brake torque at the wheels, N m (each >= 0); `None`: the speed controller.
     pub torque_nm: Option<Torque>,
+}
+
+/// A steer rate held from time `t0_s`: the steer angle at time t is `from_rad + rate_radps (t -
+/// t0_s)`, evaluated at every integration stage (exact for a held rate) and stopped at the lock
+/// (`lock_rad`). [`StepRun::set_inputs`] fills `from_rad`, `t0_s` and `lock_rad` from the run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SteerRate {
+    /// Steer rate, rad/s, positive left; |rate| <= the vehicle's `steer_rate_max_radps`.
+    pub rate_radps: f64,
+    /// Steer angle at `t0_s`, rad.
+    pub from_rad: f64,
+    /// Time the rate was set, s.
+    pub t0_s: f64,
+    /// Steering lock, rad.
+    pub lock_rad: f64,
 }
 
 /// Drive and brake torque set together, N m (both >= 0; both may act at once).
@@ -51,6 +68,8 @@ pub struct Torque {
 pub struct Limits {
     /// Steering lock, rad (|steer| <= this).
     pub steer_max_rad: f64,
+    /// Steering rate limit, rad/s (|steer rate| <= this).
+    pub steer_rate_max_radps: f64,
     /// Largest total drive and brake torque, N m.
     pub drive_max_nm: f64,
     pub brake_max_nm: f64,
@@ -58,7 +77,12 @@ pub struct Limits {
 
 impl From<&Controls> for Limits {
     fn from(c: &Controls) -> Self {
-        Limits { steer_max_rad: c.steer_max_rad, drive_max_nm: c.drive_max_nm, brake_max_nm: c.brake_max_nm }
+        Limits {
+            steer_max_rad: c.steer_max_rad,
+            steer_rate_max_radps: c.steer_rate_max_radps,
+            drive_max_nm: c.drive_max_nm,
+            brake_max_nm: c.brake_max_nm,
+        }
     }
 }
 
@@ -67,6 +91,10 @@ impl ExternalInputs {
     pub fn apply(&self, u: &mut Inputs) {
         if let Some(s) = self.steer_rad {
             u.steer_rad = s;
+        }
+        if let Some(r) = self.steer_rate {
+            let lock = r.lock_rad.abs();
+            u.steer_rad = (r.from_rad + r.rate_radps * (u.t_s - r.t0_s)).clamp(-lock, lock);
         }
         if let Some(t) = self.torque_nm {
             u.drive_torque_nm = t.drive_nm;
@@ -91,6 +119,10 @@ impl ExternalInputs {
         };
         if let Some(s) = self.steer_rad {
             within("steer_rad", s, -lim.steer_max_rad, lim.steer_max_rad, "rad")?;
+        }
+        if let Some(r) = self.steer_rate {
+            let max = lim.steer_rate_max_radps;
+            within("steer_rate_radps", r.rate_radps, -max, max, "rad/s")?;
         }
         if let Some(t) = self.torque_nm {
             within("drive_torque_nm", t.drive_nm, 0.0, lim.drive_max_nm, "N m")?;
@@ -118,6 +150,7 @@ trait Stepper: Send {
     fn state(&self) -> &[f64];
     fn state_names(&self) -> Vec<&'static str>;
     fn row(&self) -> Row;
+    fn inputs_now(&self) -> Inputs;
     fn events(&self) -> &[Event];
     fn outcome(&self) -> Outcome;
     fn maneuver_end_reason(&self) -> Option<EndReason>;
@@ -192,6 +225,9 @@ impl<const N: usize, M: VehicleModel<N> + Send + 'static> Stepper for Owned<N, M
     }
     fn state_names(&self) -> Vec<&'static str> {
         self.model.state_names().to_vec()
+    }
+    fn inputs_now(&self) -> Inputs {
+        self.sim.inputs_now()
     }
     fn row(&self) -> Row {
         let inputs = self.sim.inputs_now();
@@ -286,8 +322,15 @@ impl StepRun {
 
     /// Set the external inputs for the coming steps, after checking them against the vehicle's
     /// limits (on failure nothing changes and the message says what is allowed).
-    pub fn set_inputs(&mut self, e: ExternalInputs) -> std::result::Result<(), String> {
+    /// A steer rate starts from the steer angle in force now (so the angle is continuous) at the
+    /// current time, stopping at the vehicle's lock.
+    pub fn set_inputs(&mut self, mut e: ExternalInputs) -> std::result::Result<(), String> {
         e.check(&self.limits)?;
+        if let Some(r) = e.steer_rate.as_mut() {
+            r.from_rad = self.inner.inputs_now().steer_rad;
+            r.t0_s = self.inner.time_s();
+            r.lock_rad = self.limits.steer_max_rad;
+        }
         self.external = e;
         self.inner.set_external(e);
         Ok(())
@@ -406,12 +449,12 @@ mod tests {
         let mut run = StepRun::new(&dlc()).unwrap();
         let lim = run.limits();
         for bad in [
-            ExternalInputs { steer_rad: Some(lim.steer_max_rad * 1.01), torque_nm: None },
-            ExternalInputs { steer_rad: Some(f64::NAN), torque_nm: None },
-            ExternalInputs { steer_rad: None, torque_nm: Some(Torque { drive_nm: -1.0, brake_nm: 0.0 }) },
+            ExternalInputs { steer_rad: Some(lim.steer_max_rad * 1.01), ..Default::default() },
+            ExternalInputs { steer_rad: Some(f64::NAN), ..Default::default() },
+            ExternalInputs { torque_nm: Some(Torque { drive_nm: -1.0, brake_nm: 0.0 }), ..Default::default() },
             ExternalInputs {
-                steer_rad: None,
                 torque_nm: Some(Torque { drive_nm: 0.0, brake_nm: lim.brake_max_nm + 1.0 }),
+                ..Default::default()
             },
         ] {
             let msg = run.set_inputs(bad).unwrap_err();
@@ -421,9 +464,37 @@ mod tests {
     }
 
     #[test]
+    fn a_held_steer_rate_ramps_the_angle_exactly_and_stops_at_the_lock() {
+        let mut run = StepRun::new(&dlc()).unwrap();
+        let lim = run.limits();
+        let rate = 0.5 * lim.steer_rate_max_radps;
+        let e = ExternalInputs {
+            steer_rate: Some(SteerRate { rate_radps: rate, ..Default::default() }),
+            ..Default::default()
+        };
+        run.set_inputs(e).unwrap();
+        let steer = COLUMNS.iter().position(|c| *c == "steer_rad").unwrap();
+        for _ in 0..10 {
+            run.step();
+        }
+        let t = run.time_s();
+        assert!((run.observation()[steer] - rate * t).abs() < 1e-15);
+        // long enough to reach the lock: it stays there
+        while run.time_s() < 2.0 * lim.steer_max_rad / rate && run.step().is_none() {}
+        assert_eq!(run.observation()[steer], lim.steer_max_rad);
+        let too_fast = SteerRate { rate_radps: 1.01 * lim.steer_rate_max_radps, ..Default::default() };
+        let msg = run.set_inputs(ExternalInputs { steer_rate: Some(too_fast), ..Default::default() }).unwrap_err();
+        assert!(msg.starts_with("steer_rate_radps = "), "{msg}");
+    }
+
+    #[test]
     fn a_held_external_steer_is_what_the_model_sees() {
         let mut run = StepRun::new(&dlc()).unwrap();
-        let e = ExternalInputs { steer_rad: Some(0.02), torque_nm: Some(Torque { drive_nm: 100.0, brake_nm: 0.0 }) };
+        let e = ExternalInputs {
+            steer_rad: Some(0.02),
+            torque_nm: Some(Torque { drive_nm: 100.0, brake_nm: 0.0 }),
+            ..Default::default()
+        };
         run.set_inputs(e).unwrap();
         for _ in 0..50 {
             run.step();

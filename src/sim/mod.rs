@@ -11,7 +11,7 @@ pub mod stability;
 pub mod watch;
 
 pub use engine::{simulate, Controls, EndReason, SimSettings, Simulation, Summary};
-pub use external::{ExternalInputs, StepRun, Torque};
+pub use external::{ExternalInputs, SteerRate, StepRun, Torque};
 pub use integrator::Method;
 pub use observer::{Observer, Recorder, Row};
 pub use plausibility::Plausibility;
