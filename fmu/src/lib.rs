@@ -151,6 +151,7 @@ impl Instance {
                 drive_nm: self.real_param("drive_torque_cmd_nm"),
                 brake_nm: self.real_param("brake_torque_cmd_nm"),
             }),
+            ..Default::default()
         }
     }
 

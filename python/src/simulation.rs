@@ -14,7 +14,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use vehsim::sim::external::OBSERVATION;
-use vehsim::sim::{ExternalInputs, StepRun, Torque};
+use vehsim::sim::{ExternalInputs, SteerRate, StepRun, Torque};
 use vehsim::spec::RunConfig;
 use vehsim::Error;
 
@@ -31,14 +31,16 @@ pub struct NativeSimulation {
     /// engine's parts are Send, not Sync); `&mut self` methods reach it without locking.
     run: Mutex<StepRun>,
     steer_external: bool,
+    steer_rate_external: bool,
     torque_external: bool,
 }
 
-fn build(cfg: &RunConfig, steer: bool, torque: bool) -> PyResult<StepRun> {
+fn build(cfg: &RunConfig, steer: bool, steer_rate: bool, torque: bool) -> PyResult<StepRun> {
     let mut run = StepRun::new(cfg).map_err(py_err)?;
-    // external channels start at zero steer and zero torque until the first inputs
+    // external channels start at zero steer (rate) and zero torque until the first inputs
     let e = ExternalInputs {
         steer_rad: steer.then_some(0.0),
+        steer_rate: steer_rate.then(SteerRate::default),
         torque_nm: torque.then_some(Torque { drive_nm: 0.0, brake_nm: 0.0 }),
     };
     run.set_inputs(e).map_err(PyValueError::new_err)?;
@@ -56,14 +58,18 @@ impl NativeSimulation {
     /// Load and validate a single-run spec (path or dict, with overrides); `steer_external` and
     /// `torque_external` say which channels the caller drives.
     #[new]
-    #[pyo3(signature = (path=None, table=None, overrides=None, steer_external=false, torque_external=false))]
+    #[pyo3(signature = (path=None, table=None, overrides=None, steer_external=false, torque_external=false, steer_rate_external=false))]
     fn new(
         path: Option<std::path::PathBuf>,
         table: Option<&Bound<'_, PyDict>>,
         overrides: Option<&Bound<'_, PyDict>>,
         steer_external: bool,
         torque_external: bool,
+        steer_rate_external: bool,
     ) -> PyResult<Self> {
+        if steer_external && steer_rate_external {
+            return Err(PyValueError::new_err("external: 'steer' and 'steer_rate' exclude each other; give one"));
+        }
         let b = load_batch(path, table, overrides).map_err(py_err)?;
         if b.is_sweep() {
             return Err(py_err(Error::key(
@@ -76,25 +82,26 @@ impl NativeSimulation {
             return Err(py_err(Error::input(&b.spec_file, "the spec has no run")));
         };
         let cfg = first.config.map_err(|m| py_err(Error::input(&b.spec_file, m)))?;
-        let run = build(&cfg, steer_external, torque_external)?;
-        Ok(Self { cfg, run: Mutex::new(run), steer_external, torque_external })
+        let run = build(&cfg, steer_external, steer_rate_external, torque_external)?;
+        Ok(Self { cfg, run: Mutex::new(run), steer_external, steer_rate_external, torque_external })
     }
 
     /// Start over from the manoeuvre's start (the engine is deterministic: the same inputs give
     /// the same run).
     fn reset(&mut self) -> PyResult<()> {
-        self.run = Mutex::new(build(&self.cfg, self.steer_external, self.torque_external)?);
+        self.run = Mutex::new(build(&self.cfg, self.steer_external, self.steer_rate_external, self.torque_external)?);
         Ok(())
     }
 
     /// Set the external inputs (only the channels the caller drives; None keeps a channel's
     /// value); checked against the vehicle's limits.
-    #[pyo3(signature = (steer_rad=None, drive_torque_nm=None, brake_torque_nm=None))]
+    #[pyo3(signature = (steer_rad=None, drive_torque_nm=None, brake_torque_nm=None, steer_rate_radps=None))]
     fn set_inputs(
         &mut self,
         steer_rad: Option<f64>,
         drive_torque_nm: Option<f64>,
         brake_torque_nm: Option<f64>,
+        steer_rate_radps: Option<f64>,
     ) -> PyResult<()> {
         let run = self.run.get_mut().unwrap_or_else(PoisonError::into_inner);
         let mut e = run.inputs();
@@ -105,6 +112,14 @@ impl NativeSimulation {
                 ));
             }
             e.steer_rad = Some(s);
+        }
+        if let Some(r) = steer_rate_radps {
+            if !self.steer_rate_external {
+                return Err(PyValueError::new_err(
+                    "steer_rate_radps: this simulation does not take a steer rate; create it with external=['steer_rate']",
+                ));
+            }
+            e.steer_rate = Some(SteerRate { rate_radps: r, ..SteerRate::default() });
         }
         if drive_torque_nm.is_some() || brake_torque_nm.is_some() {
             if !self.torque_external {
@@ -229,18 +244,20 @@ impl NativeSimulation {
         self.cfg.vehicle.wheelbase_m()
     }
 
-    /// (steer lock rad, largest drive torque N m, largest brake torque N m).
+    /// (steer lock rad, largest drive torque N m, largest brake torque N m, steer rate limit rad/s).
     #[getter]
-    fn limits(&self) -> (f64, f64, f64) {
+    fn limits(&self) -> (f64, f64, f64, f64) {
         let l = self.lock().limits();
-        (l.steer_max_rad, l.drive_max_nm, l.brake_max_nm)
+        (l.steer_max_rad, l.drive_max_nm, l.brake_max_nm, l.steer_rate_max_radps)
     }
 
-    /// The external inputs in force: (steer rad or None, drive N m or None, brake N m or None).
+    /// The external inputs in force: (steer rad, drive N m, brake N m, steer rate rad/s), None
+    /// where the channel is not external.
     #[getter]
-    fn inputs(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
+    fn inputs(&self) -> (Option<f64>, Option<f64>, Option<f64>, Option<f64>) {
         let e = self.lock().inputs();
-        (e.steer_rad, e.torque_nm.map(|t| t.drive_nm), e.torque_nm.map(|t| t.brake_nm))
+        let t = e.torque_nm;
+        (e.steer_rad, t.map(|t| t.drive_nm), t.map(|t| t.brake_nm), e.steer_rate.map(|r| r.rate_radps))
     }
 
     /// Events so far: dicts with t_s, kind and detail.

@@ -163,3 +163,22 @@ def test_a_spin_out_ends_the_run_with_its_event():
     sim.run()
     assert sim.end_reason == "spin_out"
     assert any(e["kind"] == "spin_out" for e in sim.events)
+
+
+def test_a_steer_rate_ramps_the_angle_and_stops_at_the_lock():
+    sim = vehsim.Simulation(SINE, external="steer_rate", maneuver__speed_mps=3.0)
+    assert sim.input_names == ["steer_rate_radps"]
+    i = vehsim.OBSERVATION.index
+    rate = 0.2
+    o = sim.step([rate], n=50)
+    t1 = sim.t_s
+    assert o[i("steer_rad")] == pytest.approx(rate * t1, abs=1e-15)
+    o = sim.step([-rate], n=25)  # back down from where it was: continuous
+    assert o[i("steer_rad")] == pytest.approx(rate * t1 - rate * (sim.t_s - t1), abs=1e-15)
+    lock = sim.limits["steer_max_rad"]
+    o = sim.step([sim.limits["steer_rate_max_radps"]], n=round(2 * lock / sim.limits["steer_rate_max_radps"] / sim.step_s))
+    assert o[i("steer_rad")] == lock
+    with pytest.raises(ValueError, match=r"steer_rate_radps = .* is not allowed; expected a finite number in \[.*\] rad/s"):
+        sim.step([1.5 * sim.limits["steer_rate_max_radps"]])
+    with pytest.raises(ValueError, match="'steer' and 'steer_rate' exclude each other"):
+        vehsim.Simulation(SINE, external=["steer", "steer_rate"])

@@ -5,6 +5,9 @@ gives the run ``vehsim.run`` returns, bit for bit. The caller may drive either c
 
 * ``"steer"``: the front road-wheel steer angle, rad, positive left (ISO 8855), within the
   vehicle's lock ``|steer| <= limits["steer_max_rad"]``; the spec's driver is then ignored;
+* ``"steer_rate"`` (instead of ``"steer"``): the steer rate, rad/s, within
+  ``limits["steer_rate_max_radps"]``; the angle ramps from its value when the rate is set,
+  exactly at every integration stage, and stops at the lock;
 * ``"torque"``: the total drive and brake torque at the wheels, N m, each in
   ``[0, limits[...]]``, split by the vehicle's drive layout and brake balance; the spec's speed
   controller is then ignored.
@@ -27,7 +30,11 @@ OBSERVATION: List[str] = list(_vehsim.OBSERVATION)
 #: The observation as a NumPy structured dtype: one float64 field per name.
 OBSERVATION_DTYPE = np.dtype([(n, np.float64) for n in OBSERVATION])
 
-_CHANNELS = {"steer": ("steer_rad",), "torque": ("drive_torque_nm", "brake_torque_nm")}
+_CHANNELS = {
+    "steer": ("steer_rad",),
+    "steer_rate": ("steer_rate_radps",),
+    "torque": ("drive_torque_nm", "brake_torque_nm"),
+}
 
 
 class Simulation:
@@ -37,7 +44,7 @@ class Simulation:
     Args:
         spec: the manoeuvre spec.
         external: the channels the caller drives: ``()`` (default: the spec's driver and speed
-            controller), ``"steer"``, ``"torque"`` or both (a sequence).
+            controller), ``"steer"`` or ``"steer_rate"``, ``"torque"``, or a sequence of them.
 
     Attributes:
         input_names: the external inputs in the order :meth:`step` takes them as a sequence.
@@ -55,10 +62,13 @@ class Simulation:
         external = tuple(external)
         unknown = [c for c in external if c not in _CHANNELS]
         if unknown:
-            raise ValueError(f"external: unknown channel {unknown[0]!r}; allowed: 'steer', 'torque'")
+            raise ValueError(f"external: unknown channel {unknown[0]!r}; allowed: 'steer', 'steer_rate', 'torque'")
         self.external = tuple(c for c in _CHANNELS if c in external)
         self._native = _vehsim.NativeSimulation(
-            **_spec_args(spec, overrides), steer_external="steer" in external, torque_external="torque" in external
+            **_spec_args(spec, overrides),
+            steer_external="steer" in external,
+            steer_rate_external="steer_rate" in external,
+            torque_external="torque" in external,
         )
         self.input_names: List[str] = [n for c in self.external for n in _CHANNELS[c]]
         self.state_names: List[str] = list(self._native.state_names)
@@ -66,9 +76,10 @@ class Simulation:
         self.step_s: float = n.step_s
         self.control_period_s: float = n.control_period_s
         self.duration_s: float = n.duration_s
-        steer, drive, brake = n.limits
+        steer, drive, brake, rate = n.limits
         self.limits: Dict[str, float] = {
             "steer_max_rad": steer,
+            "steer_rate_max_radps": rate,
             "drive_torque_max_nm": drive,
             "brake_torque_max_nm": brake,
         }
@@ -96,9 +107,9 @@ class Simulation:
         """Set the external inputs (if given), advance ``n`` steps (fewer if the run ends) and
         return the observation (a float64 vector in the order of :data:`OBSERVATION`).
 
-        ``inputs``: None (keep the inputs in force), a mapping with any of ``steer_rad``,
-        ``drive_torque_nm``, ``brake_torque_nm``, or a sequence / 1-D array in the order of
-        :attr:`input_names`.
+        ``inputs``: None (keep the inputs in force), a mapping with any of ``steer_rad`` (or
+        ``steer_rate_radps``), ``drive_torque_nm``, ``brake_torque_nm``, or a sequence / 1-D array
+        in the order of :attr:`input_names`.
         """
         if inputs is not None:
             self.set_inputs(inputs)
@@ -149,8 +160,8 @@ class Simulation:
     @property
     def inputs(self) -> Dict[str, float]:
         """The external inputs in force (only the channels the caller drives)."""
-        steer, drive, brake = self._native.inputs
-        values = {"steer_rad": steer, "drive_torque_nm": drive, "brake_torque_nm": brake}
+        steer, drive, brake, rate = self._native.inputs
+        values = {"steer_rad": steer, "drive_torque_nm": drive, "brake_torque_nm": brake, "steer_rate_radps": rate}
         return {k: values[k] for k in self.input_names}
 
     t_s = property(lambda self: self._native.t_s, doc="time now, s")
