@@ -11,11 +11,14 @@ rm -rf "$VENV" python/target/wheels
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
 # The CLI binary the tests compare against (already built by `cargo test --release`).
 cargo build --release --bin vehsim
+# The FMI 2.0 co-simulation FMU the FMPy tests import (fmu/: built into ./target, packaged into
+# target/vehsim.fmu with the venv's Python).
+PYTHON="$VENV/bin/python" bash fmu/build.sh target/vehsim.fmu
 # python/Cargo.lock pins the extension's crates; not --locked, so that a crate the library gains
 # later is resolved instead of failing the build (refresh the lock file then).
 "$VENV/bin/maturin" build --release --manifest-path python/Cargo.toml \
     --interpreter "$VENV/bin/python" --out python/target/wheels
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
 # From the project root, where no folder shadows the installed wheel.
-VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_REQUIRE_CLI=1 \
+VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_FMU="$PWD/target/vehsim.fmu" VEHSIM_REQUIRE_CLI=1 \
     "$VENV/bin/python" -m pytest -p no:cacheprovider -rs python/tests

@@ -17,7 +17,7 @@ use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::output::write_atomic;
 use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
-use crate::sim::{simulate, Controls, EndReason, Observer, Recorder, Row, Summary};
+use crate::sim::{Controls, EndReason, Observer, Recorder, Row, Simulation, Summary};
 use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
@@ -85,45 +85,67 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
 
 /// Simulate a validated run (no I/O), with the vehicle model the spec selects.
 pub fn execute(cfg: &RunConfig) -> RunOutput {
+    execute_until(cfg, &|| false).0
+}
+
+/// [`execute`], asking `stop` after every step whether to stop early (an interruption from the
+/// caller): true in the second value when it did; the output then covers the steps taken.
+pub fn execute_until(cfg: &RunConfig, stop: &dyn Fn() -> bool) -> (RunOutput, bool) {
     match cfg.vehicle_model {
-        VehicleModelKind::Bicycle => execute_with(&Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env), cfg),
+        VehicleModelKind::Bicycle => {
+            execute_with_stop(&Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env), cfg, stop)
+        }
         VehicleModelKind::Roll4Dof => match &cfg.vehicle.roll {
-            Some(roll) => execute_with(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()).prepared_for(&cfg.env), cfg),
+            Some(roll) => {
+                execute_with_stop(&Roll4Dof::new(cfg.vehicle.clone(), roll.clone()).prepared_for(&cfg.env), cfg, stop)
+            }
             // Spec validation rejects this; a hand-built config gets a result that says why.
-            None => RunOutput {
-                summary: Summary {
-                    passed: None,
-                    cones_hit: 0,
-                    peak_yaw_rate_radps: 0.0,
-                    peak_sideslip_rad: 0.0,
-                    peak_ay_mps2: 0.0,
-                    max_path_deviation_m: None,
-                    min_speed_mps: 0.0,
-                    max_speed_mps: 0.0,
-                    max_speed_error_mps: None,
-                    steps: 0,
-                    end_time_s: 0.0,
-                    end_reason: EndReason::Diverged,
-                    events: vec![Event {
-                        t_s: 0.0,
-                        kind: EventKind::Diverged,
-                        detail: "the 4-DOF model needs the vehicle's [roll] data; nothing was simulated".into(),
-                    }],
-                    plausible: true,
-                    implausible: Vec::new(),
+            None => (
+                RunOutput {
+                    summary: Summary {
+                        passed: None,
+                        cones_hit: 0,
+                        peak_yaw_rate_radps: 0.0,
+                        peak_sideslip_rad: 0.0,
+                        peak_ay_mps2: 0.0,
+                        max_path_deviation_m: None,
+                        min_speed_mps: 0.0,
+                        max_speed_mps: 0.0,
+                        max_speed_error_mps: None,
+                        steps: 0,
+                        end_time_s: 0.0,
+                        end_reason: EndReason::Diverged,
+                        events: vec![Event {
+                            t_s: 0.0,
+                            kind: EventKind::Diverged,
+                            detail: "the 4-DOF model needs the vehicle's [roll] data; nothing was simulated".into(),
+                        }],
+                        plausible: true,
+                        implausible: Vec::new(),
+                    },
+                    rows: Vec::new(),
+                    layout: None,
+                    steady_states: Vec::new(),
+                    understeer_gradient: None,
+                    understeer_gradient_note: None,
                 },
-                rows: Vec::new(),
-                layout: None,
-                steady_states: Vec::new(),
-                understeer_gradient: None,
-                understeer_gradient_note: None,
-            },
+                false,
+            ),
         },
     }
 }
 
 /// Simulate a validated run with a given model.
 pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConfig) -> RunOutput {
+    execute_with_stop(model, cfg, &|| false).0
+}
+
+/// [`execute_with`], asking `stop` after every step whether to stop early (see [`execute_until`]).
+pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    cfg: &RunConfig,
+    stop: &dyn Fn() -> bool,
+) -> (RunOutput, bool) {
     let mut maneuver = build_maneuver(cfg);
     let ctl = controls(cfg, maneuver.start().speed_mps);
     let mut recorder = Recorder::default();
@@ -148,7 +170,16 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
         &mut NoOutput
     };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
-    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
+    let mut sim =
+        Simulation::new(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
+    let mut stopped = false;
+    while sim.step().is_none() {
+        if stop() {
+            stopped = true;
+            break;
+        }
+    }
+    let mut summary = sim.finish();
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: EventKind::ContactModelUnavailable, detail: n });
     }
@@ -174,7 +205,15 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     if !cfg.output.timeseries {
         rows = Vec::new();
     }
-    RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient, understeer_gradient_note }
+    let out = RunOutput {
+        summary,
+        rows,
+        layout: maneuver.layout(),
+        steady_states,
+        understeer_gradient,
+        understeer_gradient_note,
+    };
+    (out, stopped)
 }
 
 /// `summary.json`: the run's identity plus the engine's figures.
@@ -239,7 +278,8 @@ pub const COLUMNS: &[&str] = &[
     "fz_rr_n",
 ];
 
-fn row_values(r: &Row) -> [f64; 32] {
+/// One row's values in the order of [`COLUMNS`] (the units are in the names).
+pub fn row_values(r: &Row) -> [f64; 32] {
     let o = &r.obs;
     let k = &o.kin;
     [

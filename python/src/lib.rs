@@ -3,15 +3,22 @@
 //! (`batch::from_table`), run execution (`run::execute`), tyre files (`TyreFileSpec`), ATIIM
 //! scenarios (`ScenarioSpec`, `solve_patch_at`, `drawbar_curve`) and discovery (`run_discover`).
 //!
-//! Every simulation and every tyre loop runs with the GIL released. Library errors become Python
-//! exceptions carrying the command line's message: bad input or a bad option `ValueError`, I/O
-//! `OSError`, an interruption `KeyboardInterrupt`, anything else `RuntimeError`. The pure-Python half
-//! (`vehsim/__init__.py`) turns these raw values into result objects and broadcasts arrays.
+//! Every simulation and every tyre loop runs with the GIL released; runs and sweeps go on a
+//! worker thread while the calling thread polls for signals, so Ctrl-C stops them within a second
+//! ([`interruptible`]). Library errors become Python exceptions carrying the command line's
+//! message: bad input or a bad option `ValueError`, I/O `OSError`, an interruption
+//! `KeyboardInterrupt`, anything else `RuntimeError`. Spec values from Python nest at most
+//! [`MAX_DEPTH`] levels. `simulation.rs` holds the stepped run (`vehsim.Simulation`). The
+//! pure-Python half (`vehsim/`) turns these raw values into result objects and reads broadcast
+//! arrays chunk by chunk.
 //!
 //! Units and sign conventions are the library's: SI, angles in rad, ISO 8855 axes (see the
 //! README's Python section and `src/tyre/mod.rs`).
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueError};
@@ -29,6 +36,9 @@ use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::{TyreInput, TyreModel};
 use vehsim::Error;
 
+mod simulation;
+use simulation::NativeSimulation;
+
 /// Name standing for a spec given as a dict (relative paths inside it resolve against the
 /// current directory).
 const DICT_SPEC: &str = "<spec dict>";
@@ -44,18 +54,44 @@ fn py_err(e: Error) -> PyErr {
     }
 }
 
+/// Deepest nesting of dicts and lists a spec given from Python may have (a spec file nests a few
+/// levels; a deeper value, or a dict that contains itself, is refused before the conversion's
+/// recursion could exhaust the stack).
+const MAX_DEPTH: usize = 32;
+
 /// A Python value as a TOML value (bool, int, float, str, os.PathLike, list/tuple, dict with str
-/// keys); `key` names it in the message of a value that has no TOML form.
-fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>) -> Result<toml::Value, Error> {
+/// keys); `key` names it in the message of a value that has no TOML form. `depth`: how many dicts
+/// and lists enclose it (at most [`MAX_DEPTH`]).
+fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>, depth: usize) -> Result<toml::Value, Error> {
     let bad = || {
         let ty = v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
         Error::key(file, key, format!("a Python {ty} has no spec form; use bool, int, float, str, list or dict"))
     };
+    if depth > MAX_DEPTH {
+        return Err(Error::key(
+            file,
+            key.split('.').take(4).collect::<Vec<_>>().join(".").as_str(),
+            format!(
+                "nested more than {MAX_DEPTH} levels deep (a dict or list that contains itself?); \
+                 spec values nest a few levels at most"
+            ),
+        ));
+    }
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract::<bool>().map_err(|_| bad())?));
     }
     if v.is_instance_of::<PyInt>() {
-        return Ok(toml::Value::Integer(v.extract::<i64>().map_err(|_| bad())?));
+        return v.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
+            let text = v.str().map(|s| s.to_string()).unwrap_or_default();
+            let text = if text.len() > 24 { format!("{}...({} digits)", &text[..12], text.len()) } else { text };
+            Error::key(
+                file,
+                key,
+                format!(
+                    "integer {text} does not fit a spec integer (-2^63 to 2^63 - 1); give a float for large values"
+                ),
+            )
+        });
     }
     if v.is_instance_of::<PyFloat>() {
         return Ok(toml::Value::Float(v.extract::<f64>().map_err(|_| bad())?));
@@ -64,12 +100,12 @@ fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>) -> Result<toml::Value, 
         return Ok(toml::Value::String(v.extract::<String>().map_err(|_| bad())?));
     }
     if let Ok(d) = v.downcast::<PyDict>() {
-        return dict_to_table(file, key, d).map(toml::Value::Table);
+        return dict_to_table(file, key, d, depth + 1).map(toml::Value::Table);
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let mut out = Vec::new();
         for (i, item) in v.try_iter().map_err(|_| bad())?.enumerate() {
-            out.push(to_toml(file, &format!("{key}[{i}]"), &item.map_err(|_| bad())?)?);
+            out.push(to_toml(file, &format!("{key}[{i}]"), &item.map_err(|_| bad())?, depth + 1)?);
         }
         return Ok(toml::Value::Array(out));
     }
@@ -81,18 +117,18 @@ fn to_toml(file: &Path, key: &str, v: &Bound<'_, PyAny>) -> Result<toml::Value, 
         let is_plain =
             [plain.is_instance_of::<PyList>(), plain.is_instance_of::<PyInt>(), plain.is_instance_of::<PyFloat>()];
         if is_plain.iter().any(|&b| b) {
-            return to_toml(file, key, &plain);
+            return to_toml(file, key, &plain, depth + 1);
         }
     }
     Err(bad())
 }
 
-fn dict_to_table(file: &Path, prefix: &str, d: &Bound<'_, PyDict>) -> Result<toml::Table, Error> {
+fn dict_to_table(file: &Path, prefix: &str, d: &Bound<'_, PyDict>, depth: usize) -> Result<toml::Table, Error> {
     let mut t = toml::Table::new();
     for (k, v) in d.iter() {
         let k: String = k.extract().map_err(|_| Error::key(file, prefix, "keys must be strings"))?;
         let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-        t.insert(k, to_toml(file, &key, &v)?);
+        t.insert(k, to_toml(file, &key, &v, depth)?);
     }
     Ok(t)
 }
@@ -124,7 +160,7 @@ fn spec_table(
         }
         (None, Some(d)) => {
             let file = PathBuf::from(DICT_SPEC);
-            let t = dict_to_table(&file, "", d)?;
+            let t = dict_to_table(&file, "", d, 0)?;
             (file, t)
         }
         (None, None) => (PathBuf::from(DICT_SPEC), toml::Table::new()),
@@ -132,7 +168,7 @@ fn spec_table(
     if let Some(o) = overrides {
         for (k, v) in o.iter() {
             let k: String = k.extract().map_err(|_| Error::input(&file, "override keys must be strings"))?;
-            let value = to_toml(&file, &k, &v)?;
+            let value = to_toml(&file, &k, &v, 0)?;
             set_dotted(&file, &mut t, &k, value)?;
         }
     }
@@ -198,17 +234,74 @@ fn timeseries(out: &RunOutput) -> (Vec<String>, Vec<Vec<f64>>) {
 /// One executed run: (status, summary JSON or None, message, time series or None).
 type RunRecord = (&'static str, Option<String>, String, Option<(Vec<String>, Vec<Vec<f64>>)>);
 
-fn execute(run: &BatchRun, keep_timeseries: bool) -> Result<RunRecord, Error> {
+/// Status of a run a sweep did not finish because it was interrupted.
+const INTERRUPTED: &str = "interrupted";
+
+/// Execute one run unless `stop` is set before or during it (then the record says `interrupted`).
+fn execute(run: &BatchRun, keep_timeseries: bool, stop: &AtomicBool) -> Result<RunRecord, Error> {
+    let stopped = || stop.load(Ordering::Relaxed);
+    let interrupted = || (INTERRUPTED, None, "interrupted before it finished".to_string(), None);
     match &run.config {
+        _ if stopped() => Ok(interrupted()),
         Err(msg) => Ok((batch::RunStatus::Invalid.as_str(), None, msg.clone(), None)),
         Ok(cfg) => {
-            let out = run::execute(cfg);
+            let (out, halted) = run::execute_until(cfg, &stopped);
+            if halted {
+                return Ok(interrupted());
+            }
             let status = batch::RunStatus::of(&out.summary).as_str();
             let ts = keep_timeseries.then(|| timeseries(&out));
             Ok((status, Some(summary_json(cfg, &out, &run.params)?), String::new(), ts))
         }
     }
 }
+
+/// How often the waiting thread looks for a signal (Ctrl-C) while work runs without the GIL.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Run `work` on a worker thread while this (the calling, usually main) thread waits without the
+/// GIL and checks for signals every [`SIGNAL_POLL`]: on Ctrl-C (a Python exception from the
+/// signal handlers, normally KeyboardInterrupt) `stop` is set, the work is told to wind up and
+/// its (partial) result is returned with the exception. The work checks `stop` between runs and
+/// after every step, so control returns well within a second.
+fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let (tx, rx) = mpsc::channel();
+        let stop = &stop;
+        std::thread::Builder::new()
+            .stack_size(WORKER_STACK)
+            .spawn_scoped(scope, move || {
+                // a send fails only when the receiver is gone, which the scope rules out
+                let _ = tx.send(work(stop));
+            })
+            .map_err(|e| PyRuntimeError::new_err(format!("cannot start a worker thread: {e}")))?;
+        let mut signal: Option<PyErr> = None;
+        let mut rx = rx;
+        loop {
+            // the receiver goes to the GIL-free closure and comes back (it is Send, not Sync)
+            let (got, back) = py.allow_threads(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+            rx = back;
+            match got {
+                Ok(v) => return Ok((v, signal)),
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if signal.is_none() {
+                        if let Err(e) = py.check_signals() {
+                            stop.store(true, Ordering::Relaxed);
+                            signal = Some(e);
+                        }
+                    }
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    return Err(PyRuntimeError::new_err("the worker thread ended without a result"));
+                }
+            }
+        }
+    })
+}
+
+/// Stack of a worker thread, bytes (the main thread's usual size; rayon's workers get the same).
+const WORKER_STACK: usize = 8 << 20;
 
 fn record_to_py(py: Python<'_>, params: &[(String, String)], index: usize, r: RunRecord) -> PyResult<PyObject> {
     let d = PyDict::new(py);
@@ -265,12 +358,26 @@ fn run_spec(
     if let Err(m) = &first.config {
         return Err(py_err(Error::input(&b.spec_file, m.clone())));
     }
-    let rec = py.allow_threads(|| execute(first, true)).map_err(py_err)?;
-    record_to_py(py, &first.params, 0, rec)
+    let (rec, signal) = interruptible(py, |stop| execute(first, true, stop))?;
+    if let Some(e) = signal {
+        return Err(e);
+    }
+    // a signal that arrived as the run finished is raised now, before any array is made
+    py.check_signals()?;
+    record_to_py(py, &first.params, 0, rec.map_err(py_err)?)
 }
 
-/// Run every combination of a spec's sweep on `jobs` threads (all cores when None) with the GIL
-/// released; records in run order whatever the thread count.
+/// The most worker threads a sweep may use: 4 per core, as `vehsim run --jobs` allows.
+#[pyfunction]
+fn max_jobs() -> usize {
+    4 * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Run every combination of a spec's sweep on `jobs` threads (all cores when None; 1 to
+/// [`max_jobs`]) with the GIL released; records in run order whatever the thread count.
+/// Returns (records, interrupted): on Ctrl-C the runs not finished are recorded as
+/// `interrupted` and the second value is the exception to raise (the caller keeps the finished
+/// records with it).
 #[pyfunction]
 #[pyo3(signature = (path=None, table=None, overrides=None, jobs=None, keep_timeseries=false))]
 fn sweep_spec(
@@ -278,27 +385,49 @@ fn sweep_spec(
     path: Option<PathBuf>,
     table: Option<&Bound<'_, PyDict>>,
     overrides: Option<&Bound<'_, PyDict>>,
-    jobs: Option<usize>,
+    jobs: Option<&Bound<'_, PyAny>>,
     keep_timeseries: bool,
-) -> PyResult<Vec<PyObject>> {
-    if jobs == Some(0) {
-        return Err(py_err(Error::input(Path::new("jobs"), "expected at least 1 thread")));
-    }
+) -> PyResult<(Vec<PyObject>, Option<PyObject>)> {
+    let jobs = check_jobs(jobs)?;
     let b = load_batch(path, table, overrides).map_err(py_err)?;
-    let records: Vec<Result<RunRecord, Error>> = py
-        .allow_threads(|| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(jobs.unwrap_or(0))
-                .build()
-                .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
-            Ok::<_, Error>(pool.install(|| b.runs.par_iter().map(|r| execute(r, keep_timeseries)).collect()))
-        })
-        .map_err(py_err)?;
+    let (records, signal) = interruptible(py, |stop| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs.unwrap_or(0))
+            .stack_size(WORKER_STACK)
+            .build()
+            .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
+        Ok::<Vec<Result<RunRecord, Error>>, Error>(
+            pool.install(|| b.runs.par_iter().map(|r| execute(r, keep_timeseries, stop)).collect()),
+        )
+    })?;
+    let records = records.map_err(py_err)?;
+    let signal = match signal {
+        Some(e) => Some(e),
+        None => py.check_signals().err(),
+    };
     let mut out = Vec::with_capacity(records.len());
     for (run, rec) in b.runs.iter().zip(records) {
         out.push(record_to_py(py, &run.params, run.index, rec.map_err(py_err)?)?);
     }
-    Ok(out)
+    Ok((out, signal.map(|e| e.into_value(py).into_any())))
+}
+
+/// `jobs` as the command line bounds `--jobs`: None (all cores) or a whole number from 1 to
+/// [`max_jobs`]; anything else is a ValueError naming the allowed range.
+fn check_jobs(jobs: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(j) = jobs.filter(|j| !j.is_none()) else { return Ok(None) };
+    let max = max_jobs();
+    let cores = max / 4;
+    let text = j.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+    let text = if text.len() > 40 { format!("{}...", &text.chars().take(40).collect::<String>()) } else { text };
+    let n = if j.is_instance_of::<PyBool>() { None } else { j.extract::<i128>().ok() };
+    match n {
+        Some(n) if n >= 1 && n <= max as i128 => Ok(Some(n as usize)),
+        _ => Err(PyValueError::new_err(format!(
+            "jobs: {text} threads is not allowed; expected a whole number from 1 to {max} \
+             (4 x {cores} cores, as vehsim run --jobs allows), or None for one per core"
+        ))),
+    }
 }
 
 /// A tyre file's provider, ready to evaluate.
@@ -335,8 +464,9 @@ struct Inputs<'a> {
 
 impl Inputs<'_> {
     /// The first value outside the providers' domain, as a bad-input error naming the argument
-    /// and its (flat) index. The bounds are checked inline; the message is built only on failure.
-    fn check(&self) -> Result<(), Error> {
+    /// and its flat index (`offset` + the index within these columns). The bounds are checked
+    /// inline; the message is built only on failure.
+    fn check(&self, offset: usize) -> Result<(), Error> {
         use std::f64::consts::FRAC_PI_2;
         let c = Checker::new(Path::new("Tyre.forces"));
         let args: [(&str, &[f64], f64, f64); 8] = [
@@ -352,7 +482,7 @@ impl Inputs<'_> {
         for (name, v, lo, hi) in args {
             // NaN fails the comparison too
             if let Some(i) = v.iter().position(|x| !(x.is_finite() && *x >= lo && *x <= hi)) {
-                let key = format!("{name}[{i}]");
+                let key = format!("{name}[{}]", offset + i);
                 return Err(if hi.is_infinite() { c.non_negative(&key, v[i]) } else { c.range(&key, v[i], lo, hi) }
                     .err()
                     .unwrap_or_else(|| Error::key(Path::new("Tyre.forces"), &key, "out of range")));
@@ -404,9 +534,11 @@ impl NativeTyre {
         })
     }
 
-    /// Forces (fx, fy, mz) for eight 1-D float64 arrays of one length (the Python wrapper
-    /// broadcasts); checked first, then evaluated without the GIL, in parallel chunks.
+    /// Forces (fx, fy, mz) for eight 1-D float64 arrays of one length (the Python wrapper feeds
+    /// the broadcast inputs chunk by chunk; `offset` is the chunk's first flat index, for
+    /// messages); checked first, then evaluated without the GIL, in parallel chunks.
     #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (fz, kappa, alpha, camber, vx, mu, surface_temp, contact_temp, offset=0))]
     fn forces<'py>(
         &self,
         py: Python<'py>,
@@ -418,6 +550,7 @@ impl NativeTyre {
         mu: PyReadonlyArray1<'py, f64>,
         surface_temp: PyReadonlyArray1<'py, f64>,
         contact_temp: PyReadonlyArray1<'py, f64>,
+        offset: usize,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let inp = Inputs {
             fz: contiguous(&fz, "fz")?,
@@ -437,7 +570,7 @@ impl NativeTyre {
         let model = &*self.model;
         let (fx, fy, mz) = py
             .allow_threads(|| -> Result<_, Error> {
-                inp.check()?;
+                inp.check(offset)?;
                 let (mut fx, mut fy, mut mz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
                 let eval = |start: usize, fx: &mut [f64], fy: &mut [f64], mz: &mut [f64]| {
                     for k in 0..fx.len() {
@@ -575,8 +708,15 @@ fn discover_runs(
 
 #[pymodule]
 fn _vehsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // Load NumPy's C API now, at import: loading it lazily at the first array a call returns
+    // could run Python code (the import) with a KeyboardInterrupt pending, and the numpy crate
+    // panics when that import fails.
+    let _ = PyArray1::<f64>::zeros(m.py(), 0, false);
+    m.add_class::<NativeSimulation>()?;
+    m.add("OBSERVATION", simulation::observation_names())?;
     m.add_function(wrap_pyfunction!(run_spec, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_spec, m)?)?;
+    m.add_function(wrap_pyfunction!(max_jobs, m)?)?;
     m.add_function(wrap_pyfunction!(atiim_scenario, m)?)?;
     m.add_function(wrap_pyfunction!(discover_runs, m)?)?;
     m.add_class::<NativeTyre>()?;

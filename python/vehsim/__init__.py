@@ -12,6 +12,7 @@ the key and what is allowed, as the command line prints them.
 from __future__ import annotations
 
 import json
+import math
 import os
 import tempfile
 from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Union
@@ -23,6 +24,10 @@ from . import _vehsim
 __all__ = [
     "run",
     "sweep",
+    "Simulation",
+    "OBSERVATION",
+    "SweepInterrupted",
+    "max_jobs",
     "Tyre",
     "TyreForces",
     "atiim",
@@ -147,16 +152,23 @@ def sweep(
 
     The sweep is the spec's ``[sweep]`` table (dotted key -> list of values, the last key varying
     fastest), replaced by ``grid`` when given. ``jobs``: worker threads (default all cores);
-    results are identical whatever the thread count. An invalid combination is kept with status
-    ``invalid`` and its message; a spec whose every combination is invalid raises ValueError.
+    results are identical whatever the thread count. ``jobs`` is bounded as the command line
+    bounds ``--jobs``: 1 to :func:`max_jobs` (4 per core); anything else raises ValueError. An
+    invalid combination is kept with status ``invalid`` and its message; a spec whose every
+    combination is invalid raises ValueError.
+
+    Ctrl-C stops the sweep within a second: the runs in progress are abandoned and
+    :class:`SweepInterrupted` (a KeyboardInterrupt) is raised, its ``results`` holding every run
+    that finished (the rest with status ``interrupted``).
     """
-    if jobs is not None and (not isinstance(jobs, int) or jobs < 1):
-        raise ValueError(f"jobs: {jobs!r} is not allowed; expected a whole number >= 1 (None: all cores)")
     args = _spec_args(spec, overrides)
     if grid is not None:
-        args["overrides"]["sweep"] = {k.replace("__", "."): list(v) for k, v in grid.items()}
+        if not isinstance(grid, Mapping):
+            raise ValueError(f"grid: expected a dict of key -> list of values, not a {type(grid).__name__}")
+        args["overrides"]["sweep"] = {k.replace("__", "."): _grid_values(k, v) for k, v in grid.items()}
+    records, interrupt = _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries)
     out = SweepResult()
-    for raw in _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries):
+    for raw in records:
         summary = json.loads(raw["summary_json"]) if raw["summary_json"] else None
         out.append(
             {
@@ -168,7 +180,40 @@ def sweep(
                 "result": RunResult(raw) if raw["timeseries"] is not None else None,
             }
         )
+    if interrupt is not None:
+        done = sum(r["status"] != "interrupted" for r in out)
+        if isinstance(interrupt, KeyboardInterrupt):
+            raise SweepInterrupted(out, done, len(out)) from None
+        raise interrupt
     return out
+
+
+def max_jobs() -> int:
+    """The most worker threads :func:`sweep` accepts: 4 per core, as ``vehsim run --jobs``."""
+    return _vehsim.max_jobs()
+
+
+def _grid_values(key: str, values: Any) -> List[Any]:
+    """The values of one swept key as a list; a string or a mapping is not a list of values."""
+    if isinstance(values, (str, bytes, Mapping)) or not isinstance(values, Iterable):
+        raise ValueError(
+            f"grid[{key!r}]: expected a list of values, not a {type(values).__name__} {values!r:.40}"
+            f" (a single value is written [value])"
+        )
+    return list(values)
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`sweep`: a KeyboardInterrupt that keeps the sweep's finished runs.
+
+    ``results`` is the SweepResult in run order: the runs that finished before the interrupt are
+    complete (status ``ok``, ``failed`` or ``invalid``); the others have status ``interrupted``,
+    no summary and no result. Nothing is written anywhere, so what is not caught is lost.
+    """
+
+    def __init__(self, results: "SweepResult", done: int, total: int):
+        super().__init__(f"sweep interrupted: {done} of {total} runs finished; their results are in .results")
+        self.results = results
 
 
 class TyreForces(NamedTuple):
@@ -225,13 +270,55 @@ class Tyre:
         """
         if contact_temp is None:
             contact_temp = surface_temp
-        arrays = np.broadcast_arrays(
-            *(np.asarray(a, dtype=np.float64) for a in (fz, kappa, alpha, camber, vx, mu, surface_temp, contact_temp))
+        names = ("fz", "kappa", "alpha", "camber", "vx", "mu", "surface_temp", "contact_temp")
+        values = (fz, kappa, alpha, camber, vx, mu, surface_temp, contact_temp)
+        arrays = []
+        for name, a in zip(names, values):
+            if a is None:
+                raise ValueError(f"Tyre.forces: {name} is None; expected a number or an array of numbers")
+            try:
+                arrays.append(np.asarray(a, dtype=np.float64))
+            except (TypeError, ValueError) as e:
+                raise ValueError(f"Tyre.forces: {name} is not a number or an array of numbers ({e})") from None
+        try:
+            shape = np.broadcast_shapes(*(a.shape for a in arrays))
+        except ValueError:
+            shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
+            raise ValueError(f"Tyre.forces: the inputs do not broadcast together: {shapes}") from None
+        size = math.prod(shape)
+        if size > MAX_TYRE_POINTS:
+            raise MemoryError(
+                f"Tyre.forces: {size:.3g} points ({3 * 8 * size / 1e9:.3g} GB of results) is more than the "
+                f"{MAX_TYRE_POINTS:.0e} points one call evaluates; split the call"
+            )
+        out = [np.empty(shape, dtype=np.float64) for _ in range(3)]
+        if size == 0:
+            return TyreForces(*out)
+        # Broadcast inputs are read chunk by chunk in C order, never expanded to the full shape.
+        it = np.nditer(
+            [*arrays, *out],
+            flags=["external_loop", "buffered", "zerosize_ok", "refs_ok"],
+            op_flags=[["readonly"]] * 8 + [["writeonly"]] * 3,
+            order="C",
+            buffersize=_CHUNK,
         )
-        shape = arrays[0].shape
-        flat = [np.ascontiguousarray(a).reshape(-1) for a in arrays]
-        fx, fy, mz = self._native.forces(*flat)
-        return TyreForces(fx.reshape(shape), fy.reshape(shape), mz.reshape(shape))
+        offset = 0
+        with it:
+            for chunk in it:
+                ins = [np.ascontiguousarray(c) for c in chunk[:8]]
+                fx, fy, mz = self._native.forces(*ins, offset=offset)
+                chunk[8][...] = fx
+                chunk[9][...] = fy
+                chunk[10][...] = mz
+                offset += len(fx)
+        return TyreForces(*out)
+
+
+#: Most points one ``Tyre.forces`` call evaluates (its three results take 24 bytes a point:
+#: 2.4 GB at this limit); a larger call raises MemoryError before allocating anything.
+MAX_TYRE_POINTS = 100_000_000
+#: Points handed to the native evaluator at a time.
+_CHUNK = 1 << 16
 
 
 def atiim(scenario: Spec, **overrides: Any) -> Dict[str, Any]:
@@ -280,3 +367,6 @@ def _report(folder: str, notices: List[str]) -> Dict[str, Any]:
         report = json.load(f)
     report["notices"] = list(notices)
     return report
+
+
+from .simulation import OBSERVATION, OBSERVATION_DTYPE, Simulation  # noqa: E402  (needs _spec_args)

@@ -51,6 +51,7 @@
 use nalgebra::SVector;
 use serde::Serialize;
 
+use super::external::ExternalInputs;
 use super::integrator::{relax, rk4_exp_step_t, rk4_lag_step_k1, rk4_step_k1, step_t, ExpPair, Method};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
@@ -267,6 +268,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     steer_cmd: Option<f64>,
     path_error: Option<f64>,
     end: Option<EndReason>,
+    /// Inputs set from outside the engine ([`Self::set_external`]); none by default.
+    external: ExternalInputs,
 }
 
 impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
@@ -338,6 +341,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             steer_cmd: None,
             path_error: None,
             end: None,
+            external: ExternalInputs::default(),
         }
     }
 
@@ -365,6 +369,28 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// Why the run ended, once it has.
     pub fn end_reason(&self) -> Option<EndReason> {
         self.end
+    }
+
+    /// Replace the manoeuvre's steer and the speed controller's torque, from the next step on,
+    /// by the values set in `e` (held over every step until set again; see
+    /// [`super::external`]). The controllers keep sampling; their outputs are not applied.
+    pub fn set_external(&mut self, e: ExternalInputs) {
+        self.external = e;
+    }
+
+    /// The inputs the next step starts from (the ramps' values now, with the external inputs).
+    pub fn inputs_now(&self) -> Inputs {
+        self.inputs_at(self.time_s())
+    }
+
+    /// The manoeuvre being driven (its verdict so far, its path error).
+    pub fn maneuver(&self) -> &dyn Maneuver {
+        &*self.maneuver
+    }
+
+    /// The speed controller's target at its last sample, m/s (NaN while it is off).
+    pub fn speed_target_mps(&self) -> f64 {
+        self.speed_target
     }
 
     /// Advance one step; returns why the run ended if it did (then further calls do nothing and
@@ -398,6 +424,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             let lock = self.controls.steer_max_rad;
             u.steer_rad = d.clamp(-lock, lock);
         }
+        self.external.apply(&mut u);
         u
     }
 
@@ -414,6 +441,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
             None => u0,
         };
+        self.external.apply(&mut u0);
         // The contact-temperature estimate at t, advanced over the period behind (none at the
         // first sample) from the tyres' conditions at t, taken at the contact temperatures it
         // returns (the friction force depends on them: `update_coupled` solves for the consistent

@@ -3,6 +3,7 @@
 //! notifies observers.
 
 pub mod engine;
+pub mod external;
 pub mod integrator;
 pub mod observer;
 pub mod plausibility;
@@ -10,6 +11,7 @@ pub mod stability;
 pub mod watch;
 
 pub use engine::{simulate, Controls, EndReason, SimSettings, Simulation, Summary};
+pub use external::{ExternalInputs, SteerRate, StepRun, Torque};
 pub use integrator::Method;
 pub use observer::{Observer, Recorder, Row};
 pub use plausibility::Plausibility;
