@@ -329,13 +329,26 @@ pub const MAX_STEPS: f64 = 1e9;
 /// Most bytes of output a call may write without `--force` (also never more than the free space).
 pub const MAX_OUTPUT_BYTES: f64 = 10e9;
 
+/// Most integration steps one run may take without `--force`. A car manoeuvre at the default
+/// step needs well under 1e6 (the longest allowed, 3600 s at 5 ms, 7.2e5); above 1e7 (about 10 s
+/// to a minute of one core, more for the 4-DOF model) the step has been driven down by an input
+/// (a stiffness, an inertia, a tiny `step_s`) and the run would take minutes.
+pub const MAX_RUN_STEPS: f64 = 1e7;
+
 /// Bytes of one timeseries.csv row (32 columns of shortest round-trip decimals), for estimates.
 const ROW_BYTES: f64 = 600.0;
 
-/// Estimated work and output of the runs of `batch` selected by `shard`: (steps, bytes).
+/// Bytes of one set of standard plots (PNG and SVG of each chart; 1.7 MB measured for one run)
+/// and what each further overlaid run adds to it.
+const PLOT_SET_BYTES: f64 = 1.8e6;
+const PLOT_BYTES_PER_RUN: f64 = 50e3;
+
+/// Estimated work and output of the runs of `batch` selected by `shard`: (steps, bytes), plots
+/// included.
 pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
     let mut steps = 0.0;
     let mut bytes = 0.0;
+    let mut plotted = 0.0_f64;
     for cfg in
         batch.runs.iter().filter(|r| shard.is_none_or(|s| s.contains(r.index))).filter_map(|r| r.config.as_ref().ok())
     {
@@ -344,9 +357,28 @@ pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
         bytes += 4096.0;
         if cfg.output.timeseries {
             bytes += ROW_BYTES * ((s.duration_s / s.output_interval_s).floor() + 1.0);
+            if cfg.output.plots {
+                plotted += 1.0;
+            }
         }
     }
+    if plotted > 0.0 && shard.is_none() {
+        bytes += PLOT_SET_BYTES + PLOT_BYTES_PER_RUN * (plotted - 1.0).min(crate::plot::runs::MAX_OVERLAID_RUNS as f64);
+    }
     (steps, bytes)
+}
+
+/// A byte count in the unit that suits it: `512 B`, `12.3 kB`, `1.7 MB`, `2.40 GB` (SI units).
+pub fn human_bytes(b: f64) -> String {
+    if b < 1e3 {
+        format!("{b:.0} B")
+    } else if b < 1e6 {
+        format!("{:.1} kB", b / 1e3)
+    } else if b < 1e9 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.2} GB", b / 1e9)
+    }
 }
 
 /// Free bytes on the file system holding `dir` (or its nearest existing ancestor).
@@ -363,25 +395,56 @@ pub fn free_bytes(dir: &Path) -> Option<f64> {
     (r == 0).then_some(st.f_bavail as f64 * st.f_frsize as f64)
 }
 
-/// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`] (exit 2) or one
-/// whose output would not fit the free space under `out_root` (exit 3), with the estimate.
+/// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`], or a run above
+/// [`MAX_RUN_STEPS`] (exit 2), or one whose output would not fit the free space under `out_root`
+/// (exit 3), with the estimate.
 pub fn check_limits(batch: &Batch, shard: Option<Shard>, out_root: &Path, force: bool) -> Result<()> {
+    if !force {
+        let longest = batch
+            .runs
+            .iter()
+            .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
+            .filter_map(|r| r.config.as_ref().ok().map(|c| (r, c)))
+            .map(|(r, c)| (r, c, (c.settings.duration_s / c.settings.step_s).ceil()))
+            .fold(None, |m: Option<(&BatchRun, &RunConfig, f64)>, x| match m {
+                Some(m) if m.2 >= x.2 => Some(m),
+                _ => Some(x),
+            });
+        if let Some((run, cfg, steps)) = longest.filter(|l| l.2 > MAX_RUN_STEPS) {
+            let which = if batch.is_sweep() { format!("{}: ", run_folder(run.index)) } else { String::new() };
+            return Err(Error::input(
+                &batch.spec_file,
+                format!(
+                    "{which}estimated {} integration steps in one run (step {} s over {} s), above the {} a run may \
+                     take without --force: it would run for minutes. A car manoeuvre needs under 1e6; a step this \
+                     short comes from integrator.step_s or from the vehicle's fastest mode (its tyre stiffnesses \
+                     and wheel inertia in {}). Use --force to run it anyway",
+                    crate::error::short_num(steps),
+                    crate::error::short_num(cfg.settings.step_s),
+                    crate::output::num::Sig(cfg.settings.duration_s),
+                    crate::error::short_num(MAX_RUN_STEPS),
+                    cfg.vehicle_file.display()
+                ),
+            ));
+        }
+    }
     let (steps, bytes) = estimate(batch, shard);
-    let what = format!("estimated {steps:.3e} integration steps and {:.2} GB of output", bytes / 1e9);
+    let what =
+        format!("estimated {} integration steps and {} of output", crate::error::short_num(steps), human_bytes(bytes));
     if !force && (steps > MAX_STEPS || bytes > MAX_OUTPUT_BYTES) {
         return Err(Error::input(
             &batch.spec_file,
             format!(
-                "{what}; above the limits of {MAX_STEPS:.0e} steps and {:.0} GB (a larger step_s, fewer runs, \
+                "{what}; above the limits of {MAX_STEPS:.0e} steps and {} (a larger step_s, fewer runs, \
                  --shard, or --force to run it anyway)",
-                MAX_OUTPUT_BYTES / 1e9
+                human_bytes(MAX_OUTPUT_BYTES)
             ),
         ));
     }
     if let Some(free) = free_bytes(out_root).filter(|f| !force && bytes > *f) {
         return Err(Error::Io {
             path: out_root.to_path_buf(),
-            source: std::io::Error::other(format!("{what}, but only {:.2} GB free there", free / 1e9)),
+            source: std::io::Error::other(format!("{what}, but only {} free there", human_bytes(free))),
         });
     }
     Ok(())
