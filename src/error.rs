@@ -129,7 +129,7 @@ pub fn read_input(path: &Path) -> Result<String> {
 /// key names the table it belongs in.
 pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
     let de = toml::Deserializer::new(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let parsed: T = serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
         let table = if key.is_empty() || key == "." { None } else { Some(key.as_str()) };
         let inner = e.into_inner().to_string();
@@ -142,7 +142,12 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Re
             None => Error::input(path, format!("invalid spec: {inner}")),
             Some(k) => Error::input(path, format!("invalid spec at key '{k}': {inner}")),
         }
-    })
+    })?;
+    // serde also reads a table from an array of its values in order: refuse that shape.
+    if let Ok(value) = toml::from_str::<toml::Value>(text) {
+        crate::spec::strict::check::<T>(path, &value)?;
+    }
+    Ok(parsed)
 }
 
 /// The field named by serde's "missing field `x`" message.

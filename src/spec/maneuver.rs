@@ -591,7 +591,9 @@ impl ManeuverFile {
 
     /// Parse an already-read TOML table (used for sweep combinations), naming keys by their path.
     pub fn from_table(path: &Path, table: toml::Table) -> Result<Self> {
-        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+        let value = toml::Value::Table(table);
+        super::strict::check::<Self>(path, &value)?;
+        serde_path_to_error::deserialize(value).map_err(|e| {
             let key = e.path().to_string();
             let msg = e.into_inner().to_string();
             Error::key(path, &key, msg.lines().next().unwrap_or_default())
