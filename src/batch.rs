@@ -622,9 +622,11 @@ fn sha256_hex(bytes: &[u8]) -> String {
 /// name (contents, not paths: a copy of the same files elsewhere is the same batch). Shards of
 /// one spec run with another `tyre_model`, another vehicle file or another vehsim differ.
 pub fn batch_digest(batch: &Batch) -> Result<String> {
+    // (vehicle file, whether its tyre's .tir is read: only by the Magic Formula providers)
     let mut files = std::collections::BTreeSet::new();
     for cfg in batch.runs.iter().filter_map(|r| r.config.as_ref().ok()) {
-        files.insert(cfg.vehicle_file.clone());
+        use crate::tyre::TyreModelKind as K;
+        files.insert((cfg.vehicle_file.clone(), matches!(cfg.tyre_model, K::Pacejka | K::AtiimPacejka)));
     }
     let mut text = format!("vehsim {}\nspec\n{}\n", env!("CARGO_PKG_VERSION"), batch.source).into_bytes();
     let mut add = |what: &str, path: &Path| -> Result<()> {
@@ -632,13 +634,13 @@ pub fn batch_digest(batch: &Batch) -> Result<String> {
         text.extend_from_slice(format!("{what} {}\n", sha256_hex(&bytes)).as_bytes());
         Ok(())
     };
-    for v in &files {
+    for (v, reads_tir) in &files {
         add("vehicle", v)?;
         let vf = crate::spec::VehicleFile::load(v)?;
         let tyre_path = crate::error::resolve(v, &vf.tyre);
         add("tyre", &tyre_path)?;
         let tf = crate::tyre::TyreFileSpec::load(&tyre_path)?;
-        if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()) {
+        if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()).filter(|_| *reads_tir) {
             add("tir", &crate::error::resolve(&tyre_path, rel))?;
         }
     }
