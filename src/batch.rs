@@ -1003,11 +1003,24 @@ pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::proces
             }
         };
         let mut invalid = 0;
+        let mut long_warned = false;
         for r in &b.runs {
             match &r.config {
                 Ok(cfg) => {
                     for w in &cfg.vehicle.tyre_warnings {
                         eprintln!("warning: {w}");
+                    }
+                    let steps = (cfg.settings.duration_s / cfg.settings.step_s).ceil();
+                    if steps > MAX_RUN_STEPS && !long_warned {
+                        long_warned = true;
+                        let which = if b.is_sweep() { format!(" {} (the first such run)", run_folder(r.index)) } else { String::new() };
+                        eprintln!(
+                            "warning: {}{which}: {} integration steps (step {} s): minutes of work; `vehsim run` \
+                             refuses it without --force",
+                            f.display(),
+                            crate::error::short_num(steps),
+                            crate::error::short_num(cfg.settings.step_s)
+                        );
                     }
                 }
                 Err(msg) => {

@@ -230,6 +230,7 @@ fn a_full_disk_leaves_nothing_half_written() {
     assert_eq!(c, 3, "{e}");
     // The sizes are told in the unit that suits them (the tmpfs has kilobytes free, not "0.00 GB").
     assert!(e.contains("kB free there") && !e.contains("0.00 GB"), "{e}");
+    eprintln!("full disk, not forced: {}", e.trim());
     let (c, _, e) = vehsim(&dir, &["run", "--quiet", "--force", "--out", "disk", "big.toml"]);
     assert_eq!(c, 3, "{e}");
     assert!(e.contains("No space left on device"), "{e}");

@@ -139,7 +139,7 @@ mod tests {
 
     #[test]
     fn well_shaped_tables_and_other_errors_pass_to_the_ordinary_parse() {
-        let ok = value("surface = { mu = 0.1, temperature_c = -5 }\n[integrator]\nmethod = 'rk4'\nstep_s = 0.01");
+        let ok = value("surface = { mu = 0.1, temperature_c = -5 }\nintegrator = { method = 'rk4', step_s = 0.01 }");
         assert!(check::<ManeuverFile>(Path::new("m.toml"), &ok).is_ok());
         // A wrong type inside a well-shaped table is the ordinary parse's to report.
         let typed = value("surface = { mu = 'ice' }");
