@@ -96,6 +96,16 @@ fn extreme_coefficients_are_refused_within_two_seconds() {
     }
 }
 
+/// A fastest mode no car has, from keys each within its own range (here a 1 us steer lag: a
+/// mode of 1e6 1/s), is refused by the rate cap naming the vehicle file and what to check,
+/// instead of a run with sub-microsecond steps.
+#[test]
+fn a_mode_faster_than_any_car_is_refused_naming_the_vehicle() {
+    let c = case("hostile_rate", "pacejka");
+    c.edit("sedan.toml", "[roll]", "[lateral]\nsteer_lag_s = 1e-6\n\n[roll]");
+    refused(&c, "steer_lag_s = 1e-6", "sedan.toml", &["|lambda| = 1000000 1/s", "25000 1/s", "steer_lag_s", "h.toml key 'vehicle'"]);
+}
+
 /// The most extreme vehicle the bounds still accept (stiffest tyre, lightest wheel) validates
 /// well within the bound: the step search is bisection, not a loop over step counts.
 #[test]

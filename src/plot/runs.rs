@@ -218,10 +218,10 @@ fn load_run(dir: &Path, params: &[(String, String)]) -> Result<Option<RunData>> 
         return Err(Error::input(&ts, "no data rows (only a header): nothing to plot"));
     }
     if !t[0].is_finite() {
-        return Err(Error::input(&ts, "row 2: t_s is not a number (a damaged time series)"));
+        return Err(Error::input(&ts, "line 2: t_s is not a number (a damaged time series)"));
     }
     if let Some(k) = t.windows(2).position(|w| !(w[1] > w[0]) || !w[1].is_finite() || !w[0].is_finite()) {
-        return Err(Error::input(&ts, format!("row {}: t_s does not increase (a damaged time series)", k + 2)));
+        return Err(Error::input(&ts, format!("line {}: t_s does not increase (a damaged time series)", k + 3)));
     }
     let layout = match std::fs::read_to_string(dir.join("layout.json")) {
         Ok(t) => serde_json::from_str(&t).ok(),

@@ -837,7 +837,8 @@ impl ManeuverFile {
             format!(
                 "the vehicle's fastest mode (linearised at straight running) has |lambda| = {shown} 1/s, above the \
                  {} 1/s of any car model this engine resolves (it would need steps under {} s); check the tyre's \
-                 stiffnesses and Magic Formula coefficients and the wheel inertia (named by {} key 'vehicle')",
+                 stiffnesses and Magic Formula coefficients, the wheel inertia and any short lag ([lateral] \
+                 steer_lag_s, [roll] load_transfer_lag_s) (named by {} key 'vehicle')",
                 crate::error::short_num(MAX_RATE_PER_S),
                 crate::error::short_num(2.0 / MAX_RATE_PER_S),
                 path.display()
