@@ -43,6 +43,9 @@ pub struct Batch {
     /// Swept keys in nesting order (empty for a single run).
     pub keys: Vec<String>,
     pub runs: Vec<BatchRun>,
+    /// The spec as parsed (sweep included), written back as TOML: what [`batch_digest`] hashes,
+    /// so comments and layout do not count.
+    pub source: String,
 }
 
 impl Batch {
@@ -134,6 +137,7 @@ pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
 /// As [`load`], for a spec already parsed into a TOML table.
 pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     crate::spec::kind::expect(path, &table, crate::spec::kind::SpecKind::Run)?;
+    let source = toml::to_string(&table).unwrap_or_default();
     let sweep = match table.remove("sweep") {
         None => None,
         Some(toml::Value::Table(t)) => Some(t),
@@ -146,6 +150,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
             spec_file: path.to_path_buf(),
             keys: Vec::new(),
             runs: vec![BatchRun { index: 0, params: Vec::new(), config: Ok(cfg) }],
+            source,
         });
     };
     let mut keys = Vec::new();
@@ -205,7 +210,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
             return Err(Error::input(path, format!("every sweep combination is invalid; the first: {first}")));
         }
     }
-    Ok(Batch { name, spec_file: path.to_path_buf(), keys, runs })
+    Ok(Batch { name, spec_file: path.to_path_buf(), keys, runs, source })
 }
 
 /// What became of one run of a batch (the `status` column of summary.csv and the table).
@@ -329,13 +334,26 @@ pub const MAX_STEPS: f64 = 1e9;
 /// Most bytes of output a call may write without `--force` (also never more than the free space).
 pub const MAX_OUTPUT_BYTES: f64 = 10e9;
 
+/// Most integration steps one run may take without `--force`. A car manoeuvre at the default
+/// step needs well under 1e6 (the longest allowed, 3600 s at 5 ms, 7.2e5); above 1e7 (about 10 s
+/// to a minute of one core, more for the 4-DOF model) the step has been driven down by an input
+/// (a stiffness, an inertia, a tiny `step_s`) and the run would take minutes.
+pub const MAX_RUN_STEPS: f64 = 1e7;
+
 /// Bytes of one timeseries.csv row (32 columns of shortest round-trip decimals), for estimates.
 const ROW_BYTES: f64 = 600.0;
 
-/// Estimated work and output of the runs of `batch` selected by `shard`: (steps, bytes).
+/// Bytes of one set of standard plots (PNG and SVG of each chart; 1.7 MB measured for one run)
+/// and what each further overlaid run adds to it.
+const PLOT_SET_BYTES: f64 = 1.8e6;
+const PLOT_BYTES_PER_RUN: f64 = 50e3;
+
+/// Estimated work and output of the runs of `batch` selected by `shard`: (steps, bytes), plots
+/// included.
 pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
     let mut steps = 0.0;
     let mut bytes = 0.0;
+    let mut plotted = 0.0_f64;
     for cfg in
         batch.runs.iter().filter(|r| shard.is_none_or(|s| s.contains(r.index))).filter_map(|r| r.config.as_ref().ok())
     {
@@ -344,9 +362,28 @@ pub fn estimate(batch: &Batch, shard: Option<Shard>) -> (f64, f64) {
         bytes += 4096.0;
         if cfg.output.timeseries {
             bytes += ROW_BYTES * ((s.duration_s / s.output_interval_s).floor() + 1.0);
+            if cfg.output.plots {
+                plotted += 1.0;
+            }
         }
     }
+    if plotted > 0.0 && shard.is_none() {
+        bytes += PLOT_SET_BYTES + PLOT_BYTES_PER_RUN * (plotted - 1.0).min(crate::plot::runs::MAX_OVERLAID_RUNS as f64);
+    }
     (steps, bytes)
+}
+
+/// A byte count in the unit that suits it: `512 B`, `12.3 kB`, `1.7 MB`, `2.40 GB` (SI units).
+pub fn human_bytes(b: f64) -> String {
+    if b < 1e3 {
+        format!("{b:.0} B")
+    } else if b < 1e6 {
+        format!("{:.1} kB", b / 1e3)
+    } else if b < 1e9 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.2} GB", b / 1e9)
+    }
 }
 
 /// Free bytes on the file system holding `dir` (or its nearest existing ancestor).
@@ -363,25 +400,56 @@ pub fn free_bytes(dir: &Path) -> Option<f64> {
     (r == 0).then_some(st.f_bavail as f64 * st.f_frsize as f64)
 }
 
-/// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`] (exit 2) or one
-/// whose output would not fit the free space under `out_root` (exit 3), with the estimate.
+/// Unless `force`, refuse a workload above [`MAX_STEPS`] or [`MAX_OUTPUT_BYTES`], or a run above
+/// [`MAX_RUN_STEPS`] (exit 2), or one whose output would not fit the free space under `out_root`
+/// (exit 3), with the estimate.
 pub fn check_limits(batch: &Batch, shard: Option<Shard>, out_root: &Path, force: bool) -> Result<()> {
+    if !force {
+        let longest = batch
+            .runs
+            .iter()
+            .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
+            .filter_map(|r| r.config.as_ref().ok().map(|c| (r, c)))
+            .map(|(r, c)| (r, c, (c.settings.duration_s / c.settings.step_s).ceil()))
+            .fold(None, |m: Option<(&BatchRun, &RunConfig, f64)>, x| match m {
+                Some(m) if m.2 >= x.2 => Some(m),
+                _ => Some(x),
+            });
+        if let Some((run, cfg, steps)) = longest.filter(|l| l.2 > MAX_RUN_STEPS) {
+            let which = if batch.is_sweep() { format!("{}: ", run_folder(run.index)) } else { String::new() };
+            return Err(Error::input(
+                &batch.spec_file,
+                format!(
+                    "{which}estimated {} integration steps in one run (step {} s over {} s), above the {} a run may \
+                     take without --force: it would run for minutes. A car manoeuvre needs under 1e6; a step this \
+                     short comes from integrator.step_s or from the vehicle's fastest mode (its tyre stiffnesses \
+                     and wheel inertia in {}). Use --force to run it anyway",
+                    crate::error::short_num(steps),
+                    crate::error::short_num(cfg.settings.step_s),
+                    crate::output::num::Sig(cfg.settings.duration_s),
+                    crate::error::short_num(MAX_RUN_STEPS),
+                    cfg.vehicle_file.display()
+                ),
+            ));
+        }
+    }
     let (steps, bytes) = estimate(batch, shard);
-    let what = format!("estimated {steps:.3e} integration steps and {:.2} GB of output", bytes / 1e9);
+    let what =
+        format!("estimated {} integration steps and {} of output", crate::error::short_num(steps), human_bytes(bytes));
     if !force && (steps > MAX_STEPS || bytes > MAX_OUTPUT_BYTES) {
         return Err(Error::input(
             &batch.spec_file,
             format!(
-                "{what}; above the limits of {MAX_STEPS:.0e} steps and {:.0} GB (a larger step_s, fewer runs, \
+                "{what}; above the limits of {MAX_STEPS:.0e} steps and {} (a larger step_s, fewer runs, \
                  --shard, or --force to run it anyway)",
-                MAX_OUTPUT_BYTES / 1e9
+                human_bytes(MAX_OUTPUT_BYTES)
             ),
         ));
     }
     if let Some(free) = free_bytes(out_root).filter(|f| !force && bytes > *f) {
         return Err(Error::Io {
             path: out_root.to_path_buf(),
-            source: std::io::Error::other(format!("{what}, but only {:.2} GB free there", free / 1e9)),
+            source: std::io::Error::other(format!("{what}, but only {} free there", human_bytes(free))),
         });
     }
     Ok(())
@@ -518,7 +586,20 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
             }
             write_atomic(&tmp.join("summary.csv"), csv.as_bytes())?;
             if let Some(s) = opts.shard {
-                let meta = serde_json::json!({"name": batch.name, "k": s.k, "n": s.n, "runs": batch.runs.len(), "plots": plots});
+                let mut files = serde_json::Map::new();
+                for r in &records {
+                    digest_files(tmp, &run_folder(r.index), &mut files)?;
+                }
+                let meta = serde_json::json!({
+                    "name": batch.name,
+                    "k": s.k,
+                    "n": s.n,
+                    "runs": batch.runs.len(),
+                    "plots": plots,
+                    "vehsim": env!("CARGO_PKG_VERSION"),
+                    "batch_digest": batch_digest(batch)?,
+                    "files": files,
+                });
                 write_atomic(&tmp.join("shard.json"), format!("{meta}\n").as_bytes())?;
             } else if plots {
                 crate::plot::runs::plot_batch(tmp, records.len(), &batch.name)?;
@@ -530,12 +611,76 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
     Ok(BatchResult { dir, records })
 }
 
+/// SHA-256 of `bytes`, in hex.
+fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest as _;
+    sha2::Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// What identifies the batch a shard belongs to: SHA-256 over the vehsim version, the spec as
+/// parsed ([`Batch::source`]) and the contents of every vehicle, tyre and `.tir` file its runs
+/// name (contents, not paths: a copy of the same files elsewhere is the same batch). Shards of
+/// one spec run with another `tyre_model`, another vehicle file or another vehsim differ.
+pub fn batch_digest(batch: &Batch) -> Result<String> {
+    // (vehicle file, whether its tyre's .tir is read: only by the Magic Formula providers)
+    let mut files = std::collections::BTreeSet::new();
+    for cfg in batch.runs.iter().filter_map(|r| r.config.as_ref().ok()) {
+        use crate::tyre::TyreModelKind as K;
+        files.insert((cfg.vehicle_file.clone(), matches!(cfg.tyre_model, K::Pacejka | K::AtiimPacejka)));
+    }
+    let mut text = format!("vehsim {}\nspec\n{}\n", env!("CARGO_PKG_VERSION"), batch.source).into_bytes();
+    let mut add = |what: &str, path: &Path| -> Result<()> {
+        let bytes = std::fs::read(path).map_err(io_err(path))?;
+        text.extend_from_slice(format!("{what} {}\n", sha256_hex(&bytes)).as_bytes());
+        Ok(())
+    };
+    for (v, reads_tir) in &files {
+        add("vehicle", v)?;
+        let vf = crate::spec::VehicleFile::load(v)?;
+        let tyre_path = crate::error::resolve(v, &vf.tyre);
+        add("tyre", &tyre_path)?;
+        let tf = crate::tyre::TyreFileSpec::load(&tyre_path)?;
+        if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()).filter(|_| *reads_tir) {
+            add("tir", &crate::error::resolve(&tyre_path, rel))?;
+        }
+    }
+    Ok(sha256_hex(&text))
+}
+
+/// Add the SHA-256 of every file under `root/rel` to `out`, keyed by its path relative to `root`
+/// (with `/`), in name order.
+fn digest_files(root: &Path, rel: &str, out: &mut serde_json::Map<String, serde_json::Value>) -> Result<()> {
+    let dir = root.join(rel);
+    if !dir.is_dir() {
+        return Ok(());
+    }
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .map_err(io_err(&dir))?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()).map_err(io_err(&dir)))
+        .collect::<Result<_>>()?;
+    names.sort();
+    for n in names {
+        let (p, key) = (dir.join(&n), format!("{rel}/{n}"));
+        let m = std::fs::symlink_metadata(&p).map_err(io_err(&p))?;
+        if m.is_dir() {
+            digest_files(root, &key, out)?;
+        } else {
+            let bytes = std::fs::read(&p).map_err(io_err(&p))?;
+            out.insert(key, serde_json::Value::String(sha256_hex(&bytes)));
+        }
+    }
+    Ok(())
+}
+
 /// One shard folder as read and checked by [`merge`].
 struct ShardPart {
     dir: PathBuf,
     name: String,
     /// k, n and the batch's number of runs, from shard.json.
     k_n_runs: (u64, u64, u64),
+    /// The batch's digest ([`batch_digest`]) and the vehsim version that wrote the shard.
+    digest: String,
+    version: String,
     plots: bool,
     /// summary.csv header.
     header: String,
@@ -552,6 +697,16 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 /// no run folder the summary does not list).
 fn read_shard(d: &Path) -> Result<ShardPart> {
     let meta_path = d.join("shard.json");
+    if !std::fs::metadata(d).is_ok_and(|m| m.is_dir()) {
+        return Err(Error::input(d, "not a shard folder: no such folder (shards are written by `vehsim run --shard K/N`)"));
+    }
+    if !meta_path.exists() {
+        return Err(Error::input(
+            d,
+            "not a shard folder: it has no shard.json (`vehsim run --shard K/N` writes each part into \
+             <name>.shard-K-of-N/, and merge takes those folders)",
+        ));
+    }
     let meta: serde_json::Value = serde_json::from_str(&read_input(&meta_path)?)
         .map_err(|e| Error::input(&meta_path, format!("not a shard description: {e}")))?;
     let get = |k: &str| meta.get(k).cloned().unwrap_or(serde_json::Value::Null);
@@ -577,6 +732,17 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
         return Err(Error::input(d, format!("folder name does not match its shard.json (expected '{expected}')")));
     }
     let plots = meta.get("plots").and_then(|p| p.as_bool()).unwrap_or(true);
+    let (Some(digest), Some(version), Some(files)) = (
+        meta.get("batch_digest").and_then(|v| v.as_str()),
+        meta.get("vehsim").and_then(|v| v.as_str()),
+        meta.get("files").and_then(|v| v.as_object()),
+    ) else {
+        return Err(Error::input(
+            &meta_path,
+            "no batch_digest, vehsim version or file digests: written by an older vehsim, which merge cannot \
+             check; run the shard again",
+        ));
+    };
     let csv_path = d.join("summary.csv");
     let text = read_input(&csv_path)?;
     let mut lines = text.lines();
@@ -608,6 +774,36 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
                 ));
             }
         }
+        if has_folder {
+            // Every file of the run as the shard wrote it: none missing, none added, none changed.
+            let mut found = serde_json::Map::new();
+            digest_files(d, &run_folder(idx), &mut found)?;
+            let prefix = format!("{}/", run_folder(idx));
+            let listed = files.iter().filter(|(k, _)| k.starts_with(&prefix));
+            for (f, want) in listed.clone() {
+                match found.get(f) {
+                    None => {
+                        return Err(Error::input(d, format!("incomplete shard: {f} is missing (listed in shard.json)")))
+                    }
+                    Some(got) if got != want => {
+                        return Err(Error::input(
+                            d,
+                            format!(
+                                "{f} is truncated or changed since the shard was written (its SHA-256 differs \
+                                 from shard.json's); run the shard again"
+                            ),
+                        ))
+                    }
+                    Some(_) => {}
+                }
+            }
+            if let Some(extra) = found.keys().find(|f| !files.contains_key(*f)) {
+                return Err(Error::input(d, format!("{extra} was not written by the shard (not in shard.json)")));
+            }
+            if listed.count() == 0 {
+                return Err(Error::input(d, format!("shard.json lists no files of {}", run_folder(idx))));
+            }
+        }
         rows.push((idx, l.to_string(), has_folder));
     }
     for e in std::fs::read_dir(d).map_err(io_err(d))? {
@@ -616,7 +812,16 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
             return Err(Error::input(d, format!("{f} is not listed in summary.csv")));
         }
     }
-    Ok(ShardPart { dir: d.to_path_buf(), name, k_n_runs: (k, n, runs), plots, header, rows })
+    Ok(ShardPart {
+        dir: d.to_path_buf(),
+        name,
+        k_n_runs: (k, n, runs),
+        digest: digest.to_string(),
+        version: version.to_string(),
+        plots,
+        header,
+        rows,
+    })
 }
 
 /// Copy the folder `src` to `dst` (which must not exist), refusing symlinks; every file's length
@@ -658,12 +863,29 @@ pub fn merge(shards: &[PathBuf], remove_shards: bool) -> Result<PathBuf> {
     let mut seen_k = std::collections::BTreeSet::new();
     let mut parts = Vec::new();
     let mut plots = true;
+    let mut identity: Option<(PathBuf, String, String)> = None;
     for d in shards {
         let part = read_shard(d)?;
         let (name, (k, n, runs), p, h) = (part.name.clone(), part.k_n_runs, part.plots, part.header.clone());
         let meta_path = d.join("shard.json");
         if *batch.get_or_insert((name.clone(), n, runs)) != (name, n, runs) {
             return Err(Error::input(&meta_path, "shards of different batches cannot be merged"));
+        }
+        let (first_dir, first_digest, first_version) = identity.get_or_insert((d.clone(), part.digest.clone(), part.version.clone()));
+        if *first_digest != part.digest {
+            let why = if *first_version != part.version {
+                format!("written by vehsim {} and {}", first_version, part.version)
+            } else {
+                "their spec, or the vehicle, tyre or .tir files it names, differ".to_string()
+            };
+            return Err(Error::input(
+                d,
+                format!(
+                    "this shard and {} belong to different batches ({why}: batch_digest differs in shard.json); \
+                     a merged batch would mix them",
+                    first_dir.display()
+                ),
+            ));
         }
         if !seen_k.insert(k) {
             return Err(Error::input(&meta_path, format!("shard {k} of {n} given twice")));
@@ -781,11 +1003,24 @@ pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::proces
             }
         };
         let mut invalid = 0;
+        let mut long_warned = false;
         for r in &b.runs {
             match &r.config {
                 Ok(cfg) => {
                     for w in &cfg.vehicle.tyre_warnings {
                         eprintln!("warning: {w}");
+                    }
+                    let steps = (cfg.settings.duration_s / cfg.settings.step_s).ceil();
+                    if steps > MAX_RUN_STEPS && !long_warned {
+                        long_warned = true;
+                        let which = if b.is_sweep() { format!(" {} (the first such run)", run_folder(r.index)) } else { String::new() };
+                        eprintln!(
+                            "warning: {}{which}: {} integration steps (step {} s): minutes of work; `vehsim run` \
+                             refuses it without --force",
+                            f.display(),
+                            crate::error::short_num(steps),
+                            crate::error::short_num(cfg.settings.step_s)
+                        );
                     }
                 }
                 Err(msg) => {

@@ -175,6 +175,9 @@ pub enum Command {
         /// (jackknife) intervals beside the Jacobian ones (one joint refit per fitted run).
         #[arg(long)]
         jackknife: bool,
+        /// Search runs holding more than 200 000 samples in all (refused without it: minutes of work).
+        #[arg(long)]
+        force: bool,
     },
     /// Generate measured-like runs (CSV + sidecar, seeded sensor noise) from the replay model with one
     /// effect switched on (or `none`).
@@ -263,8 +266,8 @@ pub fn main() -> ExitCode {
             code(crate::bench::cli_bench(&file, &crate::bench::Options { runs, model, tyre_model, contact }, tsv))
         }
         Command::Envelope { file, out, jobs } => code(crate::envelope::cli_envelope(&file, &out, jobs)),
-        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife } => {
-            crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife)
+        Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force } => {
+            crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force)
         }
         Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
             crate::discover::cli_synth(&effect, &params, &vehicle, tyre_model, seed, &out)

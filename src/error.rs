@@ -61,6 +61,21 @@ impl Error {
     }
 }
 
+/// A number as a message shows it: plain decimals between 1e-4 and 1e7 (`0.15`, `60000`), short
+/// scientific notation outside, with at most four significant digits (`1e300`, `-1e-20`,
+/// `3.671e7`), so a huge or tiny input is never printed as hundreds of digits.
+pub fn short_num(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() || a == 0.0 || (1e-4..1e7).contains(&a) {
+        return format!("{v}");
+    }
+    let s = format!("{v:.3e}");
+    match s.split_once('e') {
+        Some((m, e)) if m.contains('.') => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+        _ => s,
+    }
+}
+
 /// Library result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
@@ -81,11 +96,18 @@ pub fn read_input(path: &Path) -> Result<String> {
         std::io::ErrorKind::InvalidData => "not valid UTF-8 text".to_string(),
         _ => format!("cannot read: {e}"),
     };
+    // A FIFO is refused before it is opened: opening one for reading blocks until a writer comes.
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+            return Err(Error::input(path, "not a regular file (a named pipe)"));
+        }
+    }
     let f = std::fs::File::open(path).map_err(|e| Error::input(path, why(e)))?;
     let kind = f.metadata().map_err(|e| Error::input(path, why(e)))?.file_type();
     {
         use std::os::unix::fs::FileTypeExt as _;
-        if kind.is_dir() || kind.is_char_device() || kind.is_block_device() || kind.is_socket() {
+        if kind.is_dir() || kind.is_char_device() || kind.is_block_device() || kind.is_socket() || kind.is_fifo() {
             return Err(Error::input(path, "not a regular file"));
         }
     }
@@ -93,6 +115,10 @@ pub fn read_input(path: &Path) -> Result<String> {
     f.take(limit + 1).read_to_string(&mut text).map_err(|e| Error::input(path, why(e)))?;
     if text.len() as u64 > limit {
         return Err(Error::input(path, format!("larger than the {} MiB allowed for this kind of file", limit >> 20)));
+    }
+    // A UTF-8 byte-order mark (some Windows editors write one) is not part of the text.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
     }
     Ok(text)
 }
@@ -103,7 +129,7 @@ pub fn read_input(path: &Path) -> Result<String> {
 /// key names the table it belongs in.
 pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
     let de = toml::Deserializer::new(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let parsed: T = serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
         let table = if key.is_empty() || key == "." { None } else { Some(key.as_str()) };
         let inner = e.into_inner().to_string();
@@ -116,7 +142,12 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Re
             None => Error::input(path, format!("invalid spec: {inner}")),
             Some(k) => Error::input(path, format!("invalid spec at key '{k}': {inner}")),
         }
-    })
+    })?;
+    // serde also reads a table from an array of its values in order: refuse that shape.
+    if let Ok(value) = toml::from_str::<toml::Value>(text) {
+        crate::spec::strict::check::<T>(path, &value)?;
+    }
+    Ok(parsed)
 }
 
 /// The field named by serde's "missing field `x`" message.
@@ -213,7 +244,7 @@ impl Bound {
             Ends::LeftOpen => ('(', ']'),
             Ends::Open => ('(', ')'),
         };
-        format!("{l}{}, {}{r}", self.lo, self.hi)
+        format!("{l}{}, {}{r}", short_num(self.lo), short_num(self.hi))
     }
 
     /// What the error message says is allowed: `expected a finite number in [lo, hi]` for a
@@ -221,10 +252,11 @@ impl Bound {
     pub fn allowed(&self) -> String {
         let name = self.key.rsplit('.').next().unwrap_or(self.key);
         let unit = if self.unit.is_empty() { String::new() } else { format!(" ({})", self.unit) };
+        let (lo, hi) = (short_num(self.lo), short_num(self.hi));
         match self.ends {
-            Ends::Closed => format!("expected a finite number in [{}, {}]", self.lo, self.hi),
-            Ends::LeftOpen => format!("expected {} < {name} <= {}{unit}", self.lo, self.hi),
-            Ends::Open => format!("expected {} < {name} < {}{unit}", self.lo, self.hi),
+            Ends::Closed => format!("expected a finite number in [{lo}, {hi}]"),
+            Ends::LeftOpen => format!("expected {lo} < {name} <= {hi}{unit}"),
+            Ends::Open => format!("expected {lo} < {name} < {hi}{unit}"),
         }
     }
 }
@@ -241,7 +273,7 @@ impl<'a> Checker<'a> {
     }
 
     fn fail(&self, key: &str, v: f64, allowed: &str) -> Error {
-        Error::key(self.file, key, format!("value {v} is not allowed; {allowed}"))
+        Error::key(self.file, key, format!("value {} is not allowed; {allowed}", short_num(v)))
     }
 
     /// Finite (not NaN, not infinite).
@@ -262,6 +294,16 @@ impl<'a> Checker<'a> {
         }
     }
 
+    /// Finite, > 0 and <= `hi`: `expected 0 < name <= hi (unit)` with the key's last part as name.
+    pub fn positive_up_to(&self, key: &str, v: f64, hi: f64, unit: &str) -> Result<f64> {
+        if v.is_finite() && v > 0.0 && v <= hi {
+            Ok(v)
+        } else {
+            let name = key.rsplit('.').next().unwrap_or(key);
+            Err(self.fail(key, v, &format!("expected 0 < {name} <= {} ({unit})", short_num(hi))))
+        }
+    }
+
     /// Finite and >= 0.
     pub fn non_negative(&self, key: &str, v: f64) -> Result<f64> {
         if v.is_finite() && v >= 0.0 {
@@ -276,7 +318,7 @@ impl<'a> Checker<'a> {
         if v.is_finite() && v >= lo && v <= hi {
             Ok(v)
         } else {
-            Err(self.fail(key, v, &format!("expected a finite number in [{lo}, {hi}]")))
+            Err(self.fail(key, v, &format!("expected a finite number in [{}, {}]", short_num(lo), short_num(hi))))
         }
     }
 
@@ -306,5 +348,22 @@ pub fn resolve(spec_file: &Path, rel: &str) -> PathBuf {
         p.to_path_buf()
     } else {
         spec_file.parent().unwrap_or_else(|| Path::new(".")).join(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_num;
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(short_num(1e300), "1e300");
+        assert_eq!(short_num(-1e-20), "-1e-20");
+        assert_eq!(short_num(36_714_286.0), "3.671e7");
+        assert_eq!(short_num(0.15), "0.15");
+        assert_eq!(short_num(60000.0), "60000");
+        assert_eq!(short_num(0.0), "0");
+        assert_eq!(short_num(f64::NAN), "NaN");
+        assert!(short_num(f64::MAX).len() <= 12, "{}", short_num(f64::MAX));
     }
 }

@@ -5,9 +5,12 @@
 //! `yaw_rate` (rad/s, positive counter-clockwise), `ay` (m/s^2, positive left). Optional: `x`, `y`
 //! (m), `psi` (rad), `vy` (m/s), `ax` (m/s^2), `roll` (rad). Any other column is ignored with a
 //! notice. Time must increase strictly (sampling need not be uniform), every value must be finite,
-//! the run must last at least 1 s and |steer| must stay at or below 1.2 rad (a larger value almost
-//! certainly means degrees or a steering-wheel angle). Each violation is one bad-input error that
-//! names the file and the row or column (exit code 2).
+//! the run must last at least 1 s and at most 3600 s, the median sample interval must lie in
+//! 0.1 ms to 1 s (else `t` is not in seconds), |steer| must stay at or below 1.2 rad (a larger
+//! value almost certainly means degrees or a steering-wheel angle), vx must not be negative (beyond
+//! 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s (a car does not turn
+//! on the spot). Each violation is one bad-input error that names the file and the row or column
+//! (exit code 2).
 //!
 //! Sidecar `RUN.toml` (same stem): `[surface] mu` (peak friction, (0, 2], default 1.0 with a
 //! notice), `[surface] ice_temp_c` (degC; when given the run is on ice, otherwise it is taken as a
@@ -28,6 +31,15 @@ pub const OPTIONAL: [&str; 6] = ["x", "y", "psi", "vy", "ax", "roll"];
 pub const STEER_MAX_RAD: f64 = 1.2;
 /// Shortest accepted run, s.
 pub const MIN_DURATION_S: f64 = 1.0;
+/// Longest accepted run, s (the manoeuvre files' longest duration): it bounds the replay's work.
+pub const MAX_DURATION_S: f64 = 3600.0;
+/// Range of the median sample interval, s: vehicle data is logged at 1 Hz to 10 kHz. Outside it
+/// the time column is almost certainly in other units (ms, us) or not time at all.
+pub const SAMPLE_INTERVAL_S: (f64, f64) = (1e-4, 1.0);
+/// Negative forward speed taken as sensor noise around standstill, m/s.
+pub const VX_NOISE_MPS: f64 = 0.5;
+/// Yaw rate taken as sensor noise at standstill, rad/s.
+pub const YAW_NOISE_RADPS: f64 = 0.05;
 
 /// One measured run, validated.
 #[derive(Debug, Clone)]
@@ -149,7 +161,13 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
     for (k, rec) in rdr.records().enumerate() {
         // Row numbers count the header as line 1.
         let line = k + 2;
-        let rec = rec.map_err(|e| Error::input(path, format!("line {line}: {e}")))?;
+        let rec = rec.map_err(|e| match e.kind() {
+            csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
+                Error::input(path, format!("line {line}: {len} fields, the header has {expected_len}"))
+            }
+            csv::ErrorKind::Utf8 { .. } => Error::input(path, format!("line {line}: not valid UTF-8 text")),
+            _ => Error::input(path, format!("line {line}: unreadable CSV row")),
+        })?;
         for (j, (ci, name)) in used.iter().enumerate() {
             let cell = rec.get(*ci).unwrap_or("");
             let v: f64 = cell.parse().map_err(|_| {
@@ -194,6 +212,32 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             format!("the run lasts {dur:.3} s; at least {MIN_DURATION_S} s of data is needed"),
         ));
     }
+    // The typical (median) interval: vehicle data is logged every 0.1 ms to 1 s.
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    dts.sort_by(f64::total_cmp);
+    let median_dt = dts[dts.len() / 2];
+    if !(SAMPLE_INTERVAL_S.0..=SAMPLE_INTERVAL_S.1).contains(&median_dt) {
+        let hint = if median_dt > SAMPLE_INTERVAL_S.1 { "is t in milliseconds or microseconds?" } else { "is t in seconds?" };
+        return Err(Error::input(
+            path,
+            format!(
+                "column 't': the samples are {} s apart (median); vehicle data is sampled every {} to {} s: {hint} \
+                 (t must be in seconds)",
+                crate::error::short_num(median_dt),
+                SAMPLE_INTERVAL_S.0,
+                SAMPLE_INTERVAL_S.1
+            ),
+        ));
+    }
+    if dur > MAX_DURATION_S {
+        return Err(Error::input(
+            path,
+            format!(
+                "the run lasts {} s; at most {MAX_DURATION_S} s is replayed (is t in seconds?)",
+                crate::error::short_num(dur)
+            ),
+        ));
+    }
     let steer = get("steer");
     if let Some((k, v)) = steer.iter().enumerate().find(|(_, v)| v.abs() > STEER_MAX_RAD) {
         return Err(Error::input(
@@ -205,6 +249,32 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
         ));
     }
     let vx = get("vx");
+    let yaw_rate = get("yaw_rate");
+    if let Some(k) = vx.iter().position(|v| *v < -VX_NOISE_MPS) {
+        return Err(Error::input(
+            path,
+            format!(
+                "line {}, column 'vx': {} m/s; the models drive forwards, so vx must be >= 0 (a reversed sign \
+                 convention, or a run in reverse, which is not supported)",
+                k + 2,
+                crate::error::short_num(vx[k])
+            ),
+        ));
+    }
+    // A car turns only while it rolls: |r| <= |vx| tan(steer_max) / wheelbase, about |vx| / 1 m,
+    // plus sensor noise.
+    if let Some(k) = (0..vx.len()).find(|&k| yaw_rate[k].abs() > YAW_NOISE_RADPS + vx[k].abs() / 1.0) {
+        return Err(Error::input(
+            path,
+            format!(
+                "line {}: yaw rate {:.3} rad/s at vx = {:.3} m/s; a car cannot turn that fast at that speed (at most \
+                 about vx / 1 m + {YAW_NOISE_RADPS} rad/s): is vx in m/s and the right signal?",
+                k + 2,
+                yaw_rate[k],
+                vx[k]
+            ),
+        ));
+    }
     let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
     let run = MeasuredRun {
         path: path.to_path_buf(),
@@ -218,7 +288,7 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
         t,
         steer,
         vx,
-        yaw_rate: get("yaw_rate"),
+        yaw_rate,
         ay: get("ay"),
         mu: 1.0,
         ice_temp_c: -3.0,

@@ -85,9 +85,20 @@ pub fn baseline_for(model: VehicleModelKind, vehicle: &Vehicle) -> (model::Effec
     }
 }
 
+/// Most samples (summed over the runs) `vehsim discover` replays without `--force`: the search
+/// costs about 1 ms of one core per sample (8 synthetic runs of 12 s at 100 Hz, 9 600 samples,
+/// take 10 s), so this is a few minutes.
+pub const MAX_SAMPLES: usize = 200_000;
+
 /// Run `vehsim discover`: read and validate everything, discover, write the output folder.
-/// Returns the discovery and the notices to print.
+/// Returns the discovery and the notices to print. No work limit (see [`run_discover_checked`]).
 pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> {
+    run_discover_checked(opts, true)
+}
+
+/// As [`run_discover`]; unless `force`, runs holding more than [`MAX_SAMPLES`] samples in all
+/// are refused (bad input, exit 2) with the estimate, before any search.
+pub fn run_discover_checked(opts: &DiscoverOptions, force: bool) -> Result<(Discovery, Vec<String>)> {
     let vehicle = load_vehicle(&opts.vehicle, opts.tyre.as_deref(), opts.tyre_model)?;
     let (base, candidates) = baseline_for(opts.model, &vehicle);
     if opts.runs.is_empty() {
@@ -99,6 +110,19 @@ pub fn run_discover(opts: &DiscoverOptions) -> Result<(Discovery, Vec<String>)> 
         let r = measured::read_run(p)?;
         notices.extend(r.notices.iter().cloned());
         runs.push(r);
+    }
+    let samples: usize = runs.iter().map(|r| r.t.len()).sum();
+    if !force && samples > MAX_SAMPLES {
+        return Err(Error::input(
+            &opts.runs[0],
+            format!(
+                "{} runs hold {samples} samples, above the {MAX_SAMPLES} discover replays without --force (about \
+                 {:.0} min of search at 1 ms per sample); resample the runs (100 Hz is plenty), give fewer, or \
+                 use --force",
+                runs.len(),
+                samples as f64 * 1e-3 / 60.0
+            ),
+        ));
     }
     let model = model::ReplayModel::new(vehicle);
     let mut data = Dataset::new(runs);
@@ -123,6 +147,7 @@ fn fail(e: &Error) -> std::process::ExitCode {
 }
 
 /// `vehsim discover` (called by the CLI): prints notices, the verdict and the RMS table.
+#[allow(clippy::too_many_arguments)]
 pub fn cli_discover(
     vehicle: PathBuf,
     tyre: Option<PathBuf>,
@@ -132,11 +157,12 @@ pub fn cli_discover(
     runs: Vec<PathBuf>,
     quiet: bool,
     jackknife: bool,
+    force: bool,
 ) -> std::process::ExitCode {
     use std::io::IsTerminal as _;
     let progress = !quiet && std::io::stderr().is_terminal();
     let opts = DiscoverOptions { vehicle, tyre, tyre_model, model, out, runs, progress, jackknife };
-    match run_discover(&opts) {
+    match run_discover_checked(&opts, force) {
         Ok(_) if quiet => std::process::ExitCode::SUCCESS,
         Ok((d, notices)) => {
             for n in notices {

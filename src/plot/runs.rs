@@ -210,6 +210,19 @@ fn load_run(dir: &Path, params: &[(String, String)]) -> Result<Option<RunData>> 
         return Ok(None);
     }
     let table = Table::read(&ts)?;
+    // A time series the charts can use: a t_s column, at least one row, finite increasing times.
+    let Some(t) = table.column("t_s") else {
+        return Err(Error::input(&ts, "not a vehsim time series: its header has no t_s column"));
+    };
+    if t.is_empty() {
+        return Err(Error::input(&ts, "no data rows (only a header): nothing to plot"));
+    }
+    if !t[0].is_finite() {
+        return Err(Error::input(&ts, "line 2: t_s is not a number (a damaged time series)"));
+    }
+    if let Some(k) = t.windows(2).position(|w| !(w[1] > w[0]) || !w[1].is_finite() || !w[0].is_finite()) {
+        return Err(Error::input(&ts, format!("line {}: t_s does not increase (a damaged time series)", k + 3)));
+    }
     let layout = match std::fs::read_to_string(dir.join("layout.json")) {
         Ok(t) => serde_json::from_str(&t).ok(),
         Err(_) => None,
@@ -773,6 +786,10 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
             xy_chart(&dir.join(stem), &chart)?;
             written.push(dest.join(stem));
         }
+    }
+    if written.is_empty() {
+        // Nothing drawn: the staged folder is dropped and the old plots stay.
+        return Err(Error::input(results, "none of the standard charts could be drawn: the time series hold none of their columns"));
     }
     staged.commit()?;
     Ok(written)

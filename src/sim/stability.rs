@@ -26,6 +26,10 @@ use nalgebra::{DMatrix, SMatrix, SVector};
 use super::integrator::{rk4_exp_step_t, ExpPair};
 use crate::vehicle::{Environment, Inputs, VehicleModel};
 
+/// Most QR iterations of one eigenvalue computation (a converging one of the models' 10-20 states
+/// takes well under a hundred).
+const SCHUR_MAX_ITER: usize = 10_000;
+
 /// Factor by which the default exponential RK4 step must stay stable when lengthened.
 pub const EXP_MARGIN: f64 = 1.3;
 
@@ -93,8 +97,16 @@ pub fn analyse<const N: usize, M: VehicleModel<N>>(model: &M, env: &Environment,
         let col = (model.derivatives(&xp, &u, env) - model.derivatives(&xm, &u, env)) / (2.0 * d);
         jac.set_column(j, &col);
     }
+    // Bounded in time whatever the model's coefficients: a matrix with a non-finite entry, or
+    // whose Schur iteration does not converge within SCHUR_MAX_ITER, counts as infinitely fast.
     let largest = |m: DMatrix<f64>| {
-        m.complex_eigenvalues().iter().map(|z| z.norm()).filter(|v| v.is_finite()).fold(0.0, f64::max)
+        if !m.iter().all(|v| v.is_finite()) {
+            return f64::INFINITY;
+        }
+        match nalgebra::linalg::Schur::try_new(m, f64::EPSILON, SCHUR_MAX_ITER) {
+            Some(s) => s.complex_eigenvalues().iter().map(|z| z.norm()).filter(|v| v.is_finite()).fold(0.0, f64::max),
+            None => f64::INFINITY,
+        }
     };
     let rate_per_s = largest(jac.clone());
     let jm = SMatrix::<f64, N, N>::from_iterator(jac.iter().copied());

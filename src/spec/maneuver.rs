@@ -600,6 +600,44 @@ pub struct RunConfig {
     pub contact: ContactSpec,
 }
 
+/// Fastest mode a run may have, 1/s: 100 times the sedan's on dry asphalt (250 1/s at 10 m/s).
+/// Above it the default step would be below 80 us and the run of an ordinary manoeuvre would take
+/// minutes; such a rate comes from a stiffness or inertia no car has.
+pub const MAX_RATE_PER_S: f64 = 25_000.0;
+
+/// Division counts up to which [`fewest_stable_division`] tries every count in turn; above it the
+/// search bisects, assuming that a shorter step stays stable.
+const DIVISIONS_SCANNED: usize = 16;
+
+/// The longest step `period / n` (n = 1, 2, ... below the `period / h` divisions of the plain
+/// step `h`) for which `stable` holds, or `None`. The first [`DIVISIONS_SCANNED`] counts are tried
+/// in turn (the shipped vehicles settle there); beyond them the count is found by bisection, so
+/// the search costs at most about 16 + log2(period / h) stability checks whatever the inputs.
+pub fn fewest_stable_division(period: f64, h: f64, stable: impl Fn(f64) -> bool) -> Option<f64> {
+    let n_plain = (period / h).round();
+    // Counts beyond usize (or NaN from a NaN rate) are clamped; bisection keeps the search short.
+    let n_plain = if n_plain.is_finite() && n_plain >= 1.0 { n_plain.min(1e15) as usize } else { return None };
+    let last = n_plain.saturating_sub(1);
+    let scanned = last.min(DIVISIONS_SCANNED);
+    if let Some(n) = (1..=scanned).find(|&n| stable(period / n as f64)) {
+        return Some(period / n as f64);
+    }
+    if last <= DIVISIONS_SCANNED || !stable(period / last as f64) {
+        return None;
+    }
+    // stable(period / hi) holds and stable(period / lo) does not.
+    let (mut lo, mut hi) = (DIVISIONS_SCANNED, last);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if stable(period / mid as f64) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(period / hi as f64)
+}
+
 /// Is `name` usable as a results folder name?
 pub fn valid_name(name: &str) -> bool {
     !name.is_empty()
@@ -617,7 +655,9 @@ impl ManeuverFile {
 
     /// Parse an already-read TOML table (used for sweep combinations), naming keys by their path.
     pub fn from_table(path: &Path, table: toml::Table) -> Result<Self> {
-        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+        let value = toml::Value::Table(table);
+        super::strict::check::<Self>(path, &value)?;
+        serde_path_to_error::deserialize(value).map_err(|e| {
             let key = e.path().to_string();
             let msg = e.into_inner().to_string();
             Error::key(path, &key, msg.lines().next().unwrap_or_default())
@@ -796,6 +836,8 @@ impl ManeuverFile {
         };
         let a = speeds.map(at);
         let lambda = a.iter().map(|x| x.rate_per_s).fold(0.0, f64::max);
+        let rate_nan = a.iter().any(|x| !x.rate_per_s.is_finite());
+        Self::check_rate(path, &resolve(path, &self.vehicle), if rate_nan { f64::INFINITY } else { lambda })?;
         let stable = |h: f64| a.iter().all(|x| x.exp_stable(h));
         match i.step_s {
             Some(h) => {
@@ -841,13 +883,36 @@ impl ManeuverFile {
                 }
                 let h = default_step_s(cp, lambda);
                 // Plain RK4 would need several steps per period: the exponential one may take fewer.
-                let fewer = (1..(cp / h).round() as usize).map(|n| cp / n as f64).find(|&he| stable(EXP_MARGIN * he));
+                let fewer = fewest_stable_division(cp, h, |he| stable(EXP_MARGIN * he));
                 Ok(match fewer {
                     Some(he) => (he, cp, true),
                     None => (h, cp, false),
                 })
             }
         }
+    }
+
+    /// Bad input when the fastest mode of the linearised vehicle is so fast (a stiffness or an
+    /// inertia far outside a car's) that no step the engine can take in reasonable time resolves
+    /// it: `lambda` (1/s) above [`MAX_RATE_PER_S`], which the plain RK4 default would need steps
+    /// shorter than 2 / lambda for.
+    fn check_rate(path: &Path, vehicle_file: &Path, lambda: f64) -> Result<()> {
+        if lambda.is_finite() && lambda <= MAX_RATE_PER_S {
+            return Ok(());
+        }
+        let shown = if lambda.is_finite() { crate::error::short_num(lambda.round()) } else { "infinite".into() };
+        Err(Error::input(
+            vehicle_file,
+            format!(
+                "the vehicle's fastest mode (linearised at straight running) has |lambda| = {shown} 1/s, above the \
+                 {} 1/s of any car model this engine resolves (it would need steps under {} s); check the tyre's \
+                 stiffnesses and Magic Formula coefficients, the wheel inertia and any short lag ([lateral] \
+                 steer_lag_s, [roll] load_transfer_lag_s) (named by {} key 'vehicle')",
+                crate::error::short_num(MAX_RATE_PER_S),
+                crate::error::short_num(2.0 / MAX_RATE_PER_S),
+                path.display()
+            ),
+        ))
     }
 
     fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, ManeuverKind, Option<f64>)> {

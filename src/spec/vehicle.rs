@@ -347,29 +347,31 @@ impl VehicleFile {
     /// Validate every value and build the tyre for provider `tyre_model`.
     pub fn build(&self, path: &Path, tyre_model: TyreModelKind) -> Result<Vehicle> {
         let c = Checker::new(path);
-        c.positive("mass_kg", self.mass_kg)?;
-        c.positive("yaw_inertia_kgm2", self.yaw_inertia_kgm2)?;
-        c.positive("cg_to_front_axle_m", self.cg_to_front_axle_m)?;
-        c.positive("cg_to_rear_axle_m", self.cg_to_rear_axle_m)?;
-        c.positive("track_m", self.track_m)?;
-        c.non_negative("cg_height_m", self.cg_height_m)?;
-        c.positive("body_width_m", self.body_width_m)?;
-        c.non_negative("front_overhang_m", self.front_overhang_m)?;
+        // Upper ends: beyond any road vehicle (a 40 t lorry, a bus) by a wide margin; they keep a
+        // mistyped unit or exponent from reaching the engine (where it makes a run take hours).
+        c.positive_up_to("mass_kg", self.mass_kg, 100_000.0, "kg")?;
+        c.positive_up_to("yaw_inertia_kgm2", self.yaw_inertia_kgm2, 1e6, "kg m^2")?;
+        c.positive_up_to("cg_to_front_axle_m", self.cg_to_front_axle_m, 10.0, "m")?;
+        c.positive_up_to("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 10.0, "m")?;
+        c.positive_up_to("track_m", self.track_m, 5.0, "m")?;
+        c.range("cg_height_m", self.cg_height_m, 0.0, 5.0)?;
+        c.positive_up_to("body_width_m", self.body_width_m, 5.0, "m")?;
+        c.range("front_overhang_m", self.front_overhang_m, 0.0, 5.0)?;
         let wheelbase = self.cg_to_front_axle_m + self.cg_to_rear_axle_m;
         c.require(
             "body_length_m",
             self.body_length_m,
-            self.body_length_m >= wheelbase + self.front_overhang_m,
-            "expected body_length_m >= wheelbase + front_overhang_m (m)",
+            self.body_length_m >= wheelbase + self.front_overhang_m && self.body_length_m <= 30.0,
+            "expected wheelbase + front_overhang_m <= body_length_m <= 30 (m)",
         )?;
-        c.positive("wheel_inertia_kgm2", self.wheel_inertia_kgm2)?;
+        c.range("wheel_inertia_kgm2", self.wheel_inertia_kgm2, 0.01, 100.0)?;
         c.range("front_drive_share", self.front_drive_share, 0.0, 1.0)?;
-        c.non_negative("drive_torque_max_nm", self.drive_torque_max_nm)?;
-        c.positive("brake_torque_max_nm", self.brake_torque_max_nm)?;
+        c.range("drive_torque_max_nm", self.drive_torque_max_nm, 0.0, 100_000.0)?;
+        c.positive_up_to("brake_torque_max_nm", self.brake_torque_max_nm, 100_000.0, "N m")?;
         c.range("brake_front_share", self.brake_front_share, 0.0, 1.0)?;
         c.range("steer_max_rad", self.steer_max_rad, 1e-3, 1.2)?;
-        c.positive("steer_rate_max_radps", self.steer_rate_max_radps)?;
-        c.non_negative("drag_area_m2", self.drag_area_m2)?;
+        c.positive_up_to("steer_rate_max_radps", self.steer_rate_max_radps, 20.0, "rad/s")?;
+        c.range("drag_area_m2", self.drag_area_m2, 0.0, 20.0)?;
         c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
         let tyre_path = resolve(path, &self.tyre);
         let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)
@@ -427,10 +429,10 @@ impl RollSection {
     fn build(&self, c: &Checker, v: &VehicleFile, unloaded_radius: f64) -> Result<Roll> {
         c.range("roll.roll_centre_height_front_m", self.roll_centre_height_front_m, -0.5, 2.0)?;
         c.range("roll.roll_centre_height_rear_m", self.roll_centre_height_rear_m, -0.5, 2.0)?;
-        c.positive("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad)?;
-        c.positive("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad)?;
-        c.non_negative("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad)?;
-        c.non_negative("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad)?;
+        c.positive_up_to("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad, 1e7, "N m/rad")?;
+        c.positive_up_to("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad, 1e7, "N m/rad")?;
+        c.range("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad, 0.0, 1e6)?;
+        c.range("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad, 0.0, 1e6)?;
         c.non_negative("roll.unsprung_mass_front_kg", self.unsprung_mass_front_kg)?;
         c.non_negative("roll.unsprung_mass_rear_kg", self.unsprung_mass_rear_kg)?;
         let m_u = self.unsprung_mass_front_kg + self.unsprung_mass_rear_kg;
@@ -444,7 +446,7 @@ impl RollSection {
             Some(h) => c.range("roll.unsprung_cg_height_m", h, 0.0, 1.0)?,
             None => unloaded_radius,
         };
-        c.positive("roll.roll_inertia_kgm2", self.roll_inertia_kgm2)?;
+        c.positive_up_to("roll.roll_inertia_kgm2", self.roll_inertia_kgm2, 1e6, "kg m^2")?;
         c.range("roll.ackermann", self.ackermann, 0.0, 1.0)?;
         c.range("roll.load_transfer_lag_s", self.load_transfer_lag_s, 0.001, 1.0)?;
         let m = v.mass_kg;

@@ -348,15 +348,20 @@ impl TyreFileSpec {
             self.rolling_radius_m > 0.0 && self.rolling_radius_m <= self.unloaded_radius_m,
             "expected 0 < rolling_radius_m <= unloaded_radius_m (m)",
         )?;
-        c.positive("nominal_load_n", self.nominal_load_n)?;
+        c.positive_up_to("nominal_load_n", self.nominal_load_n, MAX_NOMINAL_LOAD_N, "N")?;
         c.range("relaxation_length_x_m", self.relaxation_length_x_m, 0.01, 2.0)?;
         // Set by the Magic Formula providers when the tyre differs from its mirror image.
         let mut sided: Option<[Arc<dyn TyreModel>; 2]> = None;
         let model: Arc<dyn TyreModel> = match kind {
             TyreModelKind::Linear => {
                 let s = self.linear.as_ref().ok_or_else(|| missing(path, "linear"))?;
-                c.positive("linear.cornering_stiffness_n_per_rad", s.cornering_stiffness_n_per_rad)?;
-                c.positive("linear.longitudinal_stiffness_n", s.longitudinal_stiffness_n)?;
+                c.positive_up_to(
+                    "linear.cornering_stiffness_n_per_rad",
+                    s.cornering_stiffness_n_per_rad,
+                    MAX_STIFFNESS_N,
+                    "N/rad",
+                )?;
+                c.positive_up_to("linear.longitudinal_stiffness_n", s.longitudinal_stiffness_n, MAX_STIFFNESS_N, "N")?;
                 c.require(
                     "linear.load_exponent",
                     s.load_exponent,
@@ -405,8 +410,8 @@ impl TyreFileSpec {
     }
 
     fn stiffness_common(c: &Checker, sec: &str, cx: f64, cy: f64, p: f64, mu_scale: f64) -> Result<()> {
-        c.positive(&format!("{sec}.longitudinal_stiffness_n"), cx)?;
-        c.positive(&format!("{sec}.cornering_stiffness_n_per_rad"), cy)?;
+        c.positive_up_to(&format!("{sec}.longitudinal_stiffness_n"), cx, MAX_STIFFNESS_N, "N")?;
+        c.positive_up_to(&format!("{sec}.cornering_stiffness_n_per_rad"), cy, MAX_STIFFNESS_N, "N/rad")?;
         c.require(&format!("{sec}.load_exponent"), p, p > 0.0 && p <= 1.0, "expected 0 < load_exponent <= 1")?;
         c.require(
             &format!("{sec}.mu_scale"),
@@ -660,20 +665,52 @@ impl TyreFileSpec {
             ));
         }
         let cs = Checker::new(&source);
-        for (n, v) in [("FNOMIN", coeffs.fnomin), ("UNLOADED_RADIUS", coeffs.unloaded_radius), ("LFZO", coeffs.lfzo)] {
-            cs.positive(n, v)?;
-        }
-        for (n, v) in [
-            ("PCX1", coeffs.pcx1),
-            ("PDX1", coeffs.pdx1),
-            ("PCY1", coeffs.pcy1),
-            ("PDY1", coeffs.pdy1),
-            ("PKX1", coeffs.pkx1),
+        cs.positive_up_to("FNOMIN", coeffs.fnomin, MAX_NOMINAL_LOAD_N, "N")?;
+        cs.positive_up_to("UNLOADED_RADIUS", coeffs.unloaded_radius, 2.0, "m")?;
+        cs.positive_up_to("LFZO", coeffs.lfzo, 10.0, "scale factor")?;
+        // The ranges a Magic Formula tyre has (PAC2002): shape factors C up to 3 (lateral about
+        // 1.3, longitudinal about 1.65), peak friction D/Fz up to 5 (racing slicks stay under 2),
+        // slip stiffness over load up to 100 (passenger tyres 15-30).
+        for (n, v, hi, what) in [
+            ("PCX1", coeffs.pcx1, 3.0, "shape factor"),
+            ("PDX1", coeffs.pdx1, 5.0, "peak friction"),
+            ("PCY1", coeffs.pcy1, 3.0, "shape factor"),
+            ("PDY1", coeffs.pdy1, 5.0, "peak friction"),
+            ("PKX1", coeffs.pkx1, 100.0, "slip stiffness over load"),
         ] {
-            cs.positive(n, v)?;
+            cs.positive_up_to(n, v, hi, what)?;
         }
-        cs.require("PKY1", coeffs.pky1, coeffs.pky1 != 0.0, "expected a non-zero cornering stiffness factor")?;
-        cs.require("PKY2", coeffs.pky2, coeffs.pky2 > 0.0, "expected PKY2 > 0 (load at which Ky peaks, in Fz0')")?;
+        cs.require(
+            "PKY1",
+            coeffs.pky1,
+            coeffs.pky1 != 0.0 && coeffs.pky1.abs() <= 100.0,
+            "expected a non-zero cornering stiffness factor with |PKY1| <= 100 (Ky / Fz0'; ISO files -10 to -25)",
+        )?;
+        cs.require(
+            "PKY2",
+            coeffs.pky2,
+            coeffs.pky2 > 0.0 && coeffs.pky2 <= 10.0,
+            "expected 0 < PKY2 <= 10 (load at which Ky peaks, in Fz0')",
+        )?;
+        // The curvature factor E must stay <= 1 (PAC2002; above it the curve folds back). At the
+        // nominal load: Ex = PEX1 LEX (1 -/+ PEX4) for driving / braking, Ey = PEY1 LEY (1 -/+ PEY3).
+        for (n, e0, asym, lbl) in [
+            ("PEX1", coeffs.pex1 * coeffs.lex, coeffs.pex4, "PEX1 LEX (1 -/+ PEX4)"),
+            ("PEY1", coeffs.pey1 * coeffs.ley, coeffs.pey3, "PEY1 LEY (1 -/+ PEY3)"),
+        ] {
+            let e = (e0 * (1.0 - asym)).max(e0 * (1.0 + asym));
+            if e > 1.0 || e.is_nan() {
+                return Err(Error::key(
+                    &source,
+                    n,
+                    format!(
+                        "the curvature factor E = {lbl} reaches {} at the nominal load; the Magic Formula needs \
+                         E <= 1 (PAC2002)",
+                        crate::error::short_num(e)
+                    ),
+                ));
+            }
+        }
         let mut t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
         t.measured_side = side;
         if t.combination == Combination::MagicFormula {
@@ -694,6 +731,13 @@ impl TyreFileSpec {
         Ok((t, warnings))
     }
 }
+
+/// Largest slip stiffness (cornering N/rad, longitudinal N per unit slip) at the nominal load:
+/// ten times a heavy lorry tyre's (passenger tyres 50-150 kN, lorry tyres up to about 500 kN).
+pub const MAX_STIFFNESS_N: f64 = 5e6;
+
+/// Largest nominal load of one tyre, N (a lorry tyre carries up to about 40 kN).
+pub const MAX_NOMINAL_LOAD_N: f64 = 100_000.0;
 
 /// Error for a provider whose section is absent from the tyre file.
 pub fn missing(path: &Path, section: &str) -> Error {

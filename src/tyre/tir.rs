@@ -119,14 +119,32 @@ pub fn dimension_of(key: &str) -> Option<Dimension> {
     })
 }
 
-/// SI factors of the five base units of `[UNITS]`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The range of magnitudes (SI) a road-vehicle tyre's dimensional parameter has, with its unit and
+/// what it is: a value outside it almost certainly means `[UNITS]` that do not match the numbers
+/// (a radius of 0.338 read as millimetres). Parameters not listed are not checked.
+pub fn plausible_si(key: &str) -> Option<(f64, f64, &'static str, &'static str)> {
+    Some(match key {
+        "UNLOADED_RADIUS" => (0.1, 2.0, "m", "a tyre's unloaded radius"),
+        "RIM_RADIUS" => (0.05, 1.5, "m", "a rim radius"),
+        "WIDTH" => (0.03, 1.5, "m", "a tyre's width"),
+        "RIM_WIDTH" => (0.03, 1.5, "m", "a rim width"),
+        "FNOMIN" => (100.0, 100_000.0, "N", "a tyre's nominal load"),
+        "VERTICAL_STIFFNESS" => (1e4, 1e8, "N/m", "a tyre's vertical stiffness"),
+        "LONGVL" => (0.1, 100.0, "m/s", "a measurement speed"),
+        _ => return None,
+    })
+}
+
+/// SI factors of the five base units of `[UNITS]`, and the length and force names as written.
+#[derive(Debug, Clone, PartialEq)]
 struct Units {
     length: f64,
     force: f64,
     angle: f64,
     mass: f64,
     time: f64,
+    length_name: String,
+    force_name: String,
 }
 
 impl Units {
@@ -211,6 +229,8 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         Skip,
     }
     let mut mode = Mode::Skip;
+    // A UTF-8 byte-order mark (written by some Windows editors) is not text of the file.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (idx, line) in text.lines().enumerate() {
         let no = idx + 1;
         let body = line.split('$').next().unwrap_or("").trim();
@@ -293,7 +313,15 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
     }
 
     // Units.
-    let mut units = Units { length: 1.0, force: 1.0, angle: 1.0, mass: 1.0, time: 1.0 };
+    let mut units = Units {
+        length: 1.0,
+        force: 1.0,
+        angle: 1.0,
+        mass: 1.0,
+        time: 1.0,
+        length_name: "meter (none given)".into(),
+        force_name: "newton (none given)".into(),
+    };
     let mut saw_units = false;
     for (no, key, value) in &raw {
         if !matches!(key.as_str(), "LENGTH" | "FORCE" | "ANGLE" | "MASS" | "TIME") {
@@ -306,8 +334,8 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         let f = unit_factor(key, name)
             .map_err(|allowed| line_err(path, *no, format!("unsupported {key} unit '{name}'; supported: {allowed}")))?;
         match key.as_str() {
-            "LENGTH" => units.length = f,
-            "FORCE" => units.force = f,
+            "LENGTH" => (units.length, units.length_name) = (f, crate::error::shown(name).trim_matches('\'').into()),
+            "FORCE" => (units.force, units.force_name) = (f, crate::error::shown(name).trim_matches('\'').into()),
             "ANGLE" => units.angle = f,
             "MASS" => units.mass = f,
             _ => units.time = f,
@@ -318,9 +346,30 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
     }
 
     let mut values = BTreeMap::new();
-    for (_, key, value) in raw {
+    for (no, key, value) in raw {
         let value = match (value, dimension_of(&key)) {
-            (TirValue::Num(x), Some(d)) => TirValue::Num(x * units.factor(d)),
+            (TirValue::Num(x), Some(d)) => {
+                let si = x * units.factor(d);
+                if let Some((lo, hi, unit, what)) = plausible_si(&key) {
+                    if !(lo..=hi).contains(&si.abs()) {
+                        return Err(line_err(
+                            path,
+                            no,
+                            format!(
+                                "{key} = {} reads as {} {unit} with the file's [UNITS] (LENGTH '{}', FORCE '{}'), \
+                                 but {what} is {}-{} {unit}: do [UNITS] match the values?",
+                                crate::error::short_num(x),
+                                crate::error::short_num(si),
+                                units.length_name,
+                                units.force_name,
+                                crate::error::short_num(lo),
+                                crate::error::short_num(hi)
+                            ),
+                        ));
+                    }
+                }
+                TirValue::Num(si)
+            }
             (v, _) => v,
         };
         values.insert(key, value);
