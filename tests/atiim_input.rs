@@ -132,6 +132,9 @@ fn scenario_errors_name_the_key() {
         ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\ncarcass_stiffness_kn_per_m = 10.0\n", "tyre.carcass_stiffness_kn_per_m"),
         ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nrolling_resistance = 0.2\n", "tyre.rolling_resistance"),
         ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[drawbar]\nslips = [0.1, -1.5]\n", "drawbar.slips[1]"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\ngrid = [1, 1]\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n", "pressure.grid[0]"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nspeed_exponent = 2.0\n", "tyre.speed_exponent"),
+        ("name = \"x\"\n[pressure]\nsource = \"synth\"\nload_n = 4000.0\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n[tyre]\nspeed_scale_mps = 0.0\n", "tyre.speed_scale_mps"),
         ("name = \"x\"\n[pressure]\nsource = \"csv\"\nfile = \"missing.csv\"\npixel_length_m = 0.01\npixel_width_m = 0.01\n[operating]\nspeed_mps = 1.0\nslip_ratio = 0.1\nice_temp_c = -3.0\n", "missing.csv"),
     ];
     for (i, (text, key)) in cases.iter().enumerate() {

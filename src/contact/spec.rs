@@ -589,6 +589,10 @@ impl ScenarioSpec {
         let mut grid = match source {
             PressureSource::Synth => {
                 let [rows, cols] = p.grid.unwrap_or([64, 48]);
+                // (named here: `synthesize` names its own fields, not the scenario's keys)
+                let ck = Checker::new(file);
+                ck.range("pressure.grid[0]", rows as f64, 4.0, 512.0)?;
+                ck.range("pressure.grid[1]", cols as f64, 4.0, 512.0)?;
                 let load = need(file, "pressure.load_n", p.load_n, "synth")?;
                 synthesize(
                     file,
