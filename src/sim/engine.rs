@@ -214,7 +214,7 @@ impl Ramped {
             drive_torque_nm: tq.max(0.0),
             brake_torque_nm: (-tq).max(0.0),
             contact_temp_c: c,
-            t_s: 0.0,
+            ..Inputs::default()
         }
     }
 }
