@@ -11,13 +11,15 @@ use crate::contact::{ContactTemperature, Isothermal};
 use crate::error::{Error, Result};
 use crate::maneuver::constant_radius::ConstantRadius;
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
+use crate::maneuver::longitudinal::Longitudinal;
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, EventKind, Maneuver};
 use crate::output::write_atomic;
 use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
-use crate::sim::{simulate, Controls, EndReason, Observer, Recorder, Row, Summary};
+use crate::sim::engine::simulate_with_slip_control;
+use crate::sim::{Controls, EndReason, Observer, Recorder, Row, Summary};
 use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
 use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 use crate::spec::{ManeuverFile, RunConfig};
@@ -37,6 +39,8 @@ pub struct RunOutput {
     pub understeer_gradient: Option<UndersteerGradient>,
     /// Why there is no understeer gradient, for a manoeuvre with steady-state windows.
     pub understeer_gradient_note: Option<String>,
+    /// The manoeuvre's own result figures ([`Maneuver::results`]), if it has any.
+    pub results: Option<serde_json::Value>,
 }
 
 /// Load and validate a manoeuvre spec (with its vehicle and tyre files).
@@ -80,6 +84,8 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
             Box::new(OpenLoop::new(steer.clone(), speed.clone(), v.steer_rate_max_radps))
         }
         ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
+        ManeuverConfig::Braking(p) => Box::new(Longitudinal::braking(*p)),
+        ManeuverConfig::Launch(p) => Box::new(Longitudinal::launch(*p)),
     }
 }
 
@@ -117,6 +123,7 @@ pub fn execute(cfg: &RunConfig) -> RunOutput {
                 steady_states: Vec::new(),
                 understeer_gradient: None,
                 understeer_gradient_note: None,
+                results: None,
             },
         },
     }
@@ -148,7 +155,16 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
         &mut NoOutput
     };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
-    let mut summary = simulate(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
+    let mut summary = simulate_with_slip_control(
+        model,
+        cfg.env,
+        maneuver.as_mut(),
+        contact.as_mut(),
+        &ctl,
+        &cfg.settings,
+        &mut observer,
+        &cfg.slip,
+    );
     if let Some(n) = note {
         summary.events.insert(0, Event { t_s: 0.0, kind: EventKind::ContactModelUnavailable, detail: n });
     }
@@ -174,7 +190,15 @@ pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConf
     if !cfg.output.timeseries {
         rows = Vec::new();
     }
-    RunOutput { summary, rows, layout: maneuver.layout(), steady_states, understeer_gradient, understeer_gradient_note }
+    RunOutput {
+        summary,
+        rows,
+        layout: maneuver.layout(),
+        steady_states,
+        understeer_gradient,
+        understeer_gradient_note,
+        results: maneuver.results(),
+    }
 }
 
 /// `summary.json`: the run's identity plus the engine's figures.
@@ -201,6 +225,8 @@ struct SummaryFile<'a> {
     understeer_gradient: Option<&'a UndersteerGradient>,
     #[serde(skip_serializing_if = "Option::is_none")]
     understeer_gradient_note: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    results: Option<&'a serde_json::Value>,
 }
 
 /// Column names of timeseries.csv, units in the names.
@@ -320,6 +346,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         steady_states: &out.steady_states,
         understeer_gradient: out.understeer_gradient.as_ref(),
         understeer_gradient_note: out.understeer_gradient_note.as_deref(),
+        results: out.results.as_ref(),
     };
     let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;

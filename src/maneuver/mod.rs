@@ -3,6 +3,7 @@
 
 pub mod constant_radius;
 pub mod iso3888_2;
+pub mod longitudinal;
 pub mod open_loop;
 pub mod path;
 pub mod steady_state;
@@ -150,6 +151,12 @@ pub trait Maneuver: Send {
     fn steer_at(&self, _t: f64) -> Option<f64> {
         None
     }
+    /// Full throttle (+1) or full brake (-1), or a fraction of either, at time `t`, where the
+    /// manoeuvre asks for the pedal itself (launch, braking) instead of a speed for the PID;
+    /// `None` (the default): the PID follows [`Command::speed_target_mps`].
+    fn pedal(&self, _t: f64) -> Option<f64> {
+        None
+    }
     /// Signed lateral deviation of the CG from the reference path at the last command, m
     /// (`None` for open-loop manoeuvres).
     fn path_error_m(&self) -> Option<f64>;
@@ -173,6 +180,12 @@ pub trait Maneuver: Send {
     /// Why the manoeuvre ended the run when that is not plain completion (e.g. `left_path`);
     /// `None` by default.
     fn end_reason(&self) -> Option<crate::sim::EndReason> {
+        None
+    }
+
+    /// The manoeuvre's own result figures for `summary.json`'s `results` (braking distance,
+    /// launch time, ...); `None` (the default) writes nothing.
+    fn results(&self) -> Option<serde_json::Value> {
         None
     }
 

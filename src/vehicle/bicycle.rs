@@ -472,6 +472,30 @@ impl VehicleModel<N> for Bicycle {
         let t = &self.vehicle.tyre;
         (&[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)], t.rolling_radius_m / t.relaxation_length_x_m)
     }
+
+    /// Per axle (front, rear): omega R_e, the wheel-centre forward speed in wheel axes, whether
+    /// it is driven and its largest brake torque.
+    fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
+        let v = &self.vehicle;
+        let radius = v.tyre.rolling_radius_m;
+        let share = v.drive_front_share();
+        let bmax = v.brake_torque_max_nm;
+        for (axle, o) in out.iter_mut().take(2).enumerate() {
+            let steer = if axle == 0 { steer_rad } else { 0.0 };
+            let (vy_w, om) = if axle == 0 {
+                (x[ix::VY] + v.a_m * x[ix::R], x[ix::OMEGA_F])
+            } else {
+                (x[ix::VY] - v.b_m * x[ix::R], x[ix::OMEGA_R])
+            };
+            *o = super::WheelSensor {
+                omega_r_mps: om * radius,
+                v_mps: to_wheel_axes(x[ix::VX], vy_w, steer).0,
+                driven: if axle == 0 { share > 0.0 } else { share < 1.0 },
+                brake_max_nm: bmax * if axle == 0 { v.brake_front_share } else { 1.0 - v.brake_front_share },
+            };
+        }
+        2
+    }
 }
 
 /// The drive shares (front, rear) of a front share.

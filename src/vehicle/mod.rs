@@ -60,6 +60,20 @@ impl Default for Inputs {
     }
 }
 
+/// What the wheel-speed sensors and the brake layout tell the slip controllers about one wheel
+/// ([`VehicleModel::wheel_sensors`]; the bicycle's "wheel" is an axle).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelSensor {
+    /// Wheel spin speed times the rolling radius, m/s.
+    pub omega_r_mps: f64,
+    /// Forward speed of the wheel centre in wheel axes, m/s (the ideal reference speed).
+    pub v_mps: f64,
+    /// Whether the powertrain drives this wheel.
+    pub driven: bool,
+    /// Largest brake torque of this wheel (full pedal), N m.
+    pub brake_max_nm: f64,
+}
+
 /// The surface the vehicle drives on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Environment {
@@ -230,6 +244,13 @@ pub trait VehicleModel<const N: usize>: Sync {
         _env: &Environment,
         _out: &mut Vec<(crate::maneuver::EventKind, String)>,
     ) {
+    }
+
+    /// The wheel-speed sensors of the slip controllers (ABS, traction control) at state `x` with
+    /// road-wheel angle `steer_rad`, into `out`; returns how many wheels (2 for the bicycle's
+    /// axles, 4 for four wheels). Default: none (no slip control possible).
+    fn wheel_sensors(&self, _x: &SVector<f64, N>, _steer_rad: f64, _out: &mut [WheelSensor; 4]) -> usize {
+        0
     }
 
     /// The stiff wheel-spin / transient-slip pairs, (omega index, relaxed-slip index) per wheel or

@@ -616,6 +616,28 @@ impl VehicleModel<N> for Roll4Dof {
         let t = &self.vehicle.tyre;
         (&PAIRS, t.rolling_radius_m / t.relaxation_length_x_m)
     }
+    /// Per wheel (FL, FR, RL, RR): omega R_e, the wheel-centre forward speed in wheel axes,
+    /// whether it is driven and its largest brake torque.
+    fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
+        let v = &self.vehicle;
+        let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+        let (dl, dr) = front_steer_angles(steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
+        let share = v.drive_front_share();
+        let bmax = v.brake_torque_max_nm;
+        for (i, o) in out.iter_mut().enumerate() {
+            let (px, py) = self.pos[i];
+            let steer = [dl, dr, 0.0, 0.0][i];
+            let front = i < 2;
+            *o = super::WheelSensor {
+                omega_r_mps: x[ix::OMEGA + i] * v.tyre.rolling_radius_m,
+                v_mps: to_wheel_axes(vx - r * py, vy + r * px, steer).0,
+                driven: if front { share > 0.0 } else { share < 1.0 },
+                brake_max_nm: 0.5 * bmax * if front { v.brake_front_share } else { 1.0 - v.brake_front_share },
+            };
+        }
+        4
+    }
+
 }
 
 /// The tyre input of wheel `i` (FL, FR, RL, RR) at load `fz` (N), slip angle `alpha` (rad) and
