@@ -222,7 +222,12 @@ mod tests {
         let mut k = 0;
         loop {
             let t = k as f64 * h;
-            let (x, v) = if t <= tb { (v0 * t, v0) } else { let d = t - tb; (v0 * tb + v0 * d - 0.5 * a * d * d, v0 - a * d) };
+            let (x, v) = if t <= tb {
+                (v0 * t, v0)
+            } else {
+                let d = t - tb;
+                (v0 * tb + v0 * d - 0.5 * a * d * d, v0 - a * d)
+            };
             if m.after_step(t, &kin(x, v), &mut ev) {
                 break;
             }

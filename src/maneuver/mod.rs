@@ -68,6 +68,14 @@ pub enum EventKind {
     ContactModelUnavailable,
     /// Thermal Dugoff: the published temperature factor would reverse F_x; it was clamped.
     ThermalFactorClamped,
+    /// Plausibility by the tyre's range: an axle's slip ratio left the tyre file's declared
+    /// range, and its return; likewise the slip angle and a wheel's normal load.
+    SlipRatioBeyondRange,
+    SlipRatioWithinRange,
+    SlipAngleBeyondRange,
+    SlipAngleWithinRange,
+    LoadBeyondRange,
+    LoadWithinRange,
 }
 
 impl EventKind {
@@ -93,6 +101,12 @@ impl EventKind {
             EventKind::PathReturn => "path_return",
             EventKind::ContactModelUnavailable => "contact_model_unavailable",
             EventKind::ThermalFactorClamped => "thermal_factor_clamped",
+            EventKind::SlipRatioBeyondRange => "slip_ratio_beyond_range",
+            EventKind::SlipRatioWithinRange => "slip_ratio_within_range",
+            EventKind::SlipAngleBeyondRange => "slip_angle_beyond_range",
+            EventKind::SlipAngleWithinRange => "slip_angle_within_range",
+            EventKind::LoadBeyondRange => "load_beyond_range",
+            EventKind::LoadWithinRange => "load_within_range",
         }
     }
 

@@ -883,7 +883,11 @@ impl ManeuverFile {
             }
             ManeuverSpec::Braking(b) => {
                 let p = b.build(c)?;
-                (ManeuverConfig::Braking(p), ManeuverKind::Braking, Some(p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0))
+                (
+                    ManeuverConfig::Braking(p),
+                    ManeuverKind::Braking,
+                    Some(p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0),
+                )
             }
             ManeuverSpec::Launch(l) => {
                 let v = speed(l.speed_mps)?;
@@ -1125,7 +1129,8 @@ impl ManeuverFile {
                     slip_low: c.bound(&b::SLIP_LOW, t.slip_low.unwrap_or(d.slip_low))?,
                     reduction_rate_per_s: c
                         .bound(&b::REDUCTION_RATE, t.reduction_rate_per_s.unwrap_or(d.reduction_rate_per_s))?,
-                    restore_rate_per_s: c.bound(&b::RESTORE_RATE, t.restore_rate_per_s.unwrap_or(d.restore_rate_per_s))?,
+                    restore_rate_per_s: c
+                        .bound(&b::RESTORE_RATE, t.restore_rate_per_s.unwrap_or(d.restore_rate_per_s))?,
                 };
                 c.require(
                     "tcs.slip_low",

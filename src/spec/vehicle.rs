@@ -309,6 +309,8 @@ pub struct Vehicle {
     pub roll: Option<Roll>,
     /// Lateral extensions of the bicycle model (default: none).
     pub lateral: Lateral,
+    /// The ranges the tyre file declares as measured (plausibility, [`crate::sim::range_check`]).
+    pub tyre_ranges: crate::sim::range_check::TyreRanges,
     /// The powertrain (`None`: the single torque limit, the models' unchanged path).
     pub powertrain: Option<crate::vehicle::powertrain::Powertrain>,
     pub tyre: Tyre,
@@ -406,6 +408,7 @@ impl VehicleFile {
         Ok(Vehicle {
             lateral,
             powertrain,
+            tyre_ranges: crate::sim::range_check::TyreRanges::of_tyre_file(&tyre_path),
             name: self.name.clone(),
             mass_kg: self.mass_kg,
             yaw_inertia_kgm2: self.yaw_inertia_kgm2,
@@ -587,13 +590,19 @@ impl PowertrainSection {
         };
         let source = match self.kind.as_str() {
             "engine" => {
-                for (k, set) in [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())] {
+                for (k, set) in
+                    [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())]
+                {
                     if set {
                         return refuse(k, "engine");
                     }
                 }
                 let curve = self.torque_curve.as_ref().ok_or_else(|| {
-                    Error::key(c.file, "powertrain.torque_curve", "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]")
+                    Error::key(
+                        c.file,
+                        "powertrain.torque_curve",
+                        "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]",
+                    )
                 })?;
                 if curve.len() < 2 {
                     return Err(Error::key(
@@ -605,7 +614,12 @@ impl PowertrainSection {
                 let mut prev = f64::NEG_INFINITY;
                 for (n, [w, t]) in curve.iter().enumerate() {
                     let key = format!("powertrain.torque_curve[{n}]");
-                    c.require(&key, *w, b::SPEED_RPM.contains(*w) && *w > prev, "expected engine speeds in [0, 30000] rpm, strictly increasing")?;
+                    c.require(
+                        &key,
+                        *w,
+                        b::SPEED_RPM.contains(*w) && *w > prev,
+                        "expected engine speeds in [0, 30000] rpm, strictly increasing",
+                    )?;
                     c.require(&key, *t, b::TORQUE_NM.contains(*t), "expected a torque in [0, 5000] N m")?;
                     prev = *w;
                 }
@@ -626,7 +640,9 @@ impl PowertrainSection {
                     return refuse("torque_curve", "motor");
                 }
                 let need = |k: &str, v: Option<f64>, bound: &crate::error::Bound| -> Result<f64> {
-                    let v = v.ok_or_else(|| Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\""))?;
+                    let v = v.ok_or_else(|| {
+                        Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\"")
+                    })?;
                     c.bound(bound, v)
                 };
                 TorqueSource::Motor {
@@ -673,7 +689,9 @@ impl PowertrainSection {
         let differential = match (self.differential.as_deref().unwrap_or("open"), self.torque_bias_ratio) {
             ("open", None) => Differential::Open,
             ("locked", None) => Differential::Locked,
-            ("limited_slip", Some(t)) => Differential::LimitedSlip { torque_bias_ratio: c.bound(&b::TORQUE_BIAS_RATIO, t)? },
+            ("limited_slip", Some(t)) => {
+                Differential::LimitedSlip { torque_bias_ratio: c.bound(&b::TORQUE_BIAS_RATIO, t)? }
+            }
             ("limited_slip", None) => {
                 return Err(Error::key(
                     c.file,

@@ -67,7 +67,9 @@ pub enum Differential {
     Open,
     Locked,
     /// Torque-sensing limited slip with the torque bias ratio TBR >= 1.
-    LimitedSlip { torque_bias_ratio: f64 },
+    LimitedSlip {
+        torque_bias_ratio: f64,
+    },
 }
 
 /// A validated powertrain.

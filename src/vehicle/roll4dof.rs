@@ -637,7 +637,6 @@ impl VehicleModel<N> for Roll4Dof {
         }
         4
     }
-
 }
 
 /// The tyre input of wheel `i` (FL, FR, RL, RR) at load `fz` (N), slip angle `alpha` (rad) and
