@@ -86,6 +86,9 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
         ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
         ManeuverConfig::Braking(p) => Box::new(Longitudinal::braking(*p)),
         ManeuverConfig::Launch(p) => Box::new(Longitudinal::launch(*p)),
+        ManeuverConfig::BrakingInTurn(p) => {
+            Box::new(crate::maneuver::brake_in_turn::BrakeInTurn::new(p.clone(), cfg.driver, v.wheelbase_m()))
+        }
     }
 }
 

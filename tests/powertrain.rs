@@ -269,3 +269,22 @@ fn bad_powertrain_and_slip_control_input() {
         assert!(err.contains("expected") || err.contains("allowed"), "{key}: {err}");
     }
 }
+
+/// Braking in a turn on ice: with ABS the steered car keeps its circle (the yaw rate falls with
+/// the speed, a kinematic closed form r = v / R for a car on the circle, and the CG stays near
+/// it); with the wheels locked it runs wide of where the ABS car is.
+#[test]
+fn braking_in_a_turn_keeps_the_circle_with_abs() {
+    const SPEC: &str = "maneuvers/traction/braking_in_turn_40m_ice_abs.toml";
+    let with = execute(&load_with(SPEC, TyreModelKind::Pacejka, |_| {}));
+    let without = execute(&load_with(SPEC, TyreModelKind::Pacejka, |f| f.abs = None));
+    let r = |o: &RunOutput, k: &str| result(o, k);
+    let speed_ratio = r(&with, "speed_at_1s_mps") / r(&with, "speed_at_onset_mps");
+    let yaw_ratio = r(&with, "yaw_rate_ratio_at_1s");
+    assert!((yaw_ratio / speed_ratio - 1.0).abs() < 0.1, "yaw ratio {yaw_ratio}, speed ratio {speed_ratio}");
+    let (dev_abs, dev_locked) = (r(&with, "circle_deviation_at_1s_m"), r(&without, "circle_deviation_at_1s_m"));
+    assert!(dev_abs.abs() < 0.2 && dev_locked > dev_abs, "deviation at 1 s: ABS {dev_abs} m, locked {dev_locked} m");
+    // on the circle at the onset: r = v / R within 5 %
+    let onset = r(&with, "yaw_rate_at_onset_radps") * 40.0 / r(&with, "speed_at_onset_mps");
+    assert!((onset - 1.0).abs() < 0.05, "{onset}");
+}

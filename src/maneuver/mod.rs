@@ -1,6 +1,7 @@
 //! Manoeuvres: what the driver is asked to do (steer and speed commands), when the run is over,
 //! and the manoeuvre's own pass/fail rule. A manoeuvre sees the vehicle's kinematics only.
 
+pub mod brake_in_turn;
 pub mod constant_radius;
 pub mod iso3888_2;
 pub mod longitudinal;

@@ -56,7 +56,10 @@ pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
             let gates = iso3888_2::layout(cfg.vehicle.body_width_m, p.lane5_min_width_m);
             Some(0.5 * gates.iter().map(|g| g.width_m()).fold(0.0, f64::max))
         }
-        ManeuverConfig::OpenLoop { .. } | ManeuverConfig::Braking(_) | ManeuverConfig::Launch(_) => None,
+        ManeuverConfig::OpenLoop { .. }
+        | ManeuverConfig::Braking(_)
+        | ManeuverConfig::Launch(_)
+        | ManeuverConfig::BrakingInTurn(_) => None,
     }
 }
 

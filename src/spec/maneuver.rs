@@ -223,6 +223,7 @@ pub enum ManeuverSpec {
     ConstantRadius(ConstantRadiusSpec),
     Braking(BrakingSpec),
     Launch(LaunchSpec),
+    BrakingInTurn(BrakingInTurnSpec),
 }
 
 /// The allowed ranges of the manoeuvre file's numeric keys, each declared once (README's
@@ -303,6 +304,8 @@ pub enum ManeuverKind {
     Braking,
     /// Launch from standstill at full throttle.
     Launch,
+    /// Braking in a turn (after ISO 7975).
+    BrakingInTurn,
 }
 
 choice_names!(ManeuverKind {
@@ -313,6 +316,7 @@ choice_names!(ManeuverKind {
     ConstantRadius => "constant_radius",
     Braking => "braking",
     Launch => "launch",
+    BrakingInTurn => "braking_in_turn",
 });
 
 impl std::fmt::Display for ManeuverKind {
@@ -367,6 +371,7 @@ impl ManeuverSpec {
             Some(ManeuverKind::ConstantRadius) => ManeuverSpec::ConstantRadius(parse(path, rest)?),
             Some(ManeuverKind::Braking) => ManeuverSpec::Braking(parse(path, rest)?),
             Some(ManeuverKind::Launch) => ManeuverSpec::Launch(parse(path, rest)?),
+            Some(ManeuverKind::BrakingInTurn) => ManeuverSpec::BrakingInTurn(parse(path, rest)?),
             None => {
                 return Err(Error::key(
                     path,
@@ -510,6 +515,7 @@ pub enum ManeuverConfig {
     ConstantRadius(ConstantRadiusParams),
     Braking(crate::maneuver::longitudinal::BrakingParams),
     Launch(crate::maneuver::longitudinal::LaunchParams),
+    BrakingInTurn(crate::maneuver::brake_in_turn::BrakeInTurnParams),
 }
 
 impl ManeuverConfig {
@@ -524,6 +530,7 @@ impl ManeuverConfig {
             // both reach standstill (or start from it)
             ManeuverConfig::Braking(p) => (0.0, p.speed_mps),
             ManeuverConfig::Launch(p) => (0.0, p.speed_mps),
+            ManeuverConfig::BrakingInTurn(p) => (0.0, p.circle.step_speeds_mps[0]),
         };
         (if lo.is_finite() { lo } else { 0.0 }, hi)
     }
@@ -889,6 +896,11 @@ impl ManeuverFile {
                     Some(p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0),
                 )
             }
+            ManeuverSpec::BrakingInTurn(b) => {
+                let p = b.build(c)?;
+                let total = p.brake_at_s + p.after_s + 0.5;
+                (ManeuverConfig::BrakingInTurn(p), ManeuverKind::BrakingInTurn, Some(total))
+            }
             ManeuverSpec::Launch(l) => {
                 let v = speed(l.speed_mps)?;
                 let p = crate::maneuver::longitudinal::LaunchParams { speed_mps: v };
@@ -1035,6 +1047,8 @@ impl BrakingSpec {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AbsSection {
+    /// `false` switches the ABS off (default true; lets a sweep compare on and off).
+    pub enabled: Option<bool>,
     /// Sample period, s, a whole multiple of the integration step (default 0.01).
     pub period_s: Option<f64>,
     /// Slip magnitude beyond which the pressure is dumped, in (0, 1) (default 0.15).
@@ -1053,6 +1067,8 @@ pub struct AbsSection {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TcsSection {
+    /// `false` switches the traction control off (default true; lets a sweep compare on and off).
+    pub enabled: Option<bool>,
     /// Sample period, s, a whole multiple of the integration step (default 0.01).
     pub period_s: Option<f64>,
     /// Slip above which the drive torque is reduced, in (0, 1) (default 0.15).
@@ -1100,6 +1116,7 @@ impl ManeuverFile {
         };
         let abs = match &self.abs {
             None => None,
+            Some(a) if a.enabled == Some(false) => None,
             Some(a) => {
                 let d = AbsParams::default();
                 let p = AbsParams {
@@ -1121,6 +1138,7 @@ impl ManeuverFile {
         };
         let tcs = match &self.tcs {
             None => None,
+            Some(t) if t.enabled == Some(false) => None,
             Some(t) => {
                 let d = TcsParams::default();
                 let p = TcsParams {
@@ -1142,5 +1160,79 @@ impl ManeuverFile {
             }
         };
         Ok(crate::sim::slip_control::SlipControlParams { abs, tcs })
+    }
+}
+
+/// `[maneuver]` with `kind = "braking_in_turn"`: steady on a circle, then the steering held and
+/// the brake applied (after ISO 7975; [`crate::maneuver::brake_in_turn`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BrakingInTurnSpec {
+    /// Circle radius, m.
+    pub radius_m: f64,
+    /// `left` (default) or `right`.
+    #[serde(default = "left")]
+    pub direction: DirectionSpec,
+    /// Speed held on the circle, m/s.
+    pub speed_mps: f64,
+    /// Brake onset (the time on the circle before it), s (default 10).
+    #[serde(default = "ten")]
+    pub brake_at_s: f64,
+    /// Brake pedal as a fraction of its stop, (0, 1] (default 1).
+    #[serde(default = "one_f")]
+    pub brake_fraction: f64,
+    /// Longest time after the onset, s (default 10).
+    #[serde(default = "ten")]
+    pub after_s: f64,
+}
+
+fn ten() -> f64 {
+    10.0
+}
+
+fn one_f() -> f64 {
+    1.0
+}
+
+impl BrakingInTurnSpec {
+    fn build(&self, c: &Checker) -> Result<crate::maneuver::brake_in_turn::BrakeInTurnParams> {
+        let r = c.bound(&bounds::RADIUS_M, self.radius_m)?;
+        let v = c.bound(&bounds::SPEED_MPS, self.speed_mps)?;
+        c.require(
+            "maneuver.brake_at_s",
+            self.brake_at_s,
+            self.brake_at_s >= 1.0 && self.brake_at_s <= 3600.0,
+            "expected 1 <= brake_at_s <= 3600 (s)",
+        )?;
+        c.require(
+            "maneuver.brake_fraction",
+            self.brake_fraction,
+            self.brake_fraction > 0.0 && self.brake_fraction <= 1.0,
+            "expected 0 < brake_fraction <= 1",
+        )?;
+        c.require(
+            "maneuver.after_s",
+            self.after_s,
+            self.after_s >= 1.0 && self.after_s <= 3600.0,
+            "expected 1 <= after_s <= 3600 (s)",
+        )?;
+        let direction = match self.direction {
+            DirectionSpec::Left => Direction::Left,
+            DirectionSpec::Right => Direction::Right,
+        };
+        Ok(crate::maneuver::brake_in_turn::BrakeInTurnParams {
+            circle: ConstantRadiusParams {
+                radius_m: r,
+                direction,
+                step_speeds_mps: vec![v],
+                // the circle's own end (settle + window) lies beyond the onset
+                settle_s: self.brake_at_s,
+                window_s: 1.0,
+                speed_ramp_mps2: 0.5,
+            },
+            brake_at_s: self.brake_at_s,
+            brake_fraction: self.brake_fraction,
+            after_s: self.after_s,
+        })
     }
 }
