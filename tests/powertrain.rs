@@ -288,3 +288,41 @@ fn braking_in_a_turn_keeps_the_circle_with_abs() {
     let onset = r(&with, "yaw_rate_at_onset_radps") * 40.0 / r(&with, "speed_at_onset_mps");
     assert!((onset - 1.0).abs() < 0.05, "{onset}");
 }
+
+/// The shipped braking-distance-versus-ice-temperature sweep: every combination validates; at
+/// the coldest, a middle and the warmest ice, for both tyre models, the ABS stop is no shorter
+/// than the friction limit of the tyre's own isothermal peak (contact heating only lowers it),
+/// shorter than the locked-wheel stop, and with the Pacejka tyre within 1.25 x that limit.
+#[test]
+fn braking_versus_ice_temperature_sweep() {
+    let batch =
+        vehsim::batch::load(&common::root().join("maneuvers/traction/braking_50kmh_ice_temperature.toml")).unwrap();
+    assert_eq!(batch.runs.len(), 36);
+    let param = |r: &vehsim::batch::BatchRun, k: &str| r.params.iter().find(|p| p.0 == k).unwrap().1.clone();
+    let mut distances = std::collections::BTreeMap::new();
+    for run in &batch.runs {
+        let cfg = run.config.as_ref().unwrap();
+        let t = param(run, "surface.temperature_c");
+        if !["-25.0", "-3.0", "-1.0"].contains(&t.as_str()) {
+            continue;
+        }
+        let out = execute(cfg);
+        let d = result(&out, "braking_distance_m");
+        let v0 = result(&out, "speed_at_onset_mps");
+        let v_end = result(&out, "end_speed_mps");
+        let (mu_x, a_limit) = peak_deceleration(cfg, v0);
+        assert!(d >= (v0 * v0 - v_end * v_end) / (2.0 * a_limit), "{:?}: {d} m", run.params);
+        let abs = param(run, "abs.enabled") == "true";
+        if abs && cfg.tyre_model == TyreModelKind::Pacejka {
+            assert!(d <= 1.25 * (v0 * v0 - v_end * v_end) / (2.0 * mu_x * GRAVITY), "{:?}: {d} m", run.params);
+        }
+        distances.insert((param(run, "tyre_model"), t, abs), d);
+    }
+    assert_eq!(distances.len(), 12);
+    for ((tyre, t, abs), d) in &distances {
+        if *abs {
+            let locked = distances[&(tyre.clone(), t.clone(), false)];
+            assert!(*d < locked, "{tyre} at {t} degC: ABS {d} m, locked {locked} m");
+        }
+    }
+}
