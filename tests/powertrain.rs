@@ -180,19 +180,15 @@ fn single_torque_limit_is_the_special_case() {
     use vehsim::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
     let base = common::load("maneuvers/quickstart_dlc_ice.toml");
     let mut cfg = base.clone();
-    cfg.vehicle.powertrain = Some(Powertrain {
-        source: TorqueSource::Motor {
-            torque_max_nm: cfg.vehicle.drive_torque_max_nm,
-            power_max_w: 1e12,
-            speed_max_radps: 1e9,
-        },
-        gear_ratios: vec![1.0],
-        final_drive_ratio: 1.0,
-        efficiency: 1.0,
-        engine_inertia_kgm2: 0.0,
-        gear: GearMode::Auto,
-        differential: Differential::Open,
-    });
+    cfg.vehicle.powertrain = Some(Powertrain::new(
+        TorqueSource::Motor { torque_max_nm: cfg.vehicle.drive_torque_max_nm, power_max_w: 1e12, speed_max_radps: 1e9 },
+        vec![1.0],
+        1.0,
+        1.0,
+        0.0,
+        GearMode::Auto,
+        Differential::Open,
+    ));
     let (a, b) = (execute(&base), execute(&cfg));
     assert_eq!(a.rows.len(), b.rows.len());
     let worst = a

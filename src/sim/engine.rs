@@ -406,6 +406,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// The inputs at time `ts` within the current control period: the ramps, and an open-loop
     /// steer profile's value at `ts` where the manoeuvre prescribes one, and the slip
     /// controllers' caps.
+    #[inline]
     fn inputs_at(&self, ts: f64) -> Inputs {
         let mut u = Ramped::lerp(&self.ramp_from, &self.ramp_to, (ts - self.ramp_t0) / self.hc);
         u.t_s = ts;

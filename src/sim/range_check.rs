@@ -100,7 +100,17 @@ impl RangeCheck {
         }
     }
 
+    #[inline]
     fn update(&mut self, q: usize, i: usize, t_s: f64, v: f64, (lo, hi): (f64, f64), subjects: &[&str]) {
+        // the common case first: in range and not out before
+        if v >= lo && v <= hi && !self.tracks[q].active[i] {
+            return;
+        }
+        self.change(q, i, t_s, v, (lo, hi), subjects);
+    }
+
+    #[cold]
+    fn change(&mut self, q: usize, i: usize, t_s: f64, v: f64, (lo, hi): (f64, f64), subjects: &[&str]) {
         if !v.is_finite() {
             return;
         }

@@ -714,14 +714,14 @@ impl PowertrainSection {
                 ))
             }
         };
-        Ok(Powertrain {
+        Ok(Powertrain::new(
             source,
-            gear_ratios: self.gear_ratios.clone(),
-            final_drive_ratio: self.final_drive_ratio,
-            efficiency: self.efficiency,
-            engine_inertia_kgm2: self.engine_inertia_kgm2,
+            self.gear_ratios.clone(),
+            self.final_drive_ratio,
+            self.efficiency,
+            self.engine_inertia_kgm2,
             gear,
             differential,
-        })
+        ))
     }
 }

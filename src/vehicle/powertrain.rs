@@ -85,6 +85,9 @@ pub struct Powertrain {
     pub engine_inertia_kgm2: f64,
     pub gear: GearMode,
     pub differential: Differential,
+    /// The automatic schedule as (carrier speed from which it holds, rad/s; gear), ascending;
+    /// computed once by [`Powertrain::new`] (one entry for a fixed gear).
+    schedule: Vec<(f64, usize)>,
 }
 
 impl TorqueSource {
@@ -139,35 +142,99 @@ impl TorqueSource {
 }
 
 impl Powertrain {
+    /// A powertrain, with the automatic schedule's shift speeds found once (where the gear of
+    /// most wheel torque changes, located to 1e-9 relative by bisection between the points of a
+    /// fine scan of the carrier speed up to the top gear's limit).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        source: TorqueSource,
+        gear_ratios: Vec<f64>,
+        final_drive_ratio: f64,
+        efficiency: f64,
+        engine_inertia_kgm2: f64,
+        gear: GearMode,
+        differential: Differential,
+    ) -> Self {
+        let mut p = Powertrain {
+            source,
+            gear_ratios,
+            final_drive_ratio,
+            efficiency,
+            engine_inertia_kgm2,
+            gear,
+            differential,
+            schedule: Vec::new(),
+        };
+        p.schedule = match gear {
+            GearMode::Fixed(g) => vec![(0.0, g)],
+            GearMode::Auto => {
+                let top = (0..p.gear_ratios.len()).map(|g| p.overall_ratio(g)).fold(f64::INFINITY, f64::min);
+                let w_max = p.source.speed_max_radps() / top;
+                const SCAN: usize = 2_000;
+                let mut schedule = vec![(0.0, p.best_gear(0.0))];
+                let mut prev = 0.0;
+                for k in 1..=SCAN + 1 {
+                    let w = w_max * k as f64 / SCAN as f64;
+                    let g = p.best_gear(w);
+                    let last = schedule[schedule.len() - 1].1;
+                    if g != last {
+                        let (mut lo, mut hi) = (prev, w);
+                        while hi - lo > 1e-9 * hi.max(1.0) {
+                            let mid = 0.5 * (lo + hi);
+                            if p.best_gear(mid) == last {
+                                lo = mid;
+                            } else {
+                                hi = mid;
+                            }
+                        }
+                        schedule.push((hi, p.best_gear(hi)));
+                    }
+                    prev = w;
+                }
+                schedule
+            }
+        };
+        p
+    }
+
+    /// The gear with the most wheel torque at carrier speed `omega_c` below the rev limit (the
+    /// top gear when every gear is beyond it); ties to the lower gear.
+    fn best_gear(&self, omega_c: f64) -> usize {
+        let w = omega_c.max(0.0);
+        let mut best = (0, f64::NEG_INFINITY);
+        for g in 0..self.gear_ratios.len() {
+            let i = self.overall_ratio(g);
+            if i * w > self.source.speed_max_radps() {
+                continue;
+            }
+            let t = i * self.source.torque_nm(i * w);
+            if t > best.1 {
+                best = (g, t);
+            }
+        }
+        if best.1 == f64::NEG_INFINITY {
+            self.gear_ratios.len() - 1
+        } else {
+            best.0
+        }
+    }
+
     /// Overall ratio engine / carrier in gear `g`.
     pub fn overall_ratio(&self, g: usize) -> f64 {
         self.gear_ratios[g] * self.final_drive_ratio
     }
 
-    /// The gear in use at carrier speed `omega_c` (rad/s).
+    /// The gear in use at carrier speed `omega_c` (rad/s): the fixed gear, or the automatic
+    /// schedule's (precomputed by [`Powertrain::new`]).
     pub fn gear_at(&self, omega_c: f64) -> usize {
-        match self.gear {
-            GearMode::Fixed(g) => g,
-            GearMode::Auto => {
-                let w = omega_c.max(0.0);
-                let mut best = (0, f64::NEG_INFINITY);
-                for g in 0..self.gear_ratios.len() {
-                    let i = self.overall_ratio(g);
-                    if i * w > self.source.speed_max_radps() {
-                        continue;
-                    }
-                    let t = i * self.source.torque_nm(i * w);
-                    if t > best.1 {
-                        best = (g, t);
-                    }
-                }
-                if best.1 == f64::NEG_INFINITY {
-                    self.gear_ratios.len() - 1
-                } else {
-                    best.0
-                }
+        let mut g = self.schedule[0].1;
+        for &(w, gear) in &self.schedule[1..] {
+            if omega_c < w {
+                break;
             }
+            g = gear;
         }
+        g
     }
 
     /// Full-load torque at the driven wheels (sum over them), N m, and the engine-side inertia
@@ -255,18 +322,18 @@ mod tests {
 
     fn engine() -> Powertrain {
         let rpm = std::f64::consts::PI / 30.0;
-        Powertrain {
-            source: TorqueSource::Engine {
+        Powertrain::new(
+            TorqueSource::Engine {
                 curve: vec![(1000.0 * rpm, 150.0), (4000.0 * rpm, 250.0), (6500.0 * rpm, 200.0)],
                 power_max_w: 110e3,
             },
-            gear_ratios: vec![3.5, 2.0, 1.3, 1.0],
-            final_drive_ratio: 4.0,
-            efficiency: 0.9,
-            engine_inertia_kgm2: 0.2,
-            gear: GearMode::Auto,
-            differential: Differential::Open,
-        }
+            vec![3.5, 2.0, 1.3, 1.0],
+            4.0,
+            0.9,
+            0.2,
+            GearMode::Auto,
+            Differential::Open,
+        )
     }
 
     #[test]
@@ -306,6 +373,12 @@ mod tests {
             }
         }
         assert_eq!(last, 3);
+        // the precomputed schedule is the scan's argmax away from the shift points
+        for k in 0..4000 {
+            let w = k as f64 * 0.0537;
+            let near = p.schedule.iter().any(|s| (s.0 - w).abs() < 1e-6);
+            assert!(near || p.gear_at(w) == p.best_gear(w), "at {w}");
+        }
         // wheel torque continuous across the shifts (max of continuous functions)
         let f = |w: f64| p.at_carrier_speed(w).0;
         for k in 1..4000 {
