@@ -208,7 +208,9 @@ impl Powertrain {
                 continue;
             }
             let t = i * self.source.torque_nm(i * w);
-            if t > best.1 {
+            // a higher gear only for more torque beyond rounding (on the power cap every gear
+            // gives P / omega_c: a tie, kept in the lower gear)
+            if best.1 == f64::NEG_INFINITY || t > best.1 + 1e-9 * best.1.abs() {
                 best = (g, t);
             }
         }
@@ -368,11 +370,13 @@ mod tests {
             for h in 0..4 {
                 let ih = p.overall_ratio(h);
                 if ih * w <= p.source.speed_max_radps() {
-                    assert!(i * p.source.torque_nm(i * w) >= ih * p.source.torque_nm(ih * w));
+                    let (t, th) = (i * p.source.torque_nm(i * w), ih * p.source.torque_nm(ih * w));
+                    assert!(t >= th * (1.0 - 1e-9), "{w}: gear {g} {t}, gear {h} {th}");
                 }
             }
         }
         assert_eq!(last, 3);
+        assert!(p.schedule.len() <= 4, "{:?}", p.schedule);
         // the precomputed schedule is the scan's argmax away from the shift points
         for k in 0..4000 {
             let w = k as f64 * 0.0537;
