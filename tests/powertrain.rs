@@ -207,10 +207,37 @@ fn single_torque_limit_is_the_special_case() {
     ] {
         let (mut p, mut w) = (read(plain), read(with));
         assert!(w.remove("powertrain").is_some());
-        p.remove("name");
-        w.remove("name");
-        assert_eq!(p, w, "{with} differs from {plain} beyond its [powertrain]");
+        for k in ["name", "tyre"] {
+            p.remove(k);
+            w.remove(k);
+        }
+        assert_eq!(p, w, "{with} differs from {plain} beyond its [powertrain] and tyre");
     }
+    // the tyre with declared ranges: the same tyre, its .tir the same file plus the range sections
+    let (mut p, mut w) =
+        (read("vehicles/tyres/srtt_p225_60r16.toml"), read("vehicles/tyres/srtt_p225_60r16_ranged.toml"));
+    for t in [&mut p, &mut w] {
+        t.remove("name");
+        t["pacejka"].as_table_mut().unwrap().remove("tir_file");
+    }
+    assert_eq!(p, w);
+    let data = |f: &str| -> Vec<String> {
+        std::fs::read_to_string(common::root().join(f))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('!') && !l.starts_with('$') && !l.trim().is_empty())
+            .map(String::from)
+            .collect()
+    };
+    let (plain, ranged) =
+        (data("vehicles/tyres/srtt_p225_60r16.tir"), data("vehicles/tyres/srtt_p225_60r16_ranged.tir"));
+    let extra: Vec<&String> = ranged.iter().filter(|l| !plain.contains(l)).collect();
+    assert_eq!(ranged.len(), plain.len() + extra.len());
+    assert_eq!(extra.len(), 6, "{extra:?}");
+    assert!(
+        extra.iter().all(|l| ["[LONG_SLIP", "KPU", "[VERTICAL_FORCE", "FZM"].iter().any(|k| l.starts_with(k))),
+        "{extra:?}"
+    );
 }
 
 /// The 4-DOF model launches the rear-drive sedan through its limited-slip differential (the
