@@ -44,6 +44,12 @@
 //!    the rule, [`VehicleModel::SPIN_OUT`]; its event carries the crossing time interpolated
 //!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
 //!
+//! Slip controllers (ABS, traction control; [`super::slip_control`], switched on by
+//! [`Simulation::with_slip_control`]) sample the wheels at the start of every step that is due on
+//! their own periods, before phase 1, and their caps ramp across their periods; a manoeuvre that
+//! asks for the pedal itself ([`Maneuver::pedal`]: launch, braking) sets the torque ramp's end to
+//! full drive or full brake instead of the PID's output. Without them nothing of this runs.
+//!
 //! Divergence and spin-out end the run with an event; they are results, not errors. The model's
 //! conditions are also checked once for the initial state, at t = 0. Time is t_k = k h, from the
 //! step index, never accumulated.
