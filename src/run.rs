@@ -11,6 +11,7 @@ use crate::contact::{ContactTemperature, Isothermal};
 use crate::error::{Error, Result};
 use crate::maneuver::constant_radius::ConstantRadius;
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
+use crate::maneuver::longitudinal::Longitudinal;
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, EventKind, Maneuver};
@@ -37,6 +38,8 @@ pub struct RunOutput {
     pub understeer_gradient: Option<UndersteerGradient>,
     /// Why there is no understeer gradient, for a manoeuvre with steady-state windows.
     pub understeer_gradient_note: Option<String>,
+    /// The manoeuvre's own result figures ([`Maneuver::results`]), if it has any.
+    pub results: Option<serde_json::Value>,
 }
 
 /// Load and validate a manoeuvre spec (with its vehicle and tyre files).
@@ -80,6 +83,11 @@ pub fn build_maneuver(cfg: &RunConfig) -> Box<dyn Maneuver> {
             Box::new(OpenLoop::new(steer.clone(), speed.clone(), v.steer_rate_max_radps))
         }
         ManeuverConfig::ConstantRadius(p) => Box::new(ConstantRadius::new(p.clone(), cfg.driver, v.wheelbase_m())),
+        ManeuverConfig::Braking(p) => Box::new(Longitudinal::braking(*p)),
+        ManeuverConfig::Launch(p) => Box::new(Longitudinal::launch(*p)),
+        ManeuverConfig::BrakingInTurn(p) => {
+            Box::new(crate::maneuver::brake_in_turn::BrakeInTurn::new(p.clone(), cfg.driver, v.wheelbase_m()))
+        }
     }
 }
 
@@ -128,6 +136,7 @@ pub fn execute_until(cfg: &RunConfig, stop: &dyn Fn() -> bool) -> (RunOutput, bo
                     steady_states: Vec::new(),
                     understeer_gradient: None,
                     understeer_gradient_note: None,
+                    results: None,
                 },
                 false,
             ),
@@ -171,7 +180,8 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
     };
     let mut observer = Checked { plausibility: &mut plausibility, keep };
     let mut sim =
-        Simulation::new(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer);
+        Simulation::new(model, cfg.env, maneuver.as_mut(), contact.as_mut(), &ctl, &cfg.settings, &mut observer)
+            .with_slip_control(&cfg.slip);
     let mut stopped = false;
     while sim.step().is_none() {
         if stop() {
@@ -212,6 +222,7 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
         steady_states,
         understeer_gradient,
         understeer_gradient_note,
+        results: maneuver.results(),
     };
     (out, stopped)
 }
@@ -240,6 +251,8 @@ struct SummaryFile<'a> {
     understeer_gradient: Option<&'a UndersteerGradient>,
     #[serde(skip_serializing_if = "Option::is_none")]
     understeer_gradient_note: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    results: Option<&'a serde_json::Value>,
 }
 
 /// Column names of timeseries.csv, units in the names.
@@ -360,6 +373,7 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
         steady_states: &out.steady_states,
         understeer_gradient: out.understeer_gradient.as_ref(),
         understeer_gradient_note: out.understeer_gradient_note.as_deref(),
+        results: out.results.as_ref(),
     };
     let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;

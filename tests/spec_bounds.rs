@@ -132,7 +132,19 @@ fn choice_names_are_the_file_format() {
     }
     names!(TyreModelKind, ["linear", "polynomial", "pacejka", "dugoff", "dugoff_thermal", "atiim_pacejka"]);
     names!(VehicleModelKind, ["bicycle", "roll4dof"]);
-    names!(ManeuverKind, ["iso3888_2", "sine_steer", "step_steer", "straight", "constant_radius"]);
+    names!(
+        ManeuverKind,
+        [
+            "iso3888_2",
+            "sine_steer",
+            "step_steer",
+            "straight",
+            "constant_radius",
+            "braking",
+            "launch",
+            "braking_in_turn"
+        ]
+    );
     names!(vehsim::batch::RunStatus, ["ok", "failed", "invalid"]);
     names!(ContactModelKind, ["isothermal", "atiim"]);
     names!(PressureSource, ["synth", "csv", "image"]);

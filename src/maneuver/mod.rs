@@ -1,8 +1,10 @@
 //! Manoeuvres: what the driver is asked to do (steer and speed commands), when the run is over,
 //! and the manoeuvre's own pass/fail rule. A manoeuvre sees the vehicle's kinematics only.
 
+pub mod brake_in_turn;
 pub mod constant_radius;
 pub mod iso3888_2;
+pub mod longitudinal;
 pub mod open_loop;
 pub mod path;
 pub mod steady_state;
@@ -67,6 +69,14 @@ pub enum EventKind {
     ContactModelUnavailable,
     /// Thermal Dugoff: the published temperature factor would reverse F_x; it was clamped.
     ThermalFactorClamped,
+    /// Plausibility by the tyre's range: an axle's slip ratio left the tyre file's declared
+    /// range, and its return; likewise the slip angle and a wheel's normal load.
+    SlipRatioBeyondRange,
+    SlipRatioWithinRange,
+    SlipAngleBeyondRange,
+    SlipAngleWithinRange,
+    LoadBeyondRange,
+    LoadWithinRange,
 }
 
 impl EventKind {
@@ -92,6 +102,12 @@ impl EventKind {
             EventKind::PathReturn => "path_return",
             EventKind::ContactModelUnavailable => "contact_model_unavailable",
             EventKind::ThermalFactorClamped => "thermal_factor_clamped",
+            EventKind::SlipRatioBeyondRange => "slip_ratio_beyond_range",
+            EventKind::SlipRatioWithinRange => "slip_ratio_within_range",
+            EventKind::SlipAngleBeyondRange => "slip_angle_beyond_range",
+            EventKind::SlipAngleWithinRange => "slip_angle_within_range",
+            EventKind::LoadBeyondRange => "load_beyond_range",
+            EventKind::LoadWithinRange => "load_within_range",
         }
     }
 
@@ -150,6 +166,12 @@ pub trait Maneuver: Send {
     fn steer_at(&self, _t: f64) -> Option<f64> {
         None
     }
+    /// Full throttle (+1) or full brake (-1), or a fraction of either, at time `t`, where the
+    /// manoeuvre asks for the pedal itself (launch, braking) instead of a speed for the PID;
+    /// `None` (the default): the PID follows [`Command::speed_target_mps`].
+    fn pedal(&self, _t: f64) -> Option<f64> {
+        None
+    }
     /// Signed lateral deviation of the CG from the reference path at the last command, m
     /// (`None` for open-loop manoeuvres).
     fn path_error_m(&self) -> Option<f64>;
@@ -173,6 +195,12 @@ pub trait Maneuver: Send {
     /// Why the manoeuvre ended the run when that is not plain completion (e.g. `left_path`);
     /// `None` by default.
     fn end_reason(&self) -> Option<crate::sim::EndReason> {
+        None
+    }
+
+    /// The manoeuvre's own result figures for `summary.json`'s `results` (braking distance,
+    /// launch time, ...); `None` (the default) writes nothing.
+    fn results(&self) -> Option<serde_json::Value> {
         None
     }
 

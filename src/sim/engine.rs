@@ -44,6 +44,12 @@
 //!    the rule, [`VehicleModel::SPIN_OUT`]; its event carries the crossing time interpolated
 //!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
 //!
+//! Slip controllers (ABS, traction control; [`super::slip_control`], switched on by
+//! [`Simulation::with_slip_control`]) sample the wheels at the start of every step that is due on
+//! their own periods, before phase 1, and their caps ramp across their periods; a manoeuvre that
+//! asks for the pedal itself ([`Maneuver::pedal`]: launch, braking) sets the torque ramp's end to
+//! full drive or full brake instead of the PID's output. Without them nothing of this runs.
+//!
 //! Divergence and spin-out end the run with an event; they are results, not errors. The model's
 //! conditions are also checked once for the initial state, at t = 0. Time is t_k = k h, from the
 //! step index, never accumulated.
@@ -215,7 +221,7 @@ impl Ramped {
             drive_torque_nm: tq.max(0.0),
             brake_torque_nm: (-tq).max(0.0),
             contact_temp_c: c,
-            t_s: 0.0,
+            ..Inputs::default()
         }
     }
 }
@@ -270,6 +276,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     end: Option<EndReason>,
     /// Inputs set from outside the engine ([`Self::set_external`]); none by default.
     external: ExternalInputs,
+    /// ABS and traction control, when the run has them ([`super::slip_control`]).
+    slip: Option<super::slip_control::SlipControl>,
 }
 
 impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
@@ -342,7 +350,16 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             path_error: None,
             end: None,
             external: ExternalInputs::default(),
+            slip: None,
         }
+    }
+
+    /// Give the run ABS and/or traction control ([`super::slip_control`]), before the first step.
+    pub fn with_slip_control(mut self, params: &super::slip_control::SlipControlParams) -> Self {
+        if !params.is_off() {
+            self.slip = Some(super::slip_control::SlipControl::new(params, self.h, self.controls.drive_max_nm));
+        }
+        self
     }
 
     /// Current time, s.
@@ -406,6 +423,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let t = self.time_s();
         let kin = self.model.kinematics(&self.x);
         let record = self.k % self.out_every == 0;
+        if self.slip.is_some() {
+            self.sample_slip_control(t);
+        }
         if self.k % self.ctrl_every == 0 {
             self.sample_controls(t, record);
         }
@@ -416,7 +436,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     }
 
     /// The inputs at time `ts` within the current control period: the ramps, and an open-loop
-    /// steer profile's value at `ts` where the manoeuvre prescribes one.
+    /// steer profile's value at `ts` where the manoeuvre prescribes one, and the slip
+    /// controllers' caps.
+    #[inline]
     fn inputs_at(&self, ts: f64) -> Inputs {
         let mut u = Ramped::lerp(&self.ramp_from, &self.ramp_to, (ts - self.ramp_t0) / self.hc);
         u.t_s = ts;
@@ -425,7 +447,20 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             u.steer_rad = d.clamp(-lock, lock);
         }
         self.external.apply(&mut u);
+        if let Some(s) = &self.slip {
+            s.apply(ts, &mut u);
+        }
         u
+    }
+
+    /// The slip controllers due at this step sample the wheels at time `t`.
+    fn sample_slip_control(&mut self, t: f64) {
+        let u = self.inputs_at(t);
+        let mut wheels = [crate::vehicle::WheelSensor::default(); 4];
+        let n = self.model.wheel_sensors(&self.x, u.steer_rad, &mut wheels);
+        if let Some(s) = &mut self.slip {
+            s.sample(self.k, t, &wheels[..n], &u);
+        }
     }
 
     /// Phase 1: the contact-temperature estimate at time `t`, then the manoeuvre and the PID
@@ -442,6 +477,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             None => u0,
         };
         self.external.apply(&mut u0);
+        if let Some(s) = &self.slip {
+            s.apply(t, &mut u0);
+        }
         // The contact-temperature estimate at t, advanced over the period behind (none at the
         // first sample) from the tyres' conditions at t, taken at the contact temperatures it
         // returns (the friction force depends on them: `update_coupled` solves for the consistent
@@ -516,8 +554,18 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             }
         };
         self.steer_cmd = Some(cmd.steer_rad);
-        let torque = match cmd.speed_target_mps {
-            Some(v) => {
+        let torque = match (self.maneuver.pedal(t + hc), cmd.speed_target_mps) {
+            // full throttle or full brake, asked for by the manoeuvre (launch, braking)
+            (Some(p), target) => {
+                self.pid_active = false;
+                self.speed_target = target.unwrap_or(f64::NAN);
+                if p >= 0.0 {
+                    p.min(1.0) * c.drive_max_nm
+                } else {
+                    p.max(-1.0) * c.brake_max_nm
+                }
+            }
+            (None, Some(v)) => {
                 if !self.pid_active {
                     self.pid.reset();
                     self.pid_active = true;
@@ -526,7 +574,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 self.speed_target = v;
                 self.pid.update(v, kin.vx_mps, hc)
             }
-            None => {
+            (None, None) => {
                 self.pid_active = false;
                 self.speed_target = f64::NAN;
                 0.0
@@ -782,7 +830,22 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
     settings: &SimSettings,
     observer: &mut dyn Observer,
 ) -> Summary {
-    let mut sim = Simulation::new(model, env, maneuver, contact, controls, settings, observer);
+    simulate_with_slip_control(model, env, maneuver, contact, controls, settings, observer, &Default::default())
+}
+
+/// [`simulate`] with the slip controllers `slip` (ABS, traction control).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_with_slip_control<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: Environment,
+    maneuver: &mut dyn Maneuver,
+    contact: &mut dyn ContactTemperature,
+    controls: &Controls,
+    settings: &SimSettings,
+    observer: &mut dyn Observer,
+    slip: &super::slip_control::SlipControlParams,
+) -> Summary {
+    let mut sim = Simulation::new(model, env, maneuver, contact, controls, settings, observer).with_slip_control(slip);
     while sim.step().is_none() {}
     sim.finish()
 }

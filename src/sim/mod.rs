@@ -7,6 +7,8 @@ pub mod external;
 pub mod integrator;
 pub mod observer;
 pub mod plausibility;
+pub mod range_check;
+pub mod slip_control;
 pub mod stability;
 pub mod watch;
 

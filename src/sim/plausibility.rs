@@ -56,7 +56,10 @@ pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
             let gates = iso3888_2::layout(cfg.vehicle.body_width_m, p.lane5_min_width_m);
             Some(0.5 * gates.iter().map(|g| g.width_m()).fold(0.0, f64::max))
         }
-        ManeuverConfig::OpenLoop { .. } => None,
+        ManeuverConfig::OpenLoop { .. }
+        | ManeuverConfig::Braking(_)
+        | ManeuverConfig::Launch(_)
+        | ManeuverConfig::BrakingInTurn(_) => None,
     }
 }
 
@@ -107,6 +110,8 @@ pub struct Plausibility {
     twin: [bool; 2],
     /// The bits of the input each slot was prepared from ([`input_bits`]).
     prepared_from: [Option<[u64; 8]>; 4],
+    /// The tyre's declared ranges ([`super::range_check`]), when it declares any.
+    ranges: Option<super::range_check::RangeCheck>,
 }
 
 /// The bits of every field of a tyre input (equal bits: the same input to a pure provider).
@@ -138,12 +143,17 @@ impl Plausibility {
             prepared: [None; 4],
             twin: [false; 2],
             prepared_from: [None; 4],
+            ranges: None,
         }
     }
 
     /// The checker of a validated run.
     pub fn for_run(cfg: &RunConfig) -> Self {
-        Self::new(cfg.vehicle.tyre.model.clone(), cfg.env, path_tolerance_m(cfg))
+        let mut p = Self::new(cfg.vehicle.tyre.model.clone(), cfg.env, path_tolerance_m(cfg));
+        if cfg.vehicle.tyre_ranges.any() {
+            p.ranges = Some(super::range_check::RangeCheck::new(cfg.vehicle.tyre_ranges));
+        }
+        p
     }
 
     /// The friction bound of axle `axle` (N) and its tyres' load (N) at `row`.
@@ -242,6 +252,9 @@ impl Plausibility {
 
     /// Check one recorded row.
     pub fn check(&mut self, row: &Row) {
+        if let Some(r) = &mut self.ranges {
+            r.check(row);
+        }
         if !self.well_within(row) {
             self.check_friction(row);
         }
@@ -340,6 +353,9 @@ impl Plausibility {
     /// were not steady.
     pub fn finish(self, summary: &mut Summary, steady: &[SteadyState]) {
         let mut reasons = self.reasons();
+        if let Some(r) = &self.ranges {
+            reasons.extend(r.reasons());
+        }
         if summary.end_reason == EndReason::LeftPath && self.worst[Check::Path as usize].first_t_s.is_none() {
             reasons.push(format!("left the path: the run ended at t = {:.2} s", summary.end_time_s));
         }
@@ -347,6 +363,9 @@ impl Plausibility {
             reasons.push(format!("steady-state window of step {} not steady: {}", s.step, s.not_steady));
         }
         summary.events.extend(self.events);
+        if let Some(r) = self.ranges {
+            summary.events.extend(r.into_events());
+        }
         summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
         summary.plausible = reasons.is_empty();
         summary.implausible = reasons;

@@ -285,6 +285,9 @@ pub enum ManeuverSpec {
     StepSteer(StepSteerSpec),
     Straight(StraightSpec),
     ConstantRadius(ConstantRadiusSpec),
+    Braking(BrakingSpec),
+    Launch(LaunchSpec),
+    BrakingInTurn(BrakingInTurnSpec),
 }
 
 /// The allowed ranges of the manoeuvre file's numeric keys, each declared once (README's
@@ -361,6 +364,12 @@ pub enum ManeuverKind {
     Straight,
     /// ISO 4138 constant radius.
     ConstantRadius,
+    /// Straight-line braking with the pedal at its stop.
+    Braking,
+    /// Launch from standstill at full throttle.
+    Launch,
+    /// Braking in a turn (after ISO 7975).
+    BrakingInTurn,
 }
 
 choice_names!(ManeuverKind {
@@ -369,6 +378,9 @@ choice_names!(ManeuverKind {
     StepSteer => "step_steer",
     Straight => "straight",
     ConstantRadius => "constant_radius",
+    Braking => "braking",
+    Launch => "launch",
+    BrakingInTurn => "braking_in_turn",
 });
 
 impl std::fmt::Display for ManeuverKind {
@@ -421,6 +433,9 @@ impl ManeuverSpec {
             Some(ManeuverKind::StepSteer) => ManeuverSpec::StepSteer(parse(path, rest)?),
             Some(ManeuverKind::Straight) => ManeuverSpec::Straight(parse(path, rest)?),
             Some(ManeuverKind::ConstantRadius) => ManeuverSpec::ConstantRadius(parse(path, rest)?),
+            Some(ManeuverKind::Braking) => ManeuverSpec::Braking(parse(path, rest)?),
+            Some(ManeuverKind::Launch) => ManeuverSpec::Launch(parse(path, rest)?),
+            Some(ManeuverKind::BrakingInTurn) => ManeuverSpec::BrakingInTurn(parse(path, rest)?),
             None => {
                 return Err(Error::key(
                     path,
@@ -544,6 +559,12 @@ pub struct ManeuverFile {
     /// parameters (see docs/atiim.md).
     #[serde(default)]
     pub contact: ContactSpec,
+    /// Anti-lock braking (`[abs]`; absent: off). See [`AbsSection`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub abs: Option<AbsSection>,
+    /// Traction control (`[tcs]`; absent: off). See [`TcsSection`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tcs: Option<TcsSection>,
     /// Sweeps: dotted spec paths (`tyre_model`, `"surface.mu"`, `"maneuver.speed_mps"`, `vehicle`,
     /// any numeric key) mapped to lists of values; the batch runs their full product.
     #[serde(default)]
@@ -556,6 +577,9 @@ pub enum ManeuverConfig {
     Iso3888_2(Iso3888_2Params),
     OpenLoop { steer: SteerProfile, speed: SpeedSchedule },
     ConstantRadius(ConstantRadiusParams),
+    Braking(crate::maneuver::longitudinal::BrakingParams),
+    Launch(crate::maneuver::longitudinal::LaunchParams),
+    BrakingInTurn(crate::maneuver::brake_in_turn::BrakeInTurnParams),
 }
 
 impl ManeuverConfig {
@@ -567,6 +591,10 @@ impl ManeuverConfig {
             ManeuverConfig::Iso3888_2(p) => (p.speed_mps, p.speed_mps),
             ManeuverConfig::OpenLoop { speed, .. } => fold(&mut speed.points.iter().map(|p| p.1)),
             ManeuverConfig::ConstantRadius(p) => fold(&mut p.step_speeds_mps.iter().copied()),
+            // both reach standstill (or start from it)
+            ManeuverConfig::Braking(p) => (0.0, p.speed_mps),
+            ManeuverConfig::Launch(p) => (0.0, p.speed_mps),
+            ManeuverConfig::BrakingInTurn(p) => (0.0, p.circle.step_speeds_mps[0]),
         };
         (if lo.is_finite() { lo } else { 0.0 }, hi)
     }
@@ -598,6 +626,8 @@ pub struct RunConfig {
     pub output: OutputSection,
     /// The contact-temperature estimate (validated; built per run).
     pub contact: ContactSpec,
+    /// ABS and traction control (validated; both off by default).
+    pub slip: crate::sim::slip_control::SlipControlParams,
 }
 
 /// Fastest mode a run may have, 1/s: 100 times the sedan's on dry asphalt (250 1/s at 10 m/s).
@@ -806,6 +836,7 @@ impl ManeuverFile {
             },
             output: self.output.clone(),
             contact: self.contact.clone(),
+            slip: self.slip_control(&c, step_s)?,
         })
     }
 
@@ -991,6 +1022,24 @@ impl ManeuverFile {
                 let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
                 (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, ManeuverKind::Straight, None)
             }
+            ManeuverSpec::Braking(b) => {
+                let p = b.build(c)?;
+                (
+                    ManeuverConfig::Braking(p),
+                    ManeuverKind::Braking,
+                    Some(p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0),
+                )
+            }
+            ManeuverSpec::BrakingInTurn(b) => {
+                let p = b.build(c)?;
+                let total = p.brake_at_s + p.after_s + 0.5;
+                (ManeuverConfig::BrakingInTurn(p), ManeuverKind::BrakingInTurn, Some(total))
+            }
+            ManeuverSpec::Launch(l) => {
+                let v = speed(l.speed_mps)?;
+                let p = crate::maneuver::longitudinal::LaunchParams { speed_mps: v };
+                (ManeuverConfig::Launch(p), ManeuverKind::Launch, Some(2.0 * v / LONGITUDINAL_MIN_DECEL + 2.0))
+            }
             ManeuverSpec::ConstantRadius(s) => {
                 let r = c.bound(&bounds::RADIUS_M, s.radius_m)?;
                 c.bound(&bounds::SETTLE_S, s.settle_s)?;
@@ -1076,6 +1125,248 @@ impl ManeuverFile {
                 c.require("maneuver.window_s", s.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
                 (ManeuverConfig::ConstantRadius(params), ManeuverKind::ConstantRadius, Some(total + 0.5))
             }
+        })
+    }
+}
+
+/// The slowest mean acceleration (m/s^2) the default duration of a braking or launch run allows
+/// for, twice over: 0.05 g.
+const LONGITUDINAL_MIN_DECEL: f64 = 0.05 * crate::spec::vehicle::GRAVITY;
+
+/// `[maneuver]` with `kind = "braking"`: straight-line braking with the pedal at its stop.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BrakingSpec {
+    /// Start speed, m/s.
+    pub speed_mps: f64,
+    /// End speed, m/s, below the start speed (default 0: standstill).
+    #[serde(default)]
+    pub end_speed_mps: f64,
+    /// Brake onset, s (default 0.5; the PID holds the start speed before it).
+    #[serde(default = "half_second")]
+    pub brake_at_s: f64,
+}
+
+fn half_second() -> f64 {
+    0.5
+}
+
+/// `[maneuver]` with `kind = "launch"`: from standstill at full throttle to a speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaunchSpec {
+    /// Target speed, m/s.
+    pub speed_mps: f64,
+}
+
+impl BrakingSpec {
+    fn build(&self, c: &Checker) -> Result<crate::maneuver::longitudinal::BrakingParams> {
+        let v = c.bound(&bounds::SPEED_MPS, self.speed_mps)?;
+        c.require(
+            "maneuver.end_speed_mps",
+            self.end_speed_mps,
+            self.end_speed_mps >= 0.0 && self.end_speed_mps < v,
+            &format!("expected 0 <= end_speed_mps < speed_mps = {v} (m/s)"),
+        )?;
+        c.bound(&bounds::START_S, self.brake_at_s)?;
+        Ok(crate::maneuver::longitudinal::BrakingParams {
+            speed_mps: v,
+            end_speed_mps: self.end_speed_mps,
+            brake_at_s: self.brake_at_s,
+        })
+    }
+}
+
+/// `[abs]`: anti-lock braking on for the run ([`crate::control::abs`]); every key optional.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AbsSection {
+    /// `false` switches the ABS off (default true; lets a sweep compare on and off).
+    pub enabled: Option<bool>,
+    /// Sample period, s, a whole multiple of the integration step (default 0.01).
+    pub period_s: Option<f64>,
+    /// Slip magnitude beyond which the pressure is dumped, in (0, 1) (default 0.15).
+    pub slip_dump: Option<f64>,
+    /// Slip magnitude below which the pressure builds again, in (0, slip_dump) (default 0.06).
+    pub slip_build: Option<f64>,
+    /// Pressure fall rate, fraction of full pressure per s, (0, 1000] (default 20).
+    pub dump_rate_per_s: Option<f64>,
+    /// Pressure rise rate, fraction of full pressure per s, (0, 1000] (default 6).
+    pub build_rate_per_s: Option<f64>,
+    /// Speed below which the ABS stops modulating, m/s, [0, 10] (default 1.5).
+    pub cutout_speed_mps: Option<f64>,
+}
+
+/// `[tcs]`: traction control on for the run ([`crate::control::tcs`]); every key optional.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TcsSection {
+    /// `false` switches the traction control off (default true; lets a sweep compare on and off).
+    pub enabled: Option<bool>,
+    /// Sample period, s, a whole multiple of the integration step (default 0.01).
+    pub period_s: Option<f64>,
+    /// Slip above which the drive torque is reduced, in (0, 1) (default 0.15).
+    pub slip_high: Option<f64>,
+    /// Slip below which it is restored, in (0, slip_high) (default 0.10).
+    pub slip_low: Option<f64>,
+    /// Reduction rate, fraction of the largest drive torque per s, (0, 1000] (default 30).
+    pub reduction_rate_per_s: Option<f64>,
+    /// Restore rate, fraction of the largest drive torque per s, (0, 1000] (default 5).
+    pub restore_rate_per_s: Option<f64>,
+}
+
+/// The allowed ranges of the `[abs]` and `[tcs]` keys.
+pub mod slip_bounds {
+    use crate::error::Bound;
+
+    pub const ABS_PERIOD_S: Bound = Bound::left_open("abs.period_s", 0.0, 0.1, "s");
+    pub const SLIP_DUMP: Bound = Bound::open("abs.slip_dump", 0.0, 1.0, "");
+    pub const SLIP_BUILD: Bound = Bound::open("abs.slip_build", 0.0, 1.0, "");
+    pub const DUMP_RATE: Bound = Bound::left_open("abs.dump_rate_per_s", 0.0, 1000.0, "1/s");
+    pub const BUILD_RATE: Bound = Bound::left_open("abs.build_rate_per_s", 0.0, 1000.0, "1/s");
+    pub const CUTOUT: Bound = Bound::closed("abs.cutout_speed_mps", 0.0, 10.0, "m/s");
+    pub const TCS_PERIOD_S: Bound = Bound::left_open("tcs.period_s", 0.0, 0.1, "s");
+    pub const SLIP_HIGH: Bound = Bound::open("tcs.slip_high", 0.0, 1.0, "");
+    pub const SLIP_LOW: Bound = Bound::open("tcs.slip_low", 0.0, 1.0, "");
+    pub const REDUCTION_RATE: Bound = Bound::left_open("tcs.reduction_rate_per_s", 0.0, 1000.0, "1/s");
+    pub const RESTORE_RATE: Bound = Bound::left_open("tcs.restore_rate_per_s", 0.0, 1000.0, "1/s");
+}
+
+impl ManeuverFile {
+    /// The validated `[abs]` and `[tcs]` sections for integration step `step_s` (s).
+    fn slip_control(&self, c: &Checker, step_s: f64) -> Result<crate::sim::slip_control::SlipControlParams> {
+        use crate::control::abs::AbsParams;
+        use crate::control::tcs::TcsParams;
+        use slip_bounds as b;
+        let period = |bound: &crate::error::Bound, v: f64| -> Result<f64> {
+            c.bound(bound, v)?;
+            let m = (v / step_s).round();
+            c.require(
+                bound.key,
+                v,
+                m >= 1.0 && (m * step_s - v).abs() <= 1e-9 * v,
+                &format!("expected a whole multiple of the integration step {step_s} s (at least one step)"),
+            )
+        };
+        let abs = match &self.abs {
+            None => None,
+            Some(a) if a.enabled == Some(false) => None,
+            Some(a) => {
+                let d = AbsParams::default();
+                let p = AbsParams {
+                    period_s: period(&b::ABS_PERIOD_S, a.period_s.unwrap_or(d.period_s))?,
+                    slip_dump: c.bound(&b::SLIP_DUMP, a.slip_dump.unwrap_or(d.slip_dump))?,
+                    slip_build: c.bound(&b::SLIP_BUILD, a.slip_build.unwrap_or(d.slip_build))?,
+                    dump_rate_per_s: c.bound(&b::DUMP_RATE, a.dump_rate_per_s.unwrap_or(d.dump_rate_per_s))?,
+                    build_rate_per_s: c.bound(&b::BUILD_RATE, a.build_rate_per_s.unwrap_or(d.build_rate_per_s))?,
+                    cutout_speed_mps: c.bound(&b::CUTOUT, a.cutout_speed_mps.unwrap_or(d.cutout_speed_mps))?,
+                };
+                c.require(
+                    "abs.slip_build",
+                    p.slip_build,
+                    p.slip_build < p.slip_dump,
+                    &format!("expected slip_build < slip_dump = {} (the hysteresis band)", p.slip_dump),
+                )?;
+                Some(p)
+            }
+        };
+        let tcs = match &self.tcs {
+            None => None,
+            Some(t) if t.enabled == Some(false) => None,
+            Some(t) => {
+                let d = TcsParams::default();
+                let p = TcsParams {
+                    period_s: period(&b::TCS_PERIOD_S, t.period_s.unwrap_or(d.period_s))?,
+                    slip_high: c.bound(&b::SLIP_HIGH, t.slip_high.unwrap_or(d.slip_high))?,
+                    slip_low: c.bound(&b::SLIP_LOW, t.slip_low.unwrap_or(d.slip_low))?,
+                    reduction_rate_per_s: c
+                        .bound(&b::REDUCTION_RATE, t.reduction_rate_per_s.unwrap_or(d.reduction_rate_per_s))?,
+                    restore_rate_per_s: c
+                        .bound(&b::RESTORE_RATE, t.restore_rate_per_s.unwrap_or(d.restore_rate_per_s))?,
+                };
+                c.require(
+                    "tcs.slip_low",
+                    p.slip_low,
+                    p.slip_low < p.slip_high,
+                    &format!("expected slip_low < slip_high = {} (the hysteresis band)", p.slip_high),
+                )?;
+                Some(p)
+            }
+        };
+        Ok(crate::sim::slip_control::SlipControlParams { abs, tcs })
+    }
+}
+
+/// `[maneuver]` with `kind = "braking_in_turn"`: steady on a circle, then the steering held and
+/// the brake applied (after ISO 7975; [`crate::maneuver::brake_in_turn`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BrakingInTurnSpec {
+    /// Circle radius, m.
+    pub radius_m: f64,
+    /// `left` (default) or `right`.
+    #[serde(default = "left")]
+    pub direction: DirectionSpec,
+    /// Speed held on the circle, m/s.
+    pub speed_mps: f64,
+    /// Brake onset (the time on the circle before it), s (default 10).
+    #[serde(default = "ten")]
+    pub brake_at_s: f64,
+    /// Brake pedal as a fraction of its stop, (0, 1] (default 1).
+    #[serde(default = "one_f")]
+    pub brake_fraction: f64,
+    /// Longest time after the onset, s (default 10).
+    #[serde(default = "ten")]
+    pub after_s: f64,
+}
+
+fn ten() -> f64 {
+    10.0
+}
+
+fn one_f() -> f64 {
+    1.0
+}
+
+impl BrakingInTurnSpec {
+    fn build(&self, c: &Checker) -> Result<crate::maneuver::brake_in_turn::BrakeInTurnParams> {
+        let r = c.bound(&bounds::RADIUS_M, self.radius_m)?;
+        let v = c.bound(&bounds::SPEED_MPS, self.speed_mps)?;
+        c.require(
+            "maneuver.brake_at_s",
+            self.brake_at_s,
+            self.brake_at_s >= 1.0 && self.brake_at_s <= 3600.0,
+            "expected 1 <= brake_at_s <= 3600 (s)",
+        )?;
+        c.require(
+            "maneuver.brake_fraction",
+            self.brake_fraction,
+            self.brake_fraction > 0.0 && self.brake_fraction <= 1.0,
+            "expected 0 < brake_fraction <= 1",
+        )?;
+        c.require(
+            "maneuver.after_s",
+            self.after_s,
+            self.after_s >= 1.0 && self.after_s <= 3600.0,
+            "expected 1 <= after_s <= 3600 (s)",
+        )?;
+        let direction = match self.direction {
+            DirectionSpec::Left => Direction::Left,
+            DirectionSpec::Right => Direction::Right,
+        };
+        Ok(crate::maneuver::brake_in_turn::BrakeInTurnParams {
+            circle: ConstantRadiusParams {
+                radius_m: r,
+                direction,
+                step_speeds_mps: vec![v],
+                // the circle's own end (settle + window) lies beyond the onset
+                settle_s: self.brake_at_s,
+                window_s: 1.0,
+                speed_ramp_mps2: 0.5,
+            },
+            brake_at_s: self.brake_at_s,
+            brake_fraction: self.brake_fraction,
+            after_s: self.after_s,
         })
     }
 }

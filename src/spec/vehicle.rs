@@ -77,6 +77,10 @@ pub struct VehicleFile {
     /// refuses them; the defaults leave the model unchanged).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral: Option<LateralSection>,
+    /// Engine or motor, gearbox, final drive, driveline inertia and differential (optional; see
+    /// [`PowertrainSection`]; without it the single limit `drive_torque_max_nm` is the drive).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub powertrain: Option<PowertrainSection>,
 }
 
 /// Raw `[lateral]` section: optional extensions of the bicycle model's lateral behaviour, as
@@ -305,6 +309,10 @@ pub struct Vehicle {
     pub roll: Option<Roll>,
     /// Lateral extensions of the bicycle model (default: none).
     pub lateral: Lateral,
+    /// The ranges the tyre file declares as measured (plausibility, [`crate::sim::range_check`]).
+    pub tyre_ranges: crate::sim::range_check::TyreRanges,
+    /// The powertrain (`None`: the single torque limit, the models' unchanged path).
+    pub powertrain: Option<crate::vehicle::powertrain::Powertrain>,
     pub tyre: Tyre,
     /// Warnings from reading the tyre data (e.g. `.tir` sections ignored), for the CLI to print.
     pub tyre_warnings: Vec<String>,
@@ -395,8 +403,14 @@ impl VehicleFile {
             }
             None => Lateral::default(),
         };
+        let powertrain = match &self.powertrain {
+            Some(p) => Some(p.build(&c)?),
+            None => None,
+        };
         Ok(Vehicle {
             lateral,
+            powertrain,
+            tyre_ranges: crate::sim::range_check::TyreRanges::of_tyre_file(&tyre_path),
             name: self.name.clone(),
             mass_kg: self.mass_kg,
             yaw_inertia_kgm2: self.yaw_inertia_kgm2,
@@ -506,5 +520,210 @@ impl RollSection {
             roll_axis_height_m: h_ra,
             h_prime_m: h_prime,
         })
+    }
+}
+
+/// Raw `[powertrain]` section of a vehicle file (docs/powertrain.md). Engine speeds in rpm,
+/// torques in N m at the engine or motor shaft, power in kW.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PowertrainSection {
+    /// `engine` (a full-load torque curve) or `motor` (constant torque, then constant power).
+    pub kind: String,
+    /// Engine: full-load curve `[[speed_rpm, torque_nm], ...]`, speeds strictly increasing
+    /// (at least two points, torques >= 0); the last speed is the rev limit.
+    #[serde(default)]
+    pub torque_curve: Option<Vec<[f64; 2]>>,
+    /// Power cap, kW (engine: optional; motor: required).
+    #[serde(default)]
+    pub power_max_kw: Option<f64>,
+    /// Motor: torque up to the base speed, N m.
+    #[serde(default)]
+    pub torque_max_nm: Option<f64>,
+    /// Motor: top speed, rpm.
+    #[serde(default)]
+    pub speed_max_rpm: Option<f64>,
+    /// Gearbox ratios, first gear first, each > 0 (a single-speed motor: one ratio).
+    pub gear_ratios: Vec<f64>,
+    /// Final-drive ratio, > 0.
+    pub final_drive_ratio: f64,
+    /// Driveline efficiency, (0, 1] (default 1).
+    #[serde(default = "one")]
+    pub efficiency: f64,
+    /// Engine-side rotating inertia (engine, flywheel, gearbox input), kg m^2, >= 0 (default 0).
+    #[serde(default)]
+    pub engine_inertia_kgm2: f64,
+    /// Fixed gear, 1 = first; omitted: the automatic schedule (the gear with the most wheel torque).
+    #[serde(default)]
+    pub fixed_gear: Option<f64>,
+    /// `open` (default), `locked` or `limited_slip`.
+    #[serde(default)]
+    pub differential: Option<String>,
+    /// Limited slip: torque bias ratio, >= 1 (required with `limited_slip`, refused otherwise).
+    #[serde(default)]
+    pub torque_bias_ratio: Option<f64>,
+}
+
+/// The allowed ranges of the `[powertrain]` keys.
+pub mod powertrain_bounds {
+    use crate::error::Bound;
+
+    pub const SPEED_RPM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 30_000.0, "rpm");
+    pub const TORQUE_NM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 5_000.0, "N m");
+    pub const POWER_MAX_KW: Bound = Bound::left_open("powertrain.power_max_kw", 0.0, 2_000.0, "kW");
+    pub const TORQUE_MAX_NM: Bound = Bound::left_open("powertrain.torque_max_nm", 0.0, 5_000.0, "N m");
+    pub const SPEED_MAX_RPM: Bound = Bound::left_open("powertrain.speed_max_rpm", 0.0, 30_000.0, "rpm");
+    pub const GEAR_RATIO: Bound = Bound::left_open("powertrain.gear_ratios", 0.0, 20.0, "");
+    pub const FINAL_DRIVE: Bound = Bound::left_open("powertrain.final_drive_ratio", 0.0, 20.0, "");
+    pub const EFFICIENCY: Bound = Bound::left_open("powertrain.efficiency", 0.0, 1.0, "");
+    pub const ENGINE_INERTIA: Bound = Bound::closed("powertrain.engine_inertia_kgm2", 0.0, 10.0, "kg m^2");
+    pub const TORQUE_BIAS_RATIO: Bound = Bound::closed("powertrain.torque_bias_ratio", 1.0, 20.0, "");
+}
+
+impl PowertrainSection {
+    /// Validate into a [`crate::vehicle::powertrain::Powertrain`]; bad input names the key.
+    pub fn build(&self, c: &Checker) -> Result<crate::vehicle::powertrain::Powertrain> {
+        use crate::error::Error;
+        use crate::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
+        use powertrain_bounds as b;
+        let rpm = std::f64::consts::PI / 30.0;
+        let refuse = |key: &str, what: &str| {
+            Err(Error::key(c.file, &format!("powertrain.{key}"), format!("not used with kind = \"{what}\"; remove it")))
+        };
+        let source = match self.kind.as_str() {
+            "engine" => {
+                for (k, set) in
+                    [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())]
+                {
+                    if set {
+                        return refuse(k, "engine");
+                    }
+                }
+                let curve = self.torque_curve.as_ref().ok_or_else(|| {
+                    Error::key(
+                        c.file,
+                        "powertrain.torque_curve",
+                        "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]",
+                    )
+                })?;
+                if curve.len() < 2 {
+                    return Err(Error::key(
+                        c.file,
+                        "powertrain.torque_curve",
+                        "expected at least two [speed_rpm, torque_nm] points",
+                    ));
+                }
+                let mut prev = f64::NEG_INFINITY;
+                for (n, [w, t]) in curve.iter().enumerate() {
+                    let key = format!("powertrain.torque_curve[{n}]");
+                    c.require(
+                        &key,
+                        *w,
+                        b::SPEED_RPM.contains(*w) && *w > prev,
+                        "expected engine speeds in [0, 30000] rpm, strictly increasing",
+                    )?;
+                    c.require(&key, *t, b::TORQUE_NM.contains(*t), "expected a torque in [0, 5000] N m")?;
+                    prev = *w;
+                }
+                c.require(
+                    "powertrain.torque_curve",
+                    curve.iter().map(|p| p[1]).fold(0.0, f64::max),
+                    curve.iter().any(|p| p[1] > 0.0),
+                    "expected some torque > 0 on the curve",
+                )?;
+                let power_max_w = match self.power_max_kw {
+                    Some(p) => 1e3 * c.bound(&b::POWER_MAX_KW, p)?,
+                    None => f64::INFINITY,
+                };
+                TorqueSource::Engine { curve: curve.iter().map(|p| (p[0] * rpm, p[1])).collect(), power_max_w }
+            }
+            "motor" => {
+                if self.torque_curve.is_some() {
+                    return refuse("torque_curve", "motor");
+                }
+                let need = |k: &str, v: Option<f64>, bound: &crate::error::Bound| -> Result<f64> {
+                    let v = v.ok_or_else(|| {
+                        Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\"")
+                    })?;
+                    c.bound(bound, v)
+                };
+                TorqueSource::Motor {
+                    torque_max_nm: need("torque_max_nm", self.torque_max_nm, &b::TORQUE_MAX_NM)?,
+                    power_max_w: 1e3 * need("power_max_kw", self.power_max_kw, &b::POWER_MAX_KW)?,
+                    speed_max_radps: rpm * need("speed_max_rpm", self.speed_max_rpm, &b::SPEED_MAX_RPM)?,
+                }
+            }
+            other => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.kind",
+                    format!("unknown powertrain kind '{other}'; allowed: engine, motor"),
+                ))
+            }
+        };
+        if self.gear_ratios.is_empty() || self.gear_ratios.len() > 12 {
+            return Err(Error::key(c.file, "powertrain.gear_ratios", "expected 1 to 12 ratios, first gear first"));
+        }
+        for (n, g) in self.gear_ratios.iter().enumerate() {
+            c.require(
+                &format!("powertrain.gear_ratios[{n}]"),
+                *g,
+                b::GEAR_RATIO.contains(*g),
+                "expected 0 < ratio <= 20",
+            )?;
+        }
+        c.bound(&b::FINAL_DRIVE, self.final_drive_ratio)?;
+        c.bound(&b::EFFICIENCY, self.efficiency)?;
+        c.bound(&b::ENGINE_INERTIA, self.engine_inertia_kgm2)?;
+        let gear = match self.fixed_gear {
+            None => GearMode::Auto,
+            Some(g) => {
+                let n = self.gear_ratios.len();
+                c.require(
+                    "powertrain.fixed_gear",
+                    g,
+                    g.fract() == 0.0 && g >= 1.0 && g <= n as f64,
+                    &format!("expected a whole gear number from 1 to {n} (the number of gear_ratios)"),
+                )?;
+                GearMode::Fixed(g as usize - 1)
+            }
+        };
+        let differential = match (self.differential.as_deref().unwrap_or("open"), self.torque_bias_ratio) {
+            ("open", None) => Differential::Open,
+            ("locked", None) => Differential::Locked,
+            ("limited_slip", Some(t)) => {
+                Differential::LimitedSlip { torque_bias_ratio: c.bound(&b::TORQUE_BIAS_RATIO, t)? }
+            }
+            ("limited_slip", None) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.torque_bias_ratio",
+                    "required with differential = \"limited_slip\" (a number in [1, 20])",
+                ))
+            }
+            ("open" | "locked", Some(_)) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.torque_bias_ratio",
+                    "only used with differential = \"limited_slip\"; remove it",
+                ))
+            }
+            (other, _) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.differential",
+                    format!("unknown differential '{other}'; allowed: open, locked, limited_slip"),
+                ))
+            }
+        };
+        Ok(Powertrain::new(
+            source,
+            self.gear_ratios.clone(),
+            self.final_drive_ratio,
+            self.efficiency,
+            self.engine_inertia_kgm2,
+            gear,
+            differential,
+        ))
     }
 }

@@ -204,9 +204,14 @@ impl Bicycle {
         let front_share = v.drive_front_share();
         let drive = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
         let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
-        let brake = [brake_cmd * v.brake_front_share, brake_cmd * (1.0 - v.brake_front_share)];
+        // ABS caps each axle's brake torque (infinite without ABS: the value is left as it is)
+        let brake = [
+            (brake_cmd * v.brake_front_share).min(u.brake_cap_nm[0]),
+            (brake_cmd * (1.0 - v.brake_front_share)).min(u.brake_cap_nm[1]),
+        ];
         let mut f = [TyreForces::default(); 2];
         let mut torque = [0.0; 2];
+        let mut load = [0.0; 2];
         for i in 0..2 {
             let input = self.tyre_input(x, u, env, i, alpha[i], vxw[i]);
             let dfz = self.load_transfer(x, i);
@@ -226,6 +231,26 @@ impl Bicycle {
             };
             let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
+            load[i] = resist + radius * f[i].fx_n;
+        }
+        if let Some(pt) = &v.powertrain {
+            // The driveline (src/vehicle/powertrain.rs): the request, capped by traction control
+            // and by the full-load torque at the carrier speed, drives the axles through the
+            // reflected engine inertia. The torque balance is expressed as the equivalent axle
+            // torque I d(omega)/dt.
+            let shares = [front_share, 1.0 - front_share];
+            let omega_c = shares[0] * omega[0] + shares[1] * omega[1];
+            let (full, j_r) = pt.at_carrier_speed(omega_c);
+            let t_w = u.drive_torque_nm.min(u.drive_cap_nm).min(full);
+            let i_axle = [self.axle_inertia; 2];
+            let acc = super::powertrain::axle_accelerations(t_w, shares, i_axle, load, j_r);
+            torque = [acc[0] * self.axle_inertia, acc[1] * self.axle_inertia];
+        } else if u.drive_cap_nm < u.drive_torque_nm {
+            // traction control without a powertrain model: the cap on the request
+            let t = u.drive_cap_nm.max(0.0);
+            for i in 0..2 {
+                torque[i] += t * shares_of(front_share)[i] - drive[i];
+            }
         }
         Axles { vxw, alpha, f, torque, cos_d, sin_d }
     }
@@ -447,6 +472,35 @@ impl VehicleModel<N> for Bicycle {
         let t = &self.vehicle.tyre;
         (&[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)], t.rolling_radius_m / t.relaxation_length_x_m)
     }
+
+    /// Per axle (front, rear): omega R_e, the wheel-centre forward speed in wheel axes, whether
+    /// it is driven and its largest brake torque.
+    fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
+        let v = &self.vehicle;
+        let radius = v.tyre.rolling_radius_m;
+        let share = v.drive_front_share();
+        let bmax = v.brake_torque_max_nm;
+        for (axle, o) in out.iter_mut().take(2).enumerate() {
+            let steer = if axle == 0 { steer_rad } else { 0.0 };
+            let (vy_w, om) = if axle == 0 {
+                (x[ix::VY] + v.a_m * x[ix::R], x[ix::OMEGA_F])
+            } else {
+                (x[ix::VY] - v.b_m * x[ix::R], x[ix::OMEGA_R])
+            };
+            *o = super::WheelSensor {
+                omega_r_mps: om * radius,
+                v_mps: to_wheel_axes(x[ix::VX], vy_w, steer).0,
+                driven: if axle == 0 { share > 0.0 } else { share < 1.0 },
+                brake_max_nm: bmax * if axle == 0 { v.brake_front_share } else { 1.0 - v.brake_front_share },
+            };
+        }
+        2
+    }
+}
+
+/// The drive shares (front, rear) of a front share.
+fn shares_of(front_share: f64) -> [f64; 2] {
+    [front_share, 1.0 - front_share]
 }
 
 /// Kinematic slip ratio of an axle for a state (diagnostics and tests).

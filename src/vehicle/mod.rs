@@ -8,6 +8,7 @@
 pub mod bicycle;
 pub mod condition;
 pub mod lateral;
+pub mod powertrain;
 pub mod roll4dof;
 pub mod single_track;
 pub mod wheel;
@@ -22,7 +23,7 @@ pub use roll4dof::Roll4Dof;
 
 /// Inputs at one instant of a step (the controllers' ramps, and an open-loop steer, evaluated at
 /// the integration stage's time).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inputs {
     /// Time at which these inputs hold, s: the integration stage's time. Models whose inputs
     /// include prescribed channels (the discovery replay's measured speed) read them by it; the
@@ -36,6 +37,41 @@ pub struct Inputs {
     pub brake_torque_nm: f64,
     /// Contact-patch temperature per tyre, degC (bicycle: [front, rear, -, -]; four wheels: FL, FR, RL, RR).
     pub contact_temp_c: [f64; 4],
+    /// Traction control's cap on the total drive torque at the wheels, N m (>= 0; infinite: no
+    /// intervention, [`crate::control::tcs`]).
+    pub drive_cap_nm: f64,
+    /// ABS's cap on each wheel's brake torque, N m (bicycle: per axle [front, rear, -, -]; four
+    /// wheels: FL, FR, RL, RR; infinite: no intervention, [`crate::control::abs`]).
+    pub brake_cap_nm: [f64; 4],
+}
+
+impl Default for Inputs {
+    /// Everything zero, no traction-control or ABS cap.
+    fn default() -> Self {
+        Inputs {
+            t_s: 0.0,
+            steer_rad: 0.0,
+            drive_torque_nm: 0.0,
+            brake_torque_nm: 0.0,
+            contact_temp_c: [0.0; 4],
+            drive_cap_nm: f64::INFINITY,
+            brake_cap_nm: [f64::INFINITY; 4],
+        }
+    }
+}
+
+/// What the wheel-speed sensors and the brake layout tell the slip controllers about one wheel
+/// ([`VehicleModel::wheel_sensors`]; the bicycle's "wheel" is an axle).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelSensor {
+    /// Wheel spin speed times the rolling radius, m/s.
+    pub omega_r_mps: f64,
+    /// Forward speed of the wheel centre in wheel axes, m/s (the ideal reference speed).
+    pub v_mps: f64,
+    /// Whether the powertrain drives this wheel.
+    pub driven: bool,
+    /// Largest brake torque of this wheel (full pedal), N m.
+    pub brake_max_nm: f64,
 }
 
 /// The surface the vehicle drives on.
@@ -208,6 +244,13 @@ pub trait VehicleModel<const N: usize>: Sync {
         _env: &Environment,
         _out: &mut Vec<(crate::maneuver::EventKind, String)>,
     ) {
+    }
+
+    /// The wheel-speed sensors of the slip controllers (ABS, traction control) at state `x` with
+    /// road-wheel angle `steer_rad`, into `out`; returns how many wheels (2 for the bicycle's
+    /// axles, 4 for four wheels). Default: none (no slip control possible).
+    fn wheel_sensors(&self, _x: &SVector<f64, N>, _steer_rad: f64, _out: &mut [WheelSensor; 4]) -> usize {
+        0
     }
 
     /// The stiff wheel-spin / transient-slip pairs, (omega index, relaxed-slip index) per wheel or

@@ -121,6 +121,9 @@ pub struct Roll4Dof {
     roll_shift: f64,
     /// Regularisation speed of each axle's wheel resisting torque ([`resisting_omega1`]), rad/s.
     resist_omega1: [f64; 2],
+    /// Regularisation speed of each axle's limited-slip differential, rad/s
+    /// ([`super::powertrain::Powertrain::lsd_omega_eps`]; 1 when unused).
+    lsd_omega_eps: [f64; 2],
     /// Tyre coefficients prepared per wheel (FL, FR, RL, RR) for its static load on a surface
     /// ([`Roll4Dof::prepared_for`]); `None` until prepared.
     prepared: [Option<Prepared>; 4],
@@ -199,6 +202,12 @@ impl Roll4Dof {
             let resist_max = brake_max[axle] + vehicle.rolling_resistance * 0.5 * [ff, fr][axle] * radius;
             resisting_omega1(resist_max.max(0.5), vehicle.wheel_inertia_kgm2)
         });
+        let lsd_omega_eps = [0, 1].map(|a| {
+            vehicle.powertrain.as_ref().map_or(1.0, |pt| {
+                let share = if a == 0 { vehicle.drive_front_share() } else { 1.0 - vehicle.drive_front_share() };
+                pt.lsd_omega_eps(share * pt.wheel_torque_max_nm(), vehicle.wheel_inertia_kgm2)
+            })
+        });
         Self {
             long_gain: m * vehicle.cg_height_m / l,
             vehicle,
@@ -213,6 +222,7 @@ impl Roll4Dof {
             roll_gravity: m_s * GRAVITY * hp,
             roll_ms_hp: m_s * hp,
             roll_shift: m_s * hp / m,
+            lsd_omega_eps,
             prepared: [None; 4],
         }
     }
@@ -291,6 +301,7 @@ impl Roll4Dof {
         let drive_axle = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
         let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
         let brake_axle = [brake_cmd * v.brake_front_share, brake_cmd * (1.0 - v.brake_front_share)];
+        let mut load = [0.0; 4];
         let mut w =
             Wheels { fz, vxw: [0.0; 4], alpha: [0.0; 4], f: [TyreForces::default(); 4], steer_sc, torque: [0.0; 4] };
         for i in 0..4 {
@@ -308,11 +319,62 @@ impl Roll4Dof {
                 None => tyre.forces(&input),
             };
             let roll_res = v.rolling_resistance * fz[i] * radius;
-            let resist =
-                resisting_torque_at(0.5 * brake_axle[axle] + roll_res, self.resist_omega1[axle], x[ix::OMEGA + i]);
+            // ABS caps each wheel's brake torque (infinite without ABS: the value is left as it is)
+            let brake = (0.5 * brake_axle[axle]).min(u.brake_cap_nm[i]);
+            let resist = resisting_torque_at(brake + roll_res, self.resist_omega1[axle], x[ix::OMEGA + i]);
             w.torque[i] = 0.5 * drive_axle[axle] - resist - radius * w.f[i].fx_n;
+            load[i] = resist + radius * w.f[i].fx_n;
+        }
+        if let Some(pt) = &v.powertrain {
+            self.driveline(pt, x, u, front_share, &load, &mut w.torque);
+        } else if u.drive_cap_nm < u.drive_torque_nm {
+            // traction control without a powertrain model: the cap on the request
+            let t = u.drive_cap_nm.max(0.0);
+            for i in 0..4 {
+                let share = if i < 2 { front_share } else { 1.0 - front_share };
+                w.torque[i] += 0.5 * share * (t - u.drive_torque_nm);
+            }
         }
         w
+    }
+
+    /// The wheels' torque balances (as I_w d(omega)/dt) through the powertrain `pt`: the request
+    /// capped by traction control and the full-load torque at the carrier speed, the reflected
+    /// engine inertia and the axles' differentials (src/vehicle/powertrain.rs), from the wheels'
+    /// load torques `load` (N m: brake, rolling resistance and R_e F_x).
+    fn driveline(
+        &self,
+        pt: &super::powertrain::Powertrain,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        front_share: f64,
+        load: &[f64; 4],
+        torque: &mut [f64; 4],
+    ) {
+        use super::powertrain::{axle_accelerations, wheel_accelerations};
+        let iw = self.vehicle.wheel_inertia_kgm2;
+        let om = |i: usize| x[ix::OMEGA + i];
+        let shares = [front_share, 1.0 - front_share];
+        let mean = [0.5 * (om(0) + om(1)), 0.5 * (om(2) + om(3))];
+        let omega_c = shares[0] * mean[0] + shares[1] * mean[1];
+        let (full, j_r) = pt.at_carrier_speed(omega_c);
+        let t_w = u.drive_torque_nm.min(u.drive_cap_nm).min(full);
+        let axle_load = [load[0] + load[1], load[2] + load[3]];
+        let acc = axle_accelerations(t_w, shares, [2.0 * iw; 2], axle_load, j_r);
+        for a in 0..2 {
+            let (l, r) = wheel_accelerations(
+                acc[a],
+                pt.differential,
+                shares[a] > 0.0,
+                (load[2 * a], load[2 * a + 1]),
+                (om(2 * a), om(2 * a + 1)),
+                iw,
+                shares[a] * t_w,
+                self.lsd_omega_eps[a],
+            );
+            torque[2 * a] = l * iw;
+            torque[2 * a + 1] = r * iw;
+        }
     }
 
     /// Body-frame force (x, y) and yaw moment about O of the tyres, plus drag.
@@ -553,6 +615,27 @@ impl VehicleModel<N> for Roll4Dof {
         ];
         let t = &self.vehicle.tyre;
         (&PAIRS, t.rolling_radius_m / t.relaxation_length_x_m)
+    }
+    /// Per wheel (FL, FR, RL, RR): omega R_e, the wheel-centre forward speed in wheel axes,
+    /// whether it is driven and its largest brake torque.
+    fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
+        let v = &self.vehicle;
+        let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+        let (dl, dr) = front_steer_angles(steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
+        let share = v.drive_front_share();
+        let bmax = v.brake_torque_max_nm;
+        for (i, o) in out.iter_mut().enumerate() {
+            let (px, py) = self.pos[i];
+            let steer = [dl, dr, 0.0, 0.0][i];
+            let front = i < 2;
+            *o = super::WheelSensor {
+                omega_r_mps: x[ix::OMEGA + i] * v.tyre.rolling_radius_m,
+                v_mps: to_wheel_axes(vx - r * py, vy + r * px, steer).0,
+                driven: if front { share > 0.0 } else { share < 1.0 },
+                brake_max_nm: 0.5 * bmax * if front { v.brake_front_share } else { 1.0 - v.brake_front_share },
+            };
+        }
+        4
     }
 }
 
