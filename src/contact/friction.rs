@@ -127,8 +127,14 @@ impl IceFriction {
     /// The temperature factor exp(-c_T (clamp(T) - T_ref)) relative to the reference, with T the
     /// interface temperature, degC (a non-finite T counts as T_ref).
     pub fn temp_factor(&self, t_c: f64) -> f64 {
+        self.ln_temp_factor(t_c).exp()
+    }
+
+    /// ln of [`Self::temp_factor`]: -c_T (clamp(T) - clamp(T_ref)).
+    #[inline]
+    pub fn ln_temp_factor(&self, t_c: f64) -> f64 {
         let t = if t_c.is_finite() { t_c.clamp(COLD_PLATEAU_C, 0.0) } else { self.t_ref_c };
-        (-self.temp_coeff_per_k * (t - self.t_ref_c.clamp(COLD_PLATEAU_C, 0.0))).exp()
+        -self.temp_coeff_per_k * (t - self.t_ref_c.clamp(COLD_PLATEAU_C, 0.0))
     }
 
     /// The pressure factor relative to the reference.

@@ -31,15 +31,42 @@
 //! makes the curve fall faster beyond its peak and moves the peak to a slightly smaller slip.
 //!
 //! Cost per evaluation: the sliding speed (one tangent and one square root), the speed factor (a
-//! table-based logarithm and one exponential: smooth in v, which keeps the integrators' order) and
-//! the temperature factor (one exponential, kept for the ice temperature of the run it was built
-//! for, so a `pacejka` tyre pays it once per run).
+//! table-based logarithm and an exponential by a short polynomial: smooth in v, which keeps the
+//! integrators' order) and the temperature factor (the same exponential, kept for the ice
+//! temperature of the run it was built for, so a `pacejka` tyre pays it once per run).
 
 use super::atiim::AtiimPacejkaTyre;
 use super::pacejka::{PacejkaTyre, Scale};
 use super::{Prepared, TyreForces, TyreInput, TyreModel};
 use crate::contact::estimator::fast_ln;
 use crate::contact::friction::IceFriction;
+
+/// e^a for the factors' exponents, which stay within a few units of 0: e^a = (p(a / 16))^16 with p
+/// the Taylor polynomial of degree 9 (|a / 16| <= 0.25: truncation below 3e-13, 4e-12 relative
+/// after the four squarings), a polynomial and so smooth in a, and about a quarter of the
+/// library's cost; |a| > 4 (or not finite) falls back to `f64::exp`.
+#[inline]
+fn exp_near_zero(a: f64) -> f64 {
+    if !(a.abs() <= 4.0) {
+        return a.exp();
+    }
+    let x = a * (1.0 / 16.0);
+    // Horner form of sum x^k / k!, k = 0..9
+    let mut p = 1.0 / 362_880.0;
+    p = p * x + 1.0 / 40_320.0;
+    p = p * x + 1.0 / 5_040.0;
+    p = p * x + 1.0 / 720.0;
+    p = p * x + 1.0 / 120.0;
+    p = p * x + 1.0 / 24.0;
+    p = p * x + 1.0 / 6.0;
+    p = p * x + 0.5;
+    p = p * x + 1.0;
+    p = p * x + 1.0;
+    let p2 = p * p;
+    let p4 = p2 * p2;
+    let p8 = p4 * p4;
+    p8 * p8
+}
 
 /// Default reference ice temperature of a surface's `mu`, degC: vehsim's default ice temperature,
 /// at which the shipped ice examples state their mu 0.15.
@@ -55,8 +82,8 @@ pub struct SurfaceFriction {
     pub law: IceFriction,
     /// Ice temperature of the run the cache below holds, degC.
     cached_t_c: f64,
-    /// law.temp_factor(cached_t_c).
-    cached_phi_t: f64,
+    /// ln of law.temp_factor(cached_t_c).
+    cached_ln_phi_t: f64,
     /// n_v ln(1 + v_ref / v_c): the speed factor's logarithm at the reference, negated.
     ln_ref: f64,
     /// 1 / v_c, s/m.
@@ -79,7 +106,7 @@ impl SurfaceFriction {
         SurfaceFriction {
             law,
             cached_t_c: ice_c,
-            cached_phi_t: law.temp_factor(ice_c),
+            cached_ln_phi_t: law.ln_temp_factor(ice_c),
             ln_ref: law.speed_exponent * (law.v_ref_mps * inv_vc).ln_1p(),
             inv_vc,
         }
@@ -88,11 +115,17 @@ impl SurfaceFriction {
     /// Temperature factor Phi_T(T) / Phi_T(T_ref).
     #[inline]
     pub fn temp_ratio(&self, t_c: f64) -> f64 {
+        self.ln_temp_ratio(t_c).exp()
+    }
+
+    /// ln of [`Self::temp_ratio`]: -c_T (clamp(T) - clamp(T_ref)) (no exponential; the cached
+    /// run's ice temperature is a lookup).
+    #[inline]
+    pub fn ln_temp_ratio(&self, t_c: f64) -> f64 {
         if t_c == self.cached_t_c {
-            self.cached_phi_t
-        } else {
-            self.law.temp_factor(t_c)
+            return self.cached_ln_phi_t;
         }
+        self.law.ln_temp_factor(t_c)
     }
 
     /// Speed factor Phi_v(v) / Phi_v(v_ref) = ((1 + v/v_c) / (1 + v_ref/v_c))^(-n_v), smooth in v
@@ -101,7 +134,7 @@ impl SurfaceFriction {
     #[inline]
     pub fn speed_ratio(&self, v_mps: f64) -> f64 {
         let v = if v_mps > 0.0 { v_mps.min(1e6) } else { 0.0 };
-        (self.ln_ref - self.law.speed_exponent * fast_ln(1.0 + v * self.inv_vc)).exp()
+        exp_near_zero(self.ln_ref - self.law.speed_exponent * fast_ln(1.0 + v * self.inv_vc))
     }
 
     /// The sliding speed of a tyre input, m/s: |V_x| sqrt(kappa^2 + tan^2 alpha).
@@ -116,14 +149,54 @@ impl SurfaceFriction {
         }
     }
 
-    /// The Magic Formula modifier at input `i` with interface temperature `t_c`, for a tyre whose
-    /// slip stiffness follows friction with exponent `k_exp`.
+    /// The Magic Formula modifier at input `i`, given the temperature part as the pair
+    /// (Phi_T ratio, Phi_T ratio ^ k_exp) (see [`TempFactors`]).
     #[inline]
-    pub fn scale(&self, i: &TyreInput, t_c: f64, k_exp: f64) -> Scale {
-        let phi_t = self.temp_ratio(t_c);
-        let mu = phi_t * self.speed_ratio(Self::sliding_speed(i));
-        let k = if k_exp == 0.0 { 1.0 } else { phi_t.powf(k_exp) };
-        Scale { mu_x: mu, k_x: k, mu_y: mu, k_y: k }
+    pub fn scale(&self, i: &TyreInput, phi_t: (f64, f64)) -> Scale {
+        let mu = phi_t.0 * self.speed_ratio(Self::sliding_speed(i));
+        Scale { mu_x: mu, k_x: phi_t.1, mu_y: mu, k_y: phi_t.1 }
+    }
+}
+
+/// The temperature factor of one tyre, Phi_T ratio and its power k_exp (the tyre's
+/// `stiffness_mu_exponent`), with the run's ice temperature precomputed: a `pacejka` tyre (law at
+/// the ice temperature) pays no transcendental function for it per evaluation, an `atiim_pacejka`
+/// tyre (law at the contact temperature) one exponential (two where k_exp is neither 0 nor 0.5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TempFactors {
+    k_exp: f64,
+    cached_t_c: f64,
+    cached: (f64, f64),
+}
+
+impl TempFactors {
+    fn new(surface: &SurfaceFriction, k_exp: f64) -> Self {
+        let mut f = TempFactors { k_exp, cached_t_c: f64::NAN, cached: (1.0, 1.0) };
+        f.cached = f.compute(surface.ln_temp_ratio(surface.cached_t_c));
+        f.cached_t_c = surface.cached_t_c;
+        f
+    }
+
+    #[inline]
+    fn compute(&self, ln_phi: f64) -> (f64, f64) {
+        let phi = exp_near_zero(ln_phi);
+        let phi_k = if self.k_exp == 0.0 {
+            1.0
+        } else if self.k_exp == 0.5 {
+            phi.sqrt()
+        } else {
+            exp_near_zero(self.k_exp * ln_phi)
+        };
+        (phi, phi_k)
+    }
+
+    #[inline]
+    fn at(&self, surface: &SurfaceFriction, t_c: f64) -> (f64, f64) {
+        if t_c == self.cached_t_c {
+            self.cached
+        } else {
+            self.compute(surface.ln_temp_ratio(t_c))
+        }
     }
 }
 
@@ -148,17 +221,20 @@ enum Base {
 pub struct IceSurfaceTyre {
     base: Base,
     surface: SurfaceFriction,
+    temp: TempFactors,
 }
 
 impl IceSurfaceTyre {
     /// Plain Magic Formula `tyre` on `surface`.
     pub fn pacejka(tyre: PacejkaTyre, surface: SurfaceFriction) -> Self {
-        IceSurfaceTyre { base: Base::Pacejka(tyre), surface }
+        let temp = TempFactors::new(&surface, tyre.stiffness_mu_exponent);
+        IceSurfaceTyre { base: Base::Pacejka(tyre), surface, temp }
     }
 
     /// ATIIM-Pacejka `tyre` on `surface`.
     pub fn atiim(tyre: AtiimPacejkaTyre, surface: SurfaceFriction) -> Self {
-        IceSurfaceTyre { base: Base::Atiim(tyre), surface }
+        let temp = TempFactors::new(&surface, tyre.base.stiffness_mu_exponent);
+        IceSurfaceTyre { base: Base::Atiim(tyre), surface, temp }
     }
 
     fn mf(&self) -> &PacejkaTyre {
@@ -172,11 +248,10 @@ impl IceSurfaceTyre {
     #[inline]
     fn scale(&self, i: &TyreInput) -> Scale {
         match &self.base {
-            Base::Pacejka(p) => self.surface.scale(i, i.surface_temp_c, p.stiffness_mu_exponent),
-            Base::Atiim(a) => times(
-                &self.surface.scale(i, i.contact_temp_c, a.base.stiffness_mu_exponent),
-                &a.law.scale_for(i),
-            ),
+            Base::Pacejka(_) => self.surface.scale(i, self.temp.at(&self.surface, i.surface_temp_c)),
+            Base::Atiim(a) => {
+                times(&self.surface.scale(i, self.temp.at(&self.surface, i.contact_temp_c)), &a.law.scale_for(i))
+            }
         }
     }
 }
@@ -259,6 +334,18 @@ mod tests {
         // bad inputs stay finite
         assert!(s.speed_ratio(f64::NAN).is_finite() && s.speed_ratio(-1.0).is_finite());
         assert!(s.speed_ratio(1e300).is_finite() && s.temp_ratio(f64::NAN).is_finite());
+    }
+
+    #[test]
+    fn exp_near_zero_matches_exp() {
+        let mut a = -6.0;
+        while a <= 6.0 {
+            let (got, want) = (exp_near_zero(a), a.exp());
+            assert!((got / want - 1.0).abs() < 1e-11, "{a}: {got} {want}");
+            a += 0.001;
+        }
+        assert_eq!(exp_near_zero(0.0), 1.0);
+        assert!(exp_near_zero(f64::NAN).is_nan() && exp_near_zero(-1e9) == 0.0);
     }
 
     #[test]
