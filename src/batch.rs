@@ -698,7 +698,10 @@ fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 fn read_shard(d: &Path) -> Result<ShardPart> {
     let meta_path = d.join("shard.json");
     if !std::fs::metadata(d).is_ok_and(|m| m.is_dir()) {
-        return Err(Error::input(d, "not a shard folder: no such folder (shards are written by `vehsim run --shard K/N`)"));
+        return Err(Error::input(
+            d,
+            "not a shard folder: no such folder (shards are written by `vehsim run --shard K/N`)",
+        ));
     }
     if !meta_path.exists() {
         return Err(Error::input(
@@ -871,7 +874,8 @@ pub fn merge(shards: &[PathBuf], remove_shards: bool) -> Result<PathBuf> {
         if *batch.get_or_insert((name.clone(), n, runs)) != (name, n, runs) {
             return Err(Error::input(&meta_path, "shards of different batches cannot be merged"));
         }
-        let (first_dir, first_digest, first_version) = identity.get_or_insert((d.clone(), part.digest.clone(), part.version.clone()));
+        let (first_dir, first_digest, first_version) =
+            identity.get_or_insert((d.clone(), part.digest.clone(), part.version.clone()));
         if *first_digest != part.digest {
             let why = if *first_version != part.version {
                 format!("written by vehsim {} and {}", first_version, part.version)
@@ -1013,7 +1017,11 @@ pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::proces
                     let steps = (cfg.settings.duration_s / cfg.settings.step_s).ceil();
                     if steps > MAX_RUN_STEPS && !long_warned {
                         long_warned = true;
-                        let which = if b.is_sweep() { format!(" {} (the first such run)", run_folder(r.index)) } else { String::new() };
+                        let which = if b.is_sweep() {
+                            format!(" {} (the first such run)", run_folder(r.index))
+                        } else {
+                            String::new()
+                        };
                         eprintln!(
                             "warning: {}{which}: {} integration steps (step {} s): minutes of work; `vehsim run` \
                              refuses it without --force",

@@ -1,7 +1,7 @@
-//! The discovery on the real Stanford race lap (/work/shared/data/mbds-sideslip-stanford-race).
-//! There is no ground truth: the test checks that conversion and discovery run end to end and
-//! that an accepted effect lowers the held-out error. It SKIPS (passes with a printed message)
-//! when the data set is absent.
+//! The discovery on the real Stanford race lap: the first 90 s of the measured lap shipped in
+//! tests/data/stanford (README there: source, trim and licence). There is no ground truth: the
+//! test checks that conversion and discovery run end to end and that an accepted effect lowers the
+//! held-out error. It fails when the data are missing.
 
 mod common;
 
@@ -10,14 +10,14 @@ use std::path::Path;
 use vehsim::discover::model::ReplayModel;
 use vehsim::discover::{discover, load_vehicle, measured, stanford, tyre_kind, Dataset, Effect};
 
-const DATA: &str = "/work/shared/data/mbds-sideslip-stanford-race/20140222_01_01_03_250lm";
+const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/stanford/20140222_01_01_03_250lm");
 
 #[test]
 fn stanford_lap_converts_and_discovery_runs() {
-    if !Path::new(DATA).join("t.txt").exists() {
-        println!("SKIPPED: Stanford data set not found at {DATA}; nothing to test");
-        return;
-    }
+    assert!(
+        Path::new(DATA).join("t.txt").exists(),
+        "the Stanford excerpt is missing at {DATA}: it ships with the project"
+    );
     let dir = common::temp_dir("stanford");
     let files = stanford::convert(Path::new(DATA), &dir, 15.0, 6).unwrap();
     assert_eq!(files.len(), 6);

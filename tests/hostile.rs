@@ -26,11 +26,8 @@ fn dlc(tyre_model: &str) -> String {
 /// A scratch copy of the sedan with its tyre file and `.tir`, and the lane change with `tyre_model`.
 fn case(tag: &str, tyre_model: &str) -> Case {
     let c = Case::new(tag, "h.toml", &dlc(tyre_model));
-    std::fs::copy(
-        common::root().join("vehicles/tyres/srtt_p225_60r16.tir"),
-        c.dir.join("tyres/srtt_p225_60r16.tir"),
-    )
-    .unwrap();
+    std::fs::copy(common::root().join("vehicles/tyres/srtt_p225_60r16.tir"), c.dir.join("tyres/srtt_p225_60r16.tir"))
+        .unwrap();
     c
 }
 
@@ -77,8 +74,17 @@ fn extreme_coefficients_are_refused_within_two_seconds() {
     }
     for v in ["1e10", "1e12"] {
         let c = case("hostile_stiff", "linear");
-        c.edit("tyres/srtt_p225_60r16.toml", "cornering_stiffness_n_per_rad = 69000.0", &format!("cornering_stiffness_n_per_rad = {v}"));
-        refused(&c, &format!("[linear] stiffness {v}"), "srtt_p225_60r16.toml", &["linear.cornering_stiffness_n_per_rad", v]);
+        c.edit(
+            "tyres/srtt_p225_60r16.toml",
+            "cornering_stiffness_n_per_rad = 69000.0",
+            &format!("cornering_stiffness_n_per_rad = {v}"),
+        );
+        refused(
+            &c,
+            &format!("[linear] stiffness {v}"),
+            "srtt_p225_60r16.toml",
+            &["linear.cornering_stiffness_n_per_rad", v],
+        );
     }
     for (key, to, shown) in [
         ("wheel_inertia_kgm2", "1e-9", "1e-9"),
@@ -103,7 +109,12 @@ fn extreme_coefficients_are_refused_within_two_seconds() {
 fn a_mode_faster_than_any_car_is_refused_naming_the_vehicle() {
     let c = case("hostile_rate", "pacejka");
     c.edit("sedan.toml", "[roll]", "[lateral]\nsteer_lag_s = 1e-6\n\n[roll]");
-    refused(&c, "steer_lag_s = 1e-6", "sedan.toml", &["|lambda| = 1000000 1/s", "25000 1/s", "steer_lag_s", "h.toml key 'vehicle'"]);
+    refused(
+        &c,
+        "steer_lag_s = 1e-6",
+        "sedan.toml",
+        &["|lambda| = 1000000 1/s", "25000 1/s", "steer_lag_s", "h.toml key 'vehicle'"],
+    );
 }
 
 /// The most extreme vehicle the bounds still accept (stiffest tyre, lightest wheel) validates
@@ -111,7 +122,11 @@ fn a_mode_faster_than_any_car_is_refused_naming_the_vehicle() {
 #[test]
 fn the_most_extreme_accepted_vehicle_validates_quickly() {
     let c = case("hostile_edge", "linear");
-    c.edit("tyres/srtt_p225_60r16.toml", "cornering_stiffness_n_per_rad = 69000.0", "cornering_stiffness_n_per_rad = 5e6");
+    c.edit(
+        "tyres/srtt_p225_60r16.toml",
+        "cornering_stiffness_n_per_rad = 69000.0",
+        "cornering_stiffness_n_per_rad = 5e6",
+    );
     let text = std::fs::read_to_string(c.dir.join("tyres/srtt_p225_60r16.toml")).unwrap();
     let line = text.lines().find(|l| l.starts_with("longitudinal_stiffness_n =")).unwrap().to_string();
     c.edit("tyres/srtt_p225_60r16.toml", &line, "longitudinal_stiffness_n = 5e6");
@@ -196,7 +211,12 @@ fn a_fifo_as_spec_or_vehicle_is_refused_without_blocking() {
 fn a_table_given_as_an_array_is_refused_naming_the_key() {
     for (what, from, to, key) in [
         ("surface = [1.0, 2.0]", "[surface]\nmu = 0.15\n", "surface = [1.0, 2.0]\n", "surface"),
-        ("integrator = [\"rk4\", 0.01]", "name = \"h\"\n", "name = \"h\"\nintegrator = [\"rk4\", 0.01]\n", "integrator"),
+        (
+            "integrator = [\"rk4\", 0.01]",
+            "name = \"h\"\n",
+            "name = \"h\"\nintegrator = [\"rk4\", 0.01]\n",
+            "integrator",
+        ),
         ("surface = 0.15", "[surface]\nmu = 0.15\n", "surface = 0.15\n", "surface"),
     ] {
         let c = case("hostile_shape", "pacejka");
@@ -322,7 +342,8 @@ fn discover(tag: &str, text: &str, extra: &[&str]) -> (i32, String, f64) {
     let dir = common::temp_dir(tag);
     std::fs::write(dir.join("run1.csv"), text).unwrap();
     let vehicle = common::root().join("vehicles/sedan.toml").display().to_string();
-    let args: Vec<&str> = [&["discover", "--vehicle", vehicle.as_str(), "--out", "out"][..], extra, &["run1.csv"]].concat();
+    let args: Vec<&str> =
+        [&["discover", "--vehicle", vehicle.as_str(), "--out", "out"][..], extra, &["run1.csv"]].concat();
     let t0 = Instant::now();
     let (code, _, e) = vehsim(&dir, &args);
     let secs = t0.elapsed().as_secs_f64();

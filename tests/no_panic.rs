@@ -181,12 +181,9 @@ fn mutated_vehicle_and_tyre_files_never_panic() {
 #[test]
 fn mutated_tir_files_never_panic() {
     let root = common::root();
-    let mut seeds = vec![std::fs::read_to_string(root.join("vehicles/tyres/srtt_p225_60r16.tir")).unwrap()];
-    // The public PAC2002 file, when the shared folder is there.
-    match std::fs::read_to_string(root.join("../shared/data/tir/Sedan_Pac02Tire.tir")) {
-        Ok(t) => seeds.push(t),
-        Err(_) => eprintln!("SKIPPED the public PAC2002 seed: ../shared/data/tir is absent"),
-    }
+    // The shipped SRTT file and the public PAC2002 file (tests/data/tir/README.md).
+    let seeds = ["vehicles/tyres/srtt_p225_60r16.tir", "tests/data/tir/Sedan_Pac02Tire.tir"]
+        .map(|f| std::fs::read_to_string(root.join(f)).unwrap_or_else(|e| panic!("{f}: {e}")));
     let mut rng = Rng(0x5eed_0003);
     let p = Path::new("mutated.tir");
     for seed in &seeds {

@@ -10,7 +10,8 @@ use vehsim::tyre::{TyreInput, TyreModel};
 use vehsim::Error;
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");
-const SHARED_TIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/tir/Sedan_Pac02Tire.tir");
+/// The public PAC2002 file shipped with the tests (tests/data/tir/README.md: source and licence).
+const PUBLIC_TIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/tir/Sedan_Pac02Tire.tir");
 
 fn tmp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("vehsim-tyre-{tag}-{}", std::process::id()));
@@ -126,18 +127,15 @@ fn tir_without_combined_coefficients_is_a_warned_friction_square() {
     assert!(fc.fx_n < 0.9 * fp.fx_n, "the ellipse couples: {fc:?} vs pure {fp:?}");
 }
 
-/// Public PAC2002 file (Project Chrono's sedan tyre, ../shared/data/tir) against values computed
+/// Public PAC2002 file (Project Chrono's sedan tyre, tests/data/tir) against values computed
 /// independently by tests/data/pac2002_reference.py (pure-slip PAC2002 equations typed from the
 /// book; ISO file, so vehsim alpha = -alpha_file). mu_surface = mu_reference = 1. The file has no
 /// combined-slip coefficients: PAC2002 reads them as 0, so Gxa = Gyk = 1 and the combined rows are
 /// the pure-slip values of the same evaluator (with a warning naming the absent coefficients).
 #[test]
 fn public_pac2002_file_matches_independent_values() {
-    if !Path::new(SHARED_TIR).exists() {
-        println!("SKIPPED: {SHARED_TIR} is absent (a user's clone has no ../shared); nothing checked");
-        return;
-    }
-    let toml = format!("{HEADER}[pacejka]\ntir_file = \"{SHARED_TIR}\"\n");
+    assert!(Path::new(PUBLIC_TIR).exists(), "{PUBLIC_TIR} is missing: it ships with the project");
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"{PUBLIC_TIR}\"\n");
     let (m, warnings) = build_text("public", &toml, None, TyreModelKind::Pacejka).unwrap();
     assert!(
         warnings.iter().any(|w| w.contains("RBX1") && w.contains("RCY1") && w.contains("PAC2002")),
@@ -174,11 +172,8 @@ fn public_pac2002_file_matches_independent_values() {
 /// bounded by its declared peak friction, and free of jumps (step bound as in the property suite).
 #[test]
 fn public_pac2002_file_is_finite_bounded_and_continuous() {
-    if !Path::new(SHARED_TIR).exists() {
-        println!("SKIPPED: {SHARED_TIR} is absent (a user's clone has no ../shared); nothing checked");
-        return;
-    }
-    let toml = format!("{HEADER}[pacejka]\ntir_file = \"{SHARED_TIR}\"\naligning_moment = true\n");
+    assert!(Path::new(PUBLIC_TIR).exists(), "{PUBLIC_TIR} is missing: it ships with the project");
+    let toml = format!("{HEADER}[pacejka]\ntir_file = \"{PUBLIC_TIR}\"\naligning_moment = true\n");
     let (m, _) = build_text("publicbox", &toml, None, TyreModelKind::Pacejka).unwrap();
     let n = 2001;
     for mu in [0.15, 1.0] {

@@ -724,7 +724,14 @@ impl AtiimEstimator {
     /// One tyre's bulk temperature after `h` seconds (>= 0, finite) from `tb` under conditions
     /// `t` at the period's end and forcing `prev` (G, S) at its start (NaN: none, the end's is
     /// held), its contact temperature then, degC, and the forcing at `t` (no state change).
-    fn advance_tyre(&self, k: &BulkConstants, tb: f64, h: f64, t: &TyreContact, prev: [f64; 2]) -> (f64, f64, [f64; 2]) {
+    fn advance_tyre(
+        &self,
+        k: &BulkConstants,
+        tb: f64,
+        h: f64,
+        t: &TyreContact,
+        prev: [f64; 2],
+    ) -> (f64, f64, [f64; 2]) {
         let b = &self.bulk;
         let e_s = k.e_series;
         let t_ice = finite_or(t.surface_temp_c, MELT_C);

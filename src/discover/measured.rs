@@ -217,7 +217,8 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
     dts.sort_by(f64::total_cmp);
     let median_dt = dts[dts.len() / 2];
     if !(SAMPLE_INTERVAL_S.0..=SAMPLE_INTERVAL_S.1).contains(&median_dt) {
-        let hint = if median_dt > SAMPLE_INTERVAL_S.1 { "is t in milliseconds or microseconds?" } else { "is t in seconds?" };
+        let hint =
+            if median_dt > SAMPLE_INTERVAL_S.1 { "is t in milliseconds or microseconds?" } else { "is t in seconds?" };
         return Err(Error::input(
             path,
             format!(

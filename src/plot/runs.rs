@@ -789,7 +789,10 @@ pub fn plot_results(results: &Path, out: &Path) -> Result<Vec<PathBuf>> {
     }
     if written.is_empty() {
         // Nothing drawn: the staged folder is dropped and the old plots stay.
-        return Err(Error::input(results, "none of the standard charts could be drawn: the time series hold none of their columns"));
+        return Err(Error::input(
+            results,
+            "none of the standard charts could be drawn: the time series hold none of their columns",
+        ));
     }
     staged.commit()?;
     Ok(written)

@@ -12,7 +12,7 @@ import math
 
 
 def sedan():
-    # Numbers typed from ../shared/data/tir/Sedan_Pac02Tire.tir (public Project Chrono file).
+    # Numbers typed from tests/data/tir/Sedan_Pac02Tire.tir (public Project Chrono file; see its README).
     return dict(FNOMIN=4850, LFZO=0.81,
                 PCX1=1.6411, PDX1=1.1739, PDX2=-0.16395, PEX1=0.46403, PEX2=0.25022, PEX3=0.067842,
                 PEX4=-3.7604e-005, PKX1=22.303, PKX2=0.48896, PKX3=0.21253, PHX1=0.0012297,
