@@ -185,14 +185,20 @@ struct Owned<const N: usize, M: VehicleModel<N> + Send + 'static> {
 unsafe impl<const N: usize, M: VehicleModel<N> + Send + 'static> Send for Owned<N, M> {}
 
 impl<const N: usize, M: VehicleModel<N> + Send + 'static> Owned<N, M> {
-    fn new(parts: Parts<M>, env: Environment, settings: &super::SimSettings) -> Self {
+    fn new(
+        parts: Parts<M>,
+        env: Environment,
+        settings: &super::SimSettings,
+        slip: &super::slip_control::SlipControlParams,
+    ) -> Self {
         let raw = Box::into_raw(Box::new(parts));
         // SAFETY: `raw` comes from `Box::into_raw` (non-null, aligned, initialised) and is freed
         // only by `Drop`, after `sim` is dropped; see the type's docs.
         let p: &'static mut Parts<M> = unsafe { &mut *raw };
         let Parts { model, maneuver, contact, controls, observer } = p;
         let model: &'static M = model;
-        let sim = Simulation::new(model, env, maneuver.as_mut(), contact.as_mut(), controls, settings, observer);
+        let sim = Simulation::new(model, env, maneuver.as_mut(), contact.as_mut(), controls, settings, observer)
+            .with_slip_control(slip);
         // SAFETY: `raw` is non-null (from a Box).
         let parts = unsafe { NonNull::new_unchecked(raw) };
         Owned { sim: ManuallyDrop::new(sim), model, env, parts }
@@ -286,7 +292,7 @@ impl StepRun {
                     cfg.env.surface_temp_c,
                 )?;
                 let parts = Parts { model, maneuver, contact, controls: ctl, observer: NoOutput };
-                Box::new(Owned::<{ bicycle::N }, Bicycle>::new(parts, cfg.env, s))
+                Box::new(Owned::<{ bicycle::N }, Bicycle>::new(parts, cfg.env, s, &cfg.slip))
             }
             VehicleModelKind::Roll4Dof => {
                 let roll = cfg.vehicle.roll.clone().ok_or_else(|| {
@@ -299,7 +305,7 @@ impl StepRun {
                     cfg.env.surface_temp_c,
                 )?;
                 let parts = Parts { model, maneuver, contact, controls: ctl, observer: NoOutput };
-                Box::new(Owned::<{ roll4dof::N }, Roll4Dof>::new(parts, cfg.env, s))
+                Box::new(Owned::<{ roll4dof::N }, Roll4Dof>::new(parts, cfg.env, s, &cfg.slip))
             }
         };
         let max_steps = ((s.duration_s / s.step_s) - 1e-9).ceil().max(0.0) as u64;
@@ -418,7 +424,16 @@ mod tests {
 
     #[test]
     fn stepping_without_external_inputs_reproduces_execute_bit_for_bit() {
-        let cfg = dlc();
+        steps_reproduce_execute(&dlc());
+        // a run with ABS: the slip controllers step with it
+        let abs = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/traction/braking_50kmh_ice_abs.toml");
+        let cfg = crate::run::load(&abs).expect("the ABS stop loads");
+        assert!(!cfg.slip.is_off());
+        steps_reproduce_execute(&cfg);
+    }
+
+    fn steps_reproduce_execute(cfg: &RunConfig) {
+        let cfg = cfg.clone();
         let out = crate::run::execute(&cfg);
         let mut run = StepRun::new(&cfg).unwrap();
         let every = (cfg.settings.output_interval_s / cfg.settings.step_s).round() as u64;
