@@ -80,10 +80,9 @@ pub const REFERENCE_SLIDING_MPS: f64 = 1.0;
 pub struct SurfaceFriction {
     /// The law, with mu_ref = 1 and the surface's reference conditions.
     pub law: IceFriction,
-    /// Ice temperature of the run the cache below holds, degC.
-    cached_t_c: f64,
-    /// ln of law.temp_factor(cached_t_c).
-    cached_ln_phi_t: f64,
+    /// Ice temperature of the run it was built for, degC (each tyre's [`TempFactors`] keeps its
+    /// factors there).
+    ice_c: f64,
     /// n_v ln(1 + v_ref / v_c): the speed factor's logarithm at the reference, negated.
     ln_ref: f64,
     /// 1 / v_c, s/m.
@@ -103,13 +102,7 @@ impl SurfaceFriction {
     pub fn with_law(law: IceFriction, ice_c: f64) -> Self {
         let law = IceFriction { mu_ref: 1.0, peak_gain: 0.0, ..law };
         let inv_vc = 1.0 / law.speed_scale_mps;
-        SurfaceFriction {
-            law,
-            cached_t_c: ice_c,
-            cached_ln_phi_t: law.ln_temp_factor(ice_c),
-            ln_ref: law.speed_exponent * (law.v_ref_mps * inv_vc).ln_1p(),
-            inv_vc,
-        }
+        SurfaceFriction { law, ice_c, ln_ref: law.speed_exponent * (law.v_ref_mps * inv_vc).ln_1p(), inv_vc }
     }
 
     /// Temperature factor Phi_T(T) / Phi_T(T_ref).
@@ -118,13 +111,9 @@ impl SurfaceFriction {
         self.ln_temp_ratio(t_c).exp()
     }
 
-    /// ln of [`Self::temp_ratio`]: -c_T (clamp(T) - clamp(T_ref)) (no exponential; the cached
-    /// run's ice temperature is a lookup).
+    /// ln of [`Self::temp_ratio`]: -c_T (clamp(T) - clamp(T_ref)) (no exponential).
     #[inline]
     pub fn ln_temp_ratio(&self, t_c: f64) -> f64 {
-        if t_c == self.cached_t_c {
-            return self.cached_ln_phi_t;
-        }
         self.law.ln_temp_factor(t_c)
     }
 
@@ -171,9 +160,8 @@ struct TempFactors {
 
 impl TempFactors {
     fn new(surface: &SurfaceFriction, k_exp: f64) -> Self {
-        let mut f = TempFactors { k_exp, cached_t_c: f64::NAN, cached: (1.0, 1.0) };
-        f.cached = f.compute(surface.ln_temp_ratio(surface.cached_t_c));
-        f.cached_t_c = surface.cached_t_c;
+        let mut f = TempFactors { k_exp, cached_t_c: surface.ice_c, cached: (1.0, 1.0) };
+        f.cached = f.compute(surface.ln_temp_ratio(surface.ice_c));
         f
     }
 
