@@ -3,7 +3,7 @@
 //! (into a temporary folder renamed into place).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Serialize;
 
@@ -388,13 +388,6 @@ pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(
 }
 
 pub use crate::output::write_dir_atomic;
-
-/// Write a single run's files into `out_root/<name>/` atomically; returns the folder.
-pub fn write_results(out_root: &Path, cfg: &RunConfig, out: &RunOutput) -> Result<PathBuf> {
-    let final_dir = out_root.join(&cfg.name);
-    write_dir_atomic(&final_dir, |tmp| write_run_files(tmp, cfg, out, &[]))?;
-    Ok(final_dir)
-}
 
 /// The run's observer: every recorded row goes to the plausibility checks and to `keep`.
 struct Checked<'a> {

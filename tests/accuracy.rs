@@ -218,7 +218,7 @@ fn sweep_subset_has_no_pass_fail_flips() {
 
 /// The whole 1000-run grid (about 3 minutes on a quiet 2-core machine).
 #[test]
-#[ignore]
+#[ignore = "slow (about 3 min): the long suite, scripts/test-long.sh"]
 fn sweep_has_no_pass_fail_flips() {
     no_flips(1);
 }
@@ -325,7 +325,7 @@ fn exponential_rk4_bound_is_honest() {
 /// Exploration, not a check: errors of step / period pairs against the reference
 /// (`VEHSIM_EXPLORE` = comma-separated step:period pairs, seconds; the exponential RK4 throughout).
 #[test]
-#[ignore]
+#[ignore = "exploration, not a check: prints errors for VEHSIM_EXPLORE's step:period pairs"]
 fn explore() {
     let pairs: Vec<(f64, f64)> = std::env::var("VEHSIM_EXPLORE")
         .unwrap_or("0.005:0.005,0.01:0.01,0.02:0.02".into())
@@ -359,7 +359,7 @@ fn explore() {
 /// current engine with the spec's settings from a step = control period = 0.25 ms run.
 ///     cargo test --release --test accuracy golden_distances -- --ignored --nocapture
 #[test]
-#[ignore]
+#[ignore = "a report, not a check: prints the goldens' distances from a fine-step run"]
 fn golden_distances() {
     for &(stem, spec, tyre, model, contact) in common::GOLDEN_CASES {
         let path = common::root().join(spec);

@@ -178,7 +178,7 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                     let db = bicycle.derivatives(&x, &u, &env);
                     let db = [db[ix::VY], db[ix::R], db[ix::FY_F], db[ix::FY_R], db[ix::DELTA_L]];
                     let dr =
-                        replay.lateral_derivatives(&p, [vy, r, fyf, fyr, delta_l], steer, vx, mu, ice_c, contact_c);
+                        replay.lateral_derivatives(&p, [vy, r, fyf, fyr, delta_l], steer, vx, mu, (ice_c, contact_c));
                     for (k, (b, e)) in db.iter().zip(&dr).enumerate() {
                         let rel = (b - e).abs() / b.abs().max(e.abs()).max(f64::MIN_POSITIVE);
                         worst = worst.max(rel);

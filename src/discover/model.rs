@@ -523,7 +523,7 @@ impl ReplayModel {
     /// The derivatives of the lateral states [vy (m/s), r (rad/s), Fy_f, Fy_r (N, the relaxed
     /// axle forces), delta_e (rad, the lagged steer)] at those states `lateral`, under the steer
     /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
-    /// effects' scale), on ice at `ice_c` with the axles' contacts at `contact_c` (degC): the
+    /// effects' scale), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
     /// equations the replay integrates, at one instant, lags included (their entries are 0 when
     /// the effect that uses them is off). For checks against the engine's bicycle model.
     pub fn lateral_derivatives(
@@ -533,8 +533,7 @@ impl ReplayModel {
         steer_rad: f64,
         vx_mps: f64,
         mu: f64,
-        ice_c: f64,
-        contact_c: [f64; 2],
+        (ice_c, contact_c): (f64, [f64; 2]),
     ) -> [f64; 5] {
         let d = Drive {
             steer: steer_rad,

@@ -9,7 +9,7 @@ use std::path::Path;
 use serde_json::json;
 
 use super::effects::InVehicleSpec;
-use super::model::{EffectParams, ReplayModel};
+use super::model::ReplayModel;
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
 use super::uncertainty::Interval;
 use super::DiscoverOptions;
@@ -401,9 +401,4 @@ fn markdown(
     }
     let _ = writeln!(s, "\nPlots: `plots/<run>_yaw_rate.png` and `plots/<run>_ay.png`.");
     s
-}
-
-/// Parameters of the final model (for tests and callers).
-pub fn final_params(d: &Discovery) -> EffectParams {
-    d.params
 }

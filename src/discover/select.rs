@@ -39,9 +39,6 @@ pub const BLOCK_S: f64 = 3.0;
 /// Evaluation budget of one fit.
 pub const FIT_EVALS: usize = 60;
 
-/// Channels compared.
-pub const CHANNELS: [&str; 2] = ["yaw_rate", "ay"];
-
 /// Noise level of one run, per channel.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Noise {

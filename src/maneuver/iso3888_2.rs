@@ -158,8 +158,11 @@ impl Transition {
     }
 }
 
+/// The body's four corners on the ground, (x, y) in m in the ground frame.
+pub type Corners = [(f64, f64); 4];
+
 /// Body corners in the ground frame: front-left, front-right, rear-left, rear-right.
-pub fn body_corners(body: &Body, kin: &Kinematics) -> [(f64, f64); 4] {
+pub fn body_corners(body: &Body, kin: &Kinematics) -> Corners {
     let (f, r, hw) = (body.front_m, body.rear_m, 0.5 * body.width_m);
     let (s, c) = kin.yaw_rad.sin_cos();
     let at = |px: f64, py: f64| (kin.x_m + px * c - py * s, kin.y_m + px * s + py * c);
@@ -308,7 +311,7 @@ pub struct Iso3888_2 {
     course_done: bool,
     /// Time, body corners and the corners' x range (lowest, highest) at the end of the previous
     /// step (the start of the segments swept next).
-    previous: Option<(f64, [(f64, f64); 4], (f64, f64))>,
+    previous: Option<(f64, Corners, (f64, f64))>,
     /// CG x at the end of the previous step, m.
     previous_x: Option<f64>,
     /// Interpolated time at which the CG passed the end of the run, s.
@@ -392,7 +395,7 @@ impl Iso3888_2 {
     }
 
     /// Body corners in the ground frame: front-left, front-right, rear-left, rear-right.
-    pub fn corners(&self, kin: &Kinematics) -> [(f64, f64); 4] {
+    pub fn corners(&self, kin: &Kinematics) -> Corners {
         body_corners(&self.body, kin)
     }
 }

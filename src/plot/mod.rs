@@ -649,7 +649,8 @@ pub fn shared_axes(panels: &[XyChart]) -> Vec<XyChart> {
         panels.iter().filter(|p| !p.series.is_empty() || !p.bands.is_empty()).map(XyChart::data_extent).collect();
     // the union of the data, padded once (padding each panel first would leave the panel that
     // sets an end with its own, possibly tiny, margin: a trace on the axis' edge)
-    let union = |f: &dyn Fn(&((f64, f64), (f64, f64))) -> (f64, f64)| {
+    type Ranges = ((f64, f64), (f64, f64));
+    let union = |f: &dyn Fn(&Ranges) -> (f64, f64)| {
         ranges.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| (a.0.min(r.0), a.1.max(r.1)))
     };
     let (x, y) = (union(&|r| r.0), union(&|r| r.1));
@@ -1022,7 +1023,7 @@ mod tests {
 
     #[test]
     fn twelve_colours_are_distinct_from_each_other_and_the_background() {
-        assert!(PALETTE_LEN >= 12);
+        const { assert!(PALETTE_LEN >= 12) };
         for i in 0..PALETTE_LEN {
             assert!(delta_e(palette(i), WHITE) > 30.0, "colour {i} too close to white");
             for j in 0..i {

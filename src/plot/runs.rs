@@ -267,8 +267,11 @@ fn load_run(dir: &Path, params: &[(String, String)]) -> Result<Option<RunData>> 
     }))
 }
 
+/// A run's swept parameters: (key, value) in the batch's column order.
+type Params = Vec<(String, String)>;
+
 /// The run folders named in a batch's summary.csv, with their swept parameters.
-fn batch_rows(dir: &Path) -> Result<Vec<(String, Vec<(String, String)>)>> {
+fn batch_rows(dir: &Path) -> Result<Vec<(String, Params)>> {
     let text = read_input(&dir.join("summary.csv"))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
@@ -320,7 +323,7 @@ fn interpolate(pts: &[(f64, f64)], x: f64) -> Option<f64> {
     }
     let a = *pts.get(i.checked_sub(1)?)?;
     let u = (x - a.0) / (b.0 - a.0);
-    u.is_finite().then(|| a.1 + u * (b.1 - a.1))
+    u.is_finite().then_some(a.1 + u * (b.1 - a.1))
 }
 
 /// The `p`-quantile (0–1) of sorted values, linear between order statistics.
