@@ -126,8 +126,12 @@ def test_shut_down_executor_and_bad_arguments_are_refused():
     ex.shutdown()
     with pytest.raises(vehsim.ShardError, match=r"shard 1 of 1 was refused by the executor ThreadPoolExecutor"):
         vehsim.sweep(SINE, GRID, executor=ex)
-    with pytest.raises(ValueError, match=r"shards: 0 is not allowed; expected a whole number >= 1"):
-        vehsim.sweep(SINE, GRID, executor=concurrent.futures.ThreadPoolExecutor(1), shards=0)
+    with concurrent.futures.ThreadPoolExecutor(1) as good:
+        for bad in (0, -1, True, 2.5, "2"):
+            with pytest.raises(ValueError, match=r"shards: .* is not allowed; expected a whole number >= 1"):
+                vehsim.sweep(SINE, GRID, executor=good, shards=bad)
+        with pytest.raises(ValueError, match=r"jobs: 0 is not allowed; expected a whole number >= 1"):
+            vehsim.sweep(SINE, GRID, executor=good, jobs=0)
     with pytest.raises(ValueError, match="splitting a sweep needs an executor"):
         vehsim.sweep(SINE, GRID, shards=2)
     with pytest.raises(ValueError, match="has no submit"):

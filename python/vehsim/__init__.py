@@ -181,19 +181,7 @@ def sweep(
         if not isinstance(grid, Mapping):
             raise ValueError(f"grid: expected a dict of key -> list of values, not a {type(grid).__name__}")
         args["overrides"]["sweep"] = {k.replace("__", "."): _grid_values(k, v) for k, v in grid.items()}
-    if executor is None:
-        if shards is not None:
-            raise ValueError("shards: splitting a sweep needs an executor (a Dask Client or a concurrent.futures.Executor)")
-        records, interrupt = _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries)[:2]
-    else:
-        if not hasattr(executor, "submit"):
-            raise ValueError(
-                f"executor: a {type(executor).__name__} has no submit(); expected a Dask Client or a "
-                f"concurrent.futures.Executor"
-            )
-        jobs = 1 if jobs is None else _shards.check_count("jobs", jobs)
-        n = _shards.default_shards(executor) if shards is None else _shards.check_count("shards", shards)
-        records, interrupt = _shards.run_shards(args, executor, n, jobs, timeseries), None
+    records, interrupt = _sweep_records(args, jobs, timeseries, executor, shards)
     out = SweepResult()
     for raw in records:
         summary = json.loads(raw["summary_json"]) if raw["summary_json"] else None
@@ -213,6 +201,23 @@ def sweep(
             raise SweepInterrupted(out, done, len(out)) from None
         raise interrupt
     return out
+
+
+def _sweep_records(args: Dict[str, Any], jobs: Any, timeseries: bool, executor: Any, shards: Any):
+    """The raw records of a sweep in run order and the interruption to raise (or None): run here,
+    or in shards on ``executor``."""
+    if executor is None:
+        if shards is not None:
+            raise ValueError("shards: splitting a sweep needs an executor (a Dask Client or a concurrent.futures.Executor)")
+        return _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries)[:2]
+    if not hasattr(executor, "submit"):
+        raise ValueError(
+            f"executor: a {type(executor).__name__} has no submit(); expected a Dask Client or a "
+            f"concurrent.futures.Executor"
+        )
+    jobs = 1 if jobs is None else _shards.check_count("jobs", jobs)
+    n = _shards.default_shards(executor) if shards is None else _shards.check_count("shards", shards)
+    return _shards.run_shards(args, executor, n, jobs, timeseries), None
 
 
 def max_jobs() -> int:
