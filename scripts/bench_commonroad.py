@@ -166,7 +166,7 @@ def main():
     a = ap.parse_args()
     params = sedan_parameters(a.tir)
     peak, v_end = simulate(params, a.step)
-    print(f"case: {a.spec} with tyre_model pacejka, {DURATION:g} s; versions: vehsim {vehsim_version(a.vehsim)}, "
+    print(f"case: {a.spec} with tyre_model pacejka, {DURATION:g} s; versions: {vehsim_version(a.vehsim)}, "
           f"commonroad-vehicle-models {importlib.metadata.version('commonroad-vehicle-models')}, Python {sys.version.split()[0]}")
     print(f"CommonRoad STD, RK4 {a.step * 1e3:g} ms: peak |yaw rate| {peak:.4f} rad/s, final speed {v_end:.3f} m/s")
     folder = tempfile.mkdtemp(prefix="vehsim-vs-commonroad-")  # under $TMPDIR: removed by bench_commonroad.sh
