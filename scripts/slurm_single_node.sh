@@ -138,26 +138,27 @@ start() {
     echo "single-node Slurm up: export SLURM_CONF=$d/slurm.conf" >&2
 }
 
-# Stop a daemon from its pid file: SIGTERM, then SIGKILL after 10 s.
-stop_pid() {
-    local pidfile=$1 pid
-    [ -f "$pidfile" ] || return 0
-    pid=$(cat "$pidfile")
-    kill "$pid" 2>/dev/null || { rm -f "$pidfile"; return 0; }
+# Stop the daemons of the given pid files together: SIGTERM to each, then SIGKILL to any still
+# running after 10 s.
+stop_pids() {
+    local pids=() f pid
+    for f in "$@"; do
+        [ -f "$f" ] && pid=$(cat "$f") && kill "$pid" 2>/dev/null && pids+=("$pid")
+        rm -f "$f"
+    done
     for _ in $(seq 100); do
-        kill -0 "$pid" 2>/dev/null || { rm -f "$pidfile"; return 0; }
+        local alive=0
+        for pid in "${pids[@]}"; do kill -0 "$pid" 2>/dev/null && alive=1; done
+        [ "$alive" = 0 ] && return 0
         sleep 0.1
     done
-    kill -9 "$pid" 2>/dev/null || true
-    rm -f "$pidfile"
+    for pid in "${pids[@]}"; do kill -9 "$pid" 2>/dev/null || true; done
 }
 
 stop() {
     local d=$1
     [ -d "$d" ] || die "$d: no such folder"
-    stop_pid "$d/slurmd.pid"
-    stop_pid "$d/slurmctld.pid"
-    stop_pid "$d/munge/munged.pid"
+    stop_pids "$d/slurmd.pid" "$d/slurmctld.pid" "$d/munge/munged.pid"
 }
 
 case "${1:-}:${2:-}" in
