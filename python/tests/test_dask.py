@@ -179,3 +179,24 @@ class _LosingExecutor(concurrent.futures.Executor):
 def test_a_shard_that_does_not_finish_fails_the_sweep():
     with pytest.raises(vehsim.ShardError, match=r"shard 2 of 3 did not finish: BrokenProcessPool: a worker process died"):
         vehsim.sweep(SINE, GRID, executor=_LosingExecutor(), shards=3)
+
+
+class _InterruptedExecutor(concurrent.futures.Executor):
+    """Shard 1's result is waited for when Ctrl-C arrives; shards 2 and 3 are still queued."""
+
+    def __init__(self):
+        self.futures = []
+
+    def submit(self, fn, *args, **kwargs):
+        f = concurrent.futures.Future()
+        if not self.futures:
+            f.result = lambda timeout=None: (_ for _ in ()).throw(KeyboardInterrupt())
+        self.futures.append(f)
+        return f
+
+
+def test_ctrl_c_while_waiting_cancels_the_shards():
+    ex = _InterruptedExecutor()
+    with pytest.raises(KeyboardInterrupt):
+        vehsim.sweep(SINE, GRID, executor=ex, shards=3)
+    assert len(ex.futures) == 3 and all(f.cancelled() for f in ex.futures[1:])
