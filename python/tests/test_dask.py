@@ -11,6 +11,8 @@ import concurrent.futures.process
 import json
 import os
 import shutil
+import signal
+import threading
 import time
 
 import numpy as np
@@ -181,22 +183,38 @@ def test_a_shard_that_does_not_finish_fails_the_sweep():
         vehsim.sweep(SINE, GRID, executor=_LosingExecutor(), shards=3)
 
 
-class _InterruptedExecutor(concurrent.futures.Executor):
-    """Shard 1's result is waited for when Ctrl-C arrives; shards 2 and 3 are still queued."""
+class _StuckExecutor(concurrent.futures.Executor):
+    """Queues every shard and never runs one: the sweep waits until Ctrl-C."""
 
     def __init__(self):
         self.futures = []
 
     def submit(self, fn, *args, **kwargs):
-        f = concurrent.futures.Future()
-        if not self.futures:
-            f.result = lambda timeout=None: (_ for _ in ()).throw(KeyboardInterrupt())
-        self.futures.append(f)
-        return f
+        self.futures.append(concurrent.futures.Future())
+        return self.futures[-1]
 
 
 def test_ctrl_c_while_waiting_cancels_the_shards():
-    ex = _InterruptedExecutor()
+    ex = _StuckExecutor()
+    ctrl_c = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    ctrl_c.start()
+    t0 = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
         vehsim.sweep(SINE, GRID, executor=ex, shards=3)
-    assert len(ex.futures) == 3 and all(f.cancelled() for f in ex.futures[1:])
+    ctrl_c.join()
+    assert time.perf_counter() - t0 < 5
+    assert len(ex.futures) == 3 and all(f.cancelled() for f in ex.futures)
+
+
+class _SwappingExecutor(concurrent.futures.ThreadPoolExecutor):
+    """Runs shard 2's task where shard 1 was asked for: a part with the right digest and the
+    wrong runs."""
+
+    def submit(self, fn, args, k, n, *rest):
+        return super().submit(fn, args, 2 if k == 1 else k, n, *rest)
+
+
+def test_a_shard_with_other_runs_fails_the_sweep():
+    with _SwappingExecutor(1) as ex:
+        with pytest.raises(vehsim.ShardError, match=r"shard 1 of 3 on .* returned runs \[1, 4\] where runs \[0, 3\]"):
+            vehsim.sweep(SINE, GRID, executor=ex, shards=3)

@@ -18,9 +18,10 @@ same place (a shared file system); a worker that reads other files is caught by 
 
 from __future__ import annotations
 
+import concurrent.futures
 import os
 import socket
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 from . import _vehsim
 
@@ -162,12 +163,23 @@ def run_shards(
     try:
         for k in range(1, n + 1):
             futures.append(_submit(executor, k, n, (args, k, n, jobs, timeseries)))
-        parts = [_collect(k, n, f, digest, total) for k, f in enumerate(futures, start=1)]
+        records: List[Optional[Dict[str, Any]]] = [None] * total
+        shard_of = {id(f): k for k, f in enumerate(futures, start=1)}
+        # as they finish, so that a failed shard stops the sweep at once
+        for f in _as_completed(executor, futures):
+            k = shard_of[id(f)]
+            for r in _collect(k, n, f, digest, total):
+                records[r["index"]] = r
     except BaseException:
         _cancel(futures)
         raise
-    records: List[Optional[Dict[str, Any]]] = [None] * total
-    for k, part in enumerate(parts, start=1):
-        for r in part:
-            records[r["index"]] = r
     return records  # type: ignore[return-value]  # every index filled: _collect checked each part
+
+
+def _as_completed(executor: Any, futures: List[Any]) -> Iterator[Any]:
+    """The futures in the order they finish (Dask's own iterator for a Dask client's futures)."""
+    if is_dask_client(executor):
+        from distributed import as_completed
+
+        return iter(as_completed(futures))
+    return concurrent.futures.as_completed(futures)
