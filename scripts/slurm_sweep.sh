@@ -48,13 +48,17 @@ if [ "$status" -ne 0 ]; then
     [[ "$job" =~ ^[0-9]+$ ]] || die "sbatch failed (exit $status) before the job was queued; nothing merged"
     echo "slurm_sweep.sh: job array $job did not complete (sbatch exit $status); nothing merged. Failed tasks:" >&2
     # scontrol keeps finished jobs for MinJobAge (300 s by default): one record per array task
-    scontrol -o show job "$job" 2>/dev/null | while read -r line; do
+    records=$(scontrol -o show job "$job" 2>/dev/null || true)
+    [ -n "$records" ] || echo "  (Slurm no longer lists job $job; the tasks' output is in $out/slurm/)" >&2
+    printf '%s\n' "$records" | while read -r line; do
+        [ -n "$line" ] || continue
         task=$(grep -o 'ArrayTaskId=[^ ]*' <<<"$line" | cut -d= -f2)
         state=$(grep -o 'JobState=[^ ]*' <<<"$line" | cut -d= -f2)
         code=$(grep -o ' ExitCode=[^ ]*' <<<"$line" | cut -d= -f2)
         [ "$state" = COMPLETED ] && continue
         echo "  task $task (shard $task/$n): $state, exit code $code; last lines of $out/slurm/${job}_$task.out:" >&2
-        tail -n 5 "$out/slurm/${job}_$task.out" 2>/dev/null | sed 's/^/    /' >&2 || echo "    (no output file)" >&2
+        log="$out/slurm/${job}_$task.out"
+        if [ -f "$log" ]; then tail -n 5 "$log" | sed 's/^/    /' >&2; else echo "    (no output file)" >&2; fi
     done
     exit 1
 fi
