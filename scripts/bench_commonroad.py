@@ -169,7 +169,12 @@ def main():
     print(f"case: {a.spec} with tyre_model pacejka, {DURATION:g} s; versions: {vehsim_version(a.vehsim)}, "
           f"commonroad-vehicle-models {importlib.metadata.version('commonroad-vehicle-models')}, Python {sys.version.split()[0]}")
     print(f"CommonRoad STD, RK4 {a.step * 1e3:g} ms: peak |yaw rate| {peak:.4f} rad/s, final speed {v_end:.3f} m/s")
-    folder = tempfile.mkdtemp(prefix="vehsim-vs-commonroad-")  # under $TMPDIR: removed by bench_commonroad.sh
+    with tempfile.TemporaryDirectory(prefix="vehsim-vs-commonroad-") as folder:
+        timed_pairs(a, params, folder)
+
+
+def timed_pairs(a, params, folder):
+    """The vehsim run's figures, then the interleaved pairs and their median ratio."""
     spec = vehsim_spec(a.spec, folder)
     how, v_peak, v_vx = vehsim_peak(a.vehsim, spec, folder)
     print(f"vehsim {how}: peak |yaw rate| {v_peak:.4f} rad/s, final speed {v_vx:.3f} m/s")
