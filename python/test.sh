@@ -19,6 +19,9 @@ PYTHON="$VENV/bin/python" bash fmu/build.sh target/vehsim.fmu
 "$VENV/bin/maturin" build --release --manifest-path python/Cargo.toml \
     --interpreter "$VENV/bin/python" --out python/target/wheels
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
-# From the project root, where no folder shadows the installed wheel.
-VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_FMU="$PWD/target/vehsim.fmu" VEHSIM_REQUIRE_CLI=1 \
+# From the project root, where no folder shadows the installed wheel. VEHSIM_REQUIRE_SLURM=1:
+# python/tests/test_slurm.py starts a single-node Slurm (scripts/slurm_single_node.sh installs
+# slurm-wlm and munge with apt-get when missing, which needs root) and fails, not skips, when it
+# cannot.
+VEHSIM_BIN="$PWD/target/release/vehsim" VEHSIM_FMU="$PWD/target/vehsim.fmu" VEHSIM_REQUIRE_CLI=1 VEHSIM_REQUIRE_SLURM=1 \
     "$VENV/bin/python" -m pytest -p no:cacheprovider -rs python/tests

@@ -374,12 +374,15 @@ fn max_jobs() -> usize {
 }
 
 /// Run every combination of a spec's sweep on `jobs` threads (all cores when None; 1 to
-/// [`max_jobs`]) with the GIL released; records in run order whatever the thread count.
-/// Returns (records, interrupted): on Ctrl-C the runs not finished are recorded as
+/// [`max_jobs`]) with the GIL released; records in run order whatever the thread count. With
+/// `shard` = (K, N) only the runs of the K-th of N parts run (index mod N = K - 1, as
+/// `vehsim run --shard K/N`) and only their records are returned.
+/// Returns (records, interrupted, digest): on Ctrl-C the runs not finished are recorded as
 /// `interrupted` and the second value is the exception to raise (the caller keeps the finished
-/// records with it).
+/// records with it); `digest` is the batch's [`batch_identity`] digest when `shard` is given
+/// (computed from the files this process read), else None.
 #[pyfunction]
-#[pyo3(signature = (path=None, table=None, overrides=None, jobs=None, keep_timeseries=false))]
+#[pyo3(signature = (path=None, table=None, overrides=None, jobs=None, keep_timeseries=false, shard=None))]
 fn sweep_spec(
     py: Python<'_>,
     path: Option<PathBuf>,
@@ -387,9 +390,13 @@ fn sweep_spec(
     overrides: Option<&Bound<'_, PyDict>>,
     jobs: Option<&Bound<'_, PyAny>>,
     keep_timeseries: bool,
-) -> PyResult<(Vec<PyObject>, Option<PyObject>)> {
+    shard: Option<(usize, usize)>,
+) -> PyResult<(Vec<PyObject>, Option<PyObject>, Option<String>)> {
     let jobs = check_jobs(jobs)?;
     let b = load_batch(path, table, overrides).map_err(py_err)?;
+    let part = check_shard(shard)?;
+    let digest = part.map(|_| batch::batch_digest(&b)).transpose().map_err(py_err)?;
+    let runs: Vec<&BatchRun> = b.runs.iter().filter(|r| part.is_none_or(|(k, n)| r.index % n == k - 1)).collect();
     let (records, signal) = interruptible(py, |stop| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs.unwrap_or(0))
@@ -397,7 +404,7 @@ fn sweep_spec(
             .build()
             .map_err(|e| Error::Run(format!("thread pool: {e}")))?;
         Ok::<Vec<Result<RunRecord, Error>>, Error>(
-            pool.install(|| b.runs.par_iter().map(|r| execute(r, keep_timeseries, stop)).collect()),
+            pool.install(|| runs.par_iter().map(|r| execute(r, keep_timeseries, stop)).collect()),
         )
     })?;
     let records = records.map_err(py_err)?;
@@ -406,10 +413,36 @@ fn sweep_spec(
         None => py.check_signals().err(),
     };
     let mut out = Vec::with_capacity(records.len());
-    for (run, rec) in b.runs.iter().zip(records) {
+    for (run, rec) in runs.iter().zip(records) {
         out.push(record_to_py(py, &run.params, run.index, rec.map_err(py_err)?)?);
     }
-    Ok((out, signal.map(|e| e.into_value(py).into_any())))
+    Ok((out, signal.map(|e| e.into_value(py).into_any()), digest))
+}
+
+/// `shard` as (K, N) with 1 <= K <= N, or a ValueError in `--shard`'s words.
+fn check_shard(shard: Option<(usize, usize)>) -> PyResult<Option<(usize, usize)>> {
+    match shard {
+        Some((k, n)) if n == 0 || k == 0 || k > n => {
+            Err(PyValueError::new_err(format!("shard: {k}/{n} is not a shard; expected K/N with 1 <= K <= N")))
+        }
+        s => Ok(s),
+    }
+}
+
+/// What identifies a spec's batch, computed where it is loaded: (SHA-256 digest over the vehsim
+/// version, the spec as parsed with its overrides and the vehicle, tyre and `.tir` files its runs
+/// read, the digest `vehsim merge` compares; the number of runs; the spec's name). A sweep split
+/// over machines compares the digest every part reports with the caller's.
+#[pyfunction]
+#[pyo3(signature = (path=None, table=None, overrides=None))]
+fn batch_identity(
+    path: Option<PathBuf>,
+    table: Option<&Bound<'_, PyDict>>,
+    overrides: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(String, usize, String)> {
+    let b = load_batch(path, table, overrides).map_err(py_err)?;
+    let digest = batch::batch_digest(&b).map_err(py_err)?;
+    Ok((digest, b.runs.len(), b.name))
 }
 
 /// `jobs` as the command line bounds `--jobs`: None (all cores) or a whole number from 1 to
@@ -717,6 +750,7 @@ fn _vehsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_spec, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_spec, m)?)?;
     m.add_function(wrap_pyfunction!(max_jobs, m)?)?;
+    m.add_function(wrap_pyfunction!(batch_identity, m)?)?;
     m.add_function(wrap_pyfunction!(atiim_scenario, m)?)?;
     m.add_function(wrap_pyfunction!(discover_runs, m)?)?;
     m.add_class::<NativeTyre>()?;

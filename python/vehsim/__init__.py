@@ -20,6 +20,8 @@ from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Uni
 import numpy as np
 
 from . import _vehsim
+from . import shards as _shards
+from .shards import ShardError
 
 __all__ = [
     "run",
@@ -27,6 +29,7 @@ __all__ = [
     "Simulation",
     "OBSERVATION",
     "SweepInterrupted",
+    "ShardError",
     "max_jobs",
     "Tyre",
     "TyreForces",
@@ -146,6 +149,8 @@ def sweep(
     *,
     jobs: Optional[int] = None,
     timeseries: bool = False,
+    executor: Any = None,
+    shards: Optional[int] = None,
     **overrides: Any,
 ) -> SweepResult:
     """Run every combination of a sweep in parallel (GIL released) and return them in run order.
@@ -157,7 +162,17 @@ def sweep(
     invalid combination is kept with status ``invalid`` and its message; a spec whose every
     combination is invalid raises ValueError.
 
-    Ctrl-C stops the sweep within a second: the runs in progress are abandoned and
+    ``executor``: a Dask ``distributed.Client`` or any ``concurrent.futures.Executor`` to run the
+    sweep on, split into ``shards`` parts (default: one per Dask worker thread, or per executor
+    worker; at most one per run), each part running on ``jobs`` threads (default 1 there). The
+    spec is loaded here first (bad input raises before anything is submitted) and again where each
+    part runs, against that process's working directory, so workers need the same files at the
+    same paths. The result is the local sweep's, to the bit, whatever the shard count. A closed
+    Dask client or one without workers raises ValueError; a shard that fails, reads other files
+    or another vehsim, or comes back incomplete raises :class:`ShardError` naming the shard and
+    its worker, and nothing is returned. Ctrl-C cancels the shards and raises KeyboardInterrupt.
+
+    Ctrl-C stops a local sweep within a second: the runs in progress are abandoned and
     :class:`SweepInterrupted` (a KeyboardInterrupt) is raised, its ``results`` holding every run
     that finished (the rest with status ``interrupted``).
     """
@@ -166,7 +181,7 @@ def sweep(
         if not isinstance(grid, Mapping):
             raise ValueError(f"grid: expected a dict of key -> list of values, not a {type(grid).__name__}")
         args["overrides"]["sweep"] = {k.replace("__", "."): _grid_values(k, v) for k, v in grid.items()}
-    records, interrupt = _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries)
+    records, interrupt = _sweep_records(args, jobs, timeseries, executor, shards)
     out = SweepResult()
     for raw in records:
         summary = json.loads(raw["summary_json"]) if raw["summary_json"] else None
@@ -186,6 +201,23 @@ def sweep(
             raise SweepInterrupted(out, done, len(out)) from None
         raise interrupt
     return out
+
+
+def _sweep_records(args: Dict[str, Any], jobs: Any, timeseries: bool, executor: Any, shards: Any):
+    """The raw records of a sweep in run order and the interruption to raise (or None): run here,
+    or in shards on ``executor``."""
+    if executor is None:
+        if shards is not None:
+            raise ValueError("shards: splitting a sweep needs an executor (a Dask Client or a concurrent.futures.Executor)")
+        return _vehsim.sweep_spec(**args, jobs=jobs, keep_timeseries=timeseries)[:2]
+    if not hasattr(executor, "submit"):
+        raise ValueError(
+            f"executor: a {type(executor).__name__} has no submit(); expected a Dask Client or a "
+            f"concurrent.futures.Executor"
+        )
+    jobs = 1 if jobs is None else _shards.check_count("jobs", jobs)
+    n = _shards.default_shards(executor) if shards is None else _shards.check_count("shards", shards)
+    return _shards.run_shards(args, executor, n, jobs, timeseries), None
 
 
 def max_jobs() -> int:
