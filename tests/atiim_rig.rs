@@ -376,8 +376,11 @@ fn rig_patch_never_melts_and_lower_inflation_heats_less() {
         eprintln!("{}: hottest pixel over the sweep {hottest:.3} K above the ice", sc.name);
         assert!(hottest < 0.5 * -sc.ice_temp_c, "{}: {hottest} K", sc.name);
     }
-    let at40 = |name: &str| solve_patch_at(&scenario(name).grid, &kin(&scenario(name), 0.4), &scenario(name).params);
-    let (a, b) = (at40("rig_srtt_7kN_21psi_m10C").summary, at40("rig_srtt_7kN_35psi_m10C").summary);
+    let at40 = |name: &str| {
+        let sc = scenario(name);
+        solve_patch_at(&sc.grid, &kin(&sc, 0.4), &sc.params).summary
+    };
+    let (a, b) = (at40("rig_srtt_7kN_21psi_m10C"), at40("rig_srtt_7kN_35psi_m10C"));
     eprintln!(
         "40 % slip, 7 kN, -10 C: 21 psi friction power {:.1} W, max rise {:.3} K, mean {:.3} K; 35 psi {:.1} W, {:.3} K, {:.3} K",
         a.power_friction_w, a.max_rise_k, a.mean_rise_k, b.power_friction_w, b.max_rise_k, b.mean_rise_k
