@@ -28,7 +28,7 @@ pub const COLD_PLATEAU_C: f64 = -12.0;
 /// S(v) = 1 + g exp(-ln^2(v / v_pk) / (2 w^2)),
 ///
 /// with T the interface (contact) temperature, degC, T_cold = [`COLD_PLATEAU_C`], and v clamped to
-/// >= 1e-6 m/s. Trends (the dissertation's 2.2, Fig. 2.4 and Fig. 2.14): the friction is higher on
+/// at least 1e-6 m/s. Trends (the dissertation's 2.2, Fig. 2.4 and Fig. 2.14): the friction is higher on
 /// colder ice down to a plateau, falls toward melting, falls with sliding speed above the adhesion
 /// peak (Fig. 2.14 and 2.5.4: 'a decrease in rubber friction with increasing sliding velocity for
 /// v > 0.01 m/s') and falls with contact pressure. The bell S is the adhesion peak of rubber
