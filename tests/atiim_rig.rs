@@ -346,7 +346,7 @@ fn rig_scenarios_against_chapter_3() {
     assert!(p21.1 > p28.1 && p28.1 > p35.1, "peak vs inflation {} {} {}", p21.1, p28.1, p35.1);
     // Not reproduced, and pinned here so that docs/atiim.md stays true (the reasons are there):
     // - the peak slip is the same at every inflation (where the sliding speed reaches the adhesion
-    //   peak; the brush slides fully from about 3 % slip), not lower at higher inflation;
+    //   peak; the brush's adhesion zone is spent by about 3 % slip), not lower at higher inflation;
     assert!(p21.2 == p28.2 && p28.2 == p35.2, "peak slip vs inflation {} {} {}", p21.2, p28.2, p35.2);
     // - at 40 % the lower inflation still pulls more (the same pressure law; nothing melts);
     assert!(p21.3 > p35.3, "40 % vs inflation {} {}", p21.3, p35.3);
