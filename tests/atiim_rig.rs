@@ -232,21 +232,44 @@ fn slip_angle_enters_sliding_velocity_and_pressure_map() {
     assert!(pt < ps, "Fig. 3.37: toe lowers the drawbar peak");
 }
 
-/// Item 3: the SRTT's longitudinal slip stiffness with the carcass in series lands at 5–10 F_z at
-/// the rig's loads and inflations; the tread brush alone would be several times stiffer.
+/// The SRTT file's structural longitudinal slip stiffness Kx / Fz (PKX1; PKX2 = PKX3 = 0, so at
+/// every load), read from the car tyre's own Magic Formula file.
+fn car_tyre_pkx1() -> f64 {
+    let tir = Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/tyres/srtt_p225_60r16.tir");
+    let text = std::fs::read_to_string(tir).unwrap();
+    let value = |key: &str| -> f64 {
+        let line = text.lines().find(|l| l.split_whitespace().next() == Some(key)).unwrap();
+        line.split('=').nth(1).unwrap().split('$').next().unwrap().trim().parse().unwrap()
+    };
+    assert_eq!((value("PKX2"), value("PKX3")), (0.0, 0.0), "Kx / Fz would depend on the load");
+    value("PKX1")
+}
+
+/// Issue 29: the patch's steady-state slip stiffness is the tyre's structural value. At 7 kN,
+/// 35 psi, -10 degC it equals the car tyre's (the SRTT file's PKX1, 22 F_z) within 2 %, and at the
+/// rig's other loads and inflations it stays a passenger-tyre magnitude (15–35 F_z); the tread
+/// brush alone would be about twice as stiff. The slope is checked against brush theory.
 #[test]
-fn carcass_in_series_puts_slip_stiffness_at_5_to_10_fz() {
-    for name in
-        ["rig_srtt_7kN_35psi_m10C", "rig_srtt_4p2kN_35psi_m10C", "rig_srtt_8p4kN_35psi_m10C", "rig_srtt_7kN_21psi_m10C"]
-    {
+fn patch_slip_stiffness_is_the_tyres_structural_value() {
+    let pkx1 = car_tyre_pkx1();
+    for name in [
+        "rig_srtt_7kN_35psi_m10C",
+        "rig_srtt_4p2kN_35psi_m10C",
+        "rig_srtt_8p4kN_35psi_m10C",
+        "rig_srtt_7kN_28psi_m10C",
+        "rig_srtt_7kN_21psi_m10C",
+    ] {
         let sc = scenario(name);
         let c = slip_stiffness_per_fz(&sc.grid, &sc.params, sc.speed_mps, sc.ice_temp_c);
         let mut rigid = sc.params;
         rigid.carcass_n_per_m = 0.0;
         let ct = slip_stiffness_per_fz(&sc.grid, &rigid, sc.speed_mps, sc.ice_temp_c);
-        eprintln!("{name}: slip stiffness {c:.2} F_z (tread alone {ct:.1} F_z)");
-        assert!((5.0..=10.0).contains(&c), "{name}: {c}");
-        assert!(ct > 3.0 * c);
+        eprintln!("{name}: slip stiffness {c:.2} F_z (tread alone {ct:.1} F_z; car tyre file {pkx1} F_z)");
+        assert!((15.0..=35.0).contains(&c), "{name}: {c}");
+        assert!(ct > 1.3 * c, "{name}: the in-patch compliance must soften the tread brush");
+        if name == "rig_srtt_7kN_35psi_m10C" {
+            assert!((c / pkx1 - 1.0).abs() < 0.02, "{c} F_z against the car tyre's {pkx1}");
+        }
         // independent check of the small-slip slope: brush theory C = k sum(xi dA) over loaded pixels
         let g = &sc.grid;
         let k = sc.params.series_stiffness_pa_per_m(g.contact_area_m2());
@@ -276,7 +299,7 @@ fn peak(c: &[(f64, PatchSummary)]) -> (f64, f64, f64) {
     (s.drawbar_coeff, *k, c.last().unwrap().1.drawbar_coeff)
 }
 
-/// Items 2, 3 and 6: the rig scenarios against chapter 3's numbers and trends.
+/// The rig scenarios against chapter 3's and Fig. 5.7/5.8's numbers and trends (issue 29, item 4).
 #[test]
 fn rig_scenarios_against_chapter_3() {
     let mut rows = Vec::new();
@@ -307,18 +330,93 @@ fn rig_scenarios_against_chapter_3() {
     }
     let get = |n: &str| *rows.iter().find(|r| r.0 == n).unwrap();
     let nominal = get("rig_srtt_7kN_35psi_m10C");
-    // 3.3.5: peak 0.16–0.21 between 5 and 10 % slip, saturated 0.14–0.17
+    // 3.3.5: peak 0.16–0.21, saturated 0.14–0.17
     for r in &rows[..7] {
         assert!((0.16..=0.21).contains(&r.1), "{}: peak {}", r.0, r.1);
         assert!((0.14..=0.17).contains(&r.3), "{}: 40 % {}", r.0, r.3);
     }
-    assert!((0.05..=0.10).contains(&nominal.2), "peak slip {}", nominal.2);
-    // 3.3.5: lower inflation, higher peak at higher (or equal) slip
+    // peak slip: 5–10 % (3.3.5, 3.3.6), 10–15 % at this very condition (Fig. 3.33b, 2015)
+    assert!((0.10..=0.15).contains(&nominal.2), "peak slip {}", nominal.2);
+    // Fig. 5.7/5.8 (7 kN, 35 psi): peaks 0.179 at -10 degC and 0.146 at -3 degC, within 5 %
+    let m3 = get("rig_srtt_7kN_35psi_m3C");
+    assert!((nominal.1 / 0.179 - 1.0).abs() < 0.05, "Fig. 5.7 peak {}", nominal.1);
+    assert!((m3.1 / 0.146 - 1.0).abs() < 0.05, "Fig. 5.8 peak {}", m3.1);
+    // 3.3.5: lower inflation, higher peak (lower mean pressure, mu ~ p^-0.25); fails if reversed
     let (p21, p28, p35) = (get("rig_srtt_7kN_21psi_m10C"), get("rig_srtt_7kN_28psi_m10C"), nominal);
     assert!(p21.1 > p28.1 && p28.1 > p35.1, "peak vs inflation {} {} {}", p21.1, p28.1, p35.1);
-    assert!(p21.2 >= p35.2, "peak slip vs inflation {} {}", p21.2, p35.2);
+    // Not reproduced, and pinned here so that docs/atiim.md stays true (the reasons are there):
+    // - the peak slip is the same at every inflation (where the sliding speed reaches the adhesion
+    //   peak; the brush's adhesion zone is spent by about 3 % slip), not lower at higher inflation;
+    assert!(p21.2 == p28.2 && p28.2 == p35.2, "peak slip vs inflation {} {} {}", p21.2, p28.2, p35.2);
+    // - at 40 % the lower inflation still pulls more (the same pressure law; nothing melts);
+    assert!(p21.3 > p35.3, "40 % vs inflation {} {}", p21.3, p35.3);
+    // - the peak is flat with load at 21 psi (within 1 %), not rising (Fig. 3.35).
+    let loads = [get("rig_srtt_4p2kN_21psi_m10C").1, p21.1, get("rig_srtt_8p4kN_21psi_m10C").1];
+    let (lo, hi) = (loads.iter().cloned().fold(f64::INFINITY, f64::min), loads.iter().cloned().fold(0.0, f64::max));
+    assert!(hi / lo - 1.0 < 0.01, "peak vs load at 21 psi {loads:?}");
     // the -3 C run lies below the -10 C run (Fig. 3.42 vs 3.43)
-    assert!(get("rig_srtt_7kN_35psi_m3C").1 < nominal.1);
+    assert!(m3.1 < nominal.1);
+}
+
+/// Issue 29: what heats the rig's patch. At 7 cm/s nothing melts in any rig scenario at any slip:
+/// the hottest pixel stays below half the margin to melting (10 K at -10 degC, 3 K at -3 degC). At 40 % slip the 21 psi patch transmits more
+/// friction power than the 35 psi one (more friction, same load and sliding speed) yet heats less:
+/// the same power spread over a larger area gives a lower flux, and the rise grows only with the
+/// square root of the longer contact time. So lower inflation cannot melt more (the dissertation's
+/// reading of the high-slip trend).
+#[test]
+fn rig_patch_never_melts_and_lower_inflation_heats_less() {
+    for sc in all_scenarios().iter().filter(|s| s.name.starts_with("rig_")) {
+        let mut hottest: f64 = 0.0;
+        for &k in &sc.drawbar_slips {
+            let s = solve_patch_at(&sc.grid, &kin(sc, k), &sc.params).summary;
+            assert_eq!(s.wet_fraction, 0.0, "{} at {k}", sc.name);
+            hottest = hottest.max(s.max_rise_k);
+        }
+        eprintln!("{}: hottest pixel over the sweep {hottest:.3} K above the ice", sc.name);
+        assert!(hottest < 0.5 * -sc.ice_temp_c, "{}: {hottest} K", sc.name);
+    }
+    let at40 = |name: &str| {
+        let sc = scenario(name);
+        solve_patch_at(&sc.grid, &kin(&sc, 0.4), &sc.params).summary
+    };
+    let (a, b) = (at40("rig_srtt_7kN_21psi_m10C"), at40("rig_srtt_7kN_35psi_m10C"));
+    eprintln!(
+        "40 % slip, 7 kN, -10 C: 21 psi friction power {:.1} W, max rise {:.3} K, mean {:.3} K; 35 psi {:.1} W, {:.3} K, {:.3} K",
+        a.power_friction_w, a.max_rise_k, a.mean_rise_k, b.power_friction_w, b.max_rise_k, b.mean_rise_k
+    );
+    assert!(a.power_friction_w > b.power_friction_w);
+    assert!(a.max_rise_k < b.max_rise_k && a.mean_rise_k < b.mean_rise_k);
+}
+
+/// Issue 29: the thermocouples' free-rolling rise (about 1.4 degC, Fig. 4.23–4.25) is out of reach
+/// of the rolling heat by energy alone. An upper bound: the whole rolling-resistance power
+/// f_rr F_z V over a run (four slip levels of 20 s, 80 s: 2.7 revolutions at 7 cm/s) kept in the
+/// tread band (rubber volume 2 pi R_r w d (1 - void)) with no cooling. It stays below 0.7 K (half
+/// the measurement) at every rig load, even if the heat stayed in the outer quarter of the tread
+/// depth; the single-pass patch gives less than 0.02 K.
+#[test]
+fn free_rolling_rise_is_bounded_by_the_rolling_energy() {
+    let (r_roll, width, t_run) = (0.328, 0.18, 80.0); // SRTT rolling radius; tread width; 4 x 20 s
+    for name in ["rig_srtt_4p2kN_35psi_m10C", "rig_srtt_7kN_35psi_m10C", "rig_srtt_8p4kN_35psi_m10C"] {
+        let sc = scenario(name);
+        let pp = &sc.params;
+        let power = pp.rolling_resistance * sc.grid.load_n() * sc.speed_mps;
+        let solid = pp.compound.solid;
+        let band = 2.0 * PI * r_roll * width * pp.tread_depth_m * (1.0 - pp.void_ratio);
+        let heat_capacity = solid.density_kg_m3 * solid.specific_heat_j_kgk * band;
+        let bound = power * t_run / heat_capacity;
+        let skin = 4.0 * bound;
+        let free = solve_patch_at(&sc.grid, &kin(&sc, 0.0), pp).summary;
+        eprintln!(
+            "{name}: rolling power {power:.2} W, {:.0} J per revolution, run {:.0} J; tread band {heat_capacity:.0} J/K; bound {bound:.3} K (outer quarter {skin:.3} K); single pass max {:.4} K",
+            power * 2.0 * PI * r_roll / sc.speed_mps,
+            power * t_run,
+            free.max_rise_k
+        );
+        assert!(skin < 0.7, "{name}: {skin} K");
+        assert!(free.max_rise_k < 0.02, "{name}: {}", free.max_rise_k);
+    }
 }
 
 /// Item 5: the reported viscous friction and film heights are averages over stated lengths

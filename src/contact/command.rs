@@ -99,7 +99,7 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     xy_chart(
         &dir.join("drawbar"),
         &XyChart {
-            title: format!("Drawbar pull vs slip at {:.1} m/s, ice {:.0} °C", sc.drawbar_speed_mps, sc.ice_temp_c),
+            title: format!("Drawbar pull vs slip at {} m/s, ice {:.0} °C", sc.drawbar_speed_mps, sc.ice_temp_c),
             x_label: "slip ratio (%)".into(),
             y_label: "drawbar-pull coefficient (-)".into(),
             note: format!("Scenario {}; the curve is solved every 0.5 % of slip and at each listed slip.", sc.name),

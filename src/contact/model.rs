@@ -12,9 +12,10 @@
 //! the longitudinal force.
 //!
 //! Per track (one column of the grid), pixel by pixel:
-//! 1. Brush adhesion: tread and carcass act as springs in series per unit area,
-//!    1/k = 1/k_tread + 1/k_carcass (`Compound::brush_stiffness_pa_per_m`,
-//!    [`PatchParams::carcass_stiffness_pa_per_m`]). An element at distance xi behind the track's
+//! 1. Brush adhesion: tread and the belt/carcass compliance inside the patch act as springs in
+//!    series per unit area, 1/k = 1/k_tread + 1/k_carcass (`Compound::brush_stiffness_pa_per_m`,
+//!    [`PatchParams::carcass_stiffness_pa_per_m`]), which sets the steady-state slip stiffness (the
+//!    tyre's structural value, [`SRTT_CARCASS_N_PER_M`]). An element at distance xi behind the track's
 //!    first loaded pixel carries k sigma xi (sigma = v_s / v_r, the theoretical slip); it sticks
 //!    until that reaches the static (peak) friction times p and slides from there on (simple brush
 //!    model, sub-pixel onset). The stress points against the sliding velocity (isotropic brush).
@@ -42,7 +43,7 @@ use super::patch::PressureGrid;
 use super::thermal::{Compound, ICE, MELT_C, WATER_VISCOSITY_PA_S};
 use std::f64::consts::PI;
 
-/// Reference inflation pressure of the carcass stiffness, Pa (the SRTT's 35 psi).
+/// Reference inflation pressure of the in-patch carcass stiffness, Pa (the SRTT's 35 psi).
 pub const CARCASS_REF_INFLATION_PA: f64 = 241.3e3;
 
 /// Parameters of the patch model.
@@ -67,7 +68,8 @@ pub struct PatchParams {
     pub brush: bool,
     /// Contact-time cap, s (locked wheel: the lock duration; 0.1–10).
     pub lock_time_s: f64,
-    /// Longitudinal carcass stiffness (rim to belt), N/m, at the inflation below; 0 = rigid.
+    /// In-patch belt and carcass compliance as a longitudinal spring shared by the contact area, N/m,
+    /// at the inflation below ([`SRTT_CARCASS_N_PER_M`]); 0 = rigid.
     pub carcass_n_per_m: f64,
     /// Rolling-resistance coefficient f_rr (0–0.05) for the hysteresis heat.
     pub rolling_resistance: f64,
@@ -121,11 +123,16 @@ impl PatchParams {
     }
 }
 
-/// SRTT longitudinal carcass stiffness at 241.3 kPa, N/m. Assumption: passenger-tyre carcass
-/// stiffnesses are a few hundred kN/m to about 1 MN/m; 600 kN/m puts the SRTT's longitudinal slip
-/// stiffness (tread in series) at about 7 F_z at 7 kN, inside the 5–10 F_z that a drawbar peak at
-/// 5–10 % slip with a peak coefficient near 0.18 requires (3 mu / kappa_peak).
-pub const SRTT_CARCASS_N_PER_M: f64 = 600e3;
+/// SRTT in-patch belt and carcass compliance at 241.3 kPa, as a spring of N/m shared by the contact
+/// area, set so that the patch's steady-state longitudinal slip stiffness at 7 kN, 35 psi and
+/// -10 degC is the tyre's structural value, 22 F_z (the SRTT Magic Formula file's PKX1, a
+/// passenger-tyre magnitude: 15–25 F_z). The slip stiffness at kappa -> 0 is a property of the
+/// structure, not of the friction (brush theory: the whole patch adheres). The lumped rim-to-belt
+/// carcass spring (a few hundred kN/m; 22 F_z x 4 kN / 0.15 m relaxation length = 590 kN/m for the
+/// car's SRTT) does not enter here: a rigid belt displaced as a whole rolls at the rim's angular
+/// speed, so in steady state it changes the relaxation length, not the slip stiffness. (Until
+/// issue 29 this was 600 kN/m, which put the slip stiffness at 6 F_z.)
+pub const SRTT_CARCASS_N_PER_M: f64 = 3600e3;
 
 /// Carcass stiffness at inflation `inflation_pa` from its value `at_ref_n_per_m` at
 /// [`CARCASS_REF_INFLATION_PA`]: proportional to the inflation pressure (assumption: the

@@ -149,8 +149,9 @@ pub struct TyreSpec {
     /// Exponent of that fall, (1 + v/v_c)^-n, 0–1 (0 = none).
     #[serde(default = "d_speed_exp")]
     pub speed_exponent: f64,
-    /// Longitudinal carcass stiffness at 241.3 kPa inflation, kN/m (0 = rigid, else 50–5000);
-    /// scaled in proportion to `inflation_kpa`.
+    /// In-patch belt and carcass compliance at 241.3 kPa inflation, as a longitudinal spring shared
+    /// by the contact area, kN/m (0 = rigid, else 50–5000; SRTT 3600, which puts the slip stiffness
+    /// at 22 F_z at 7 kN); scaled in proportion to `inflation_kpa`.
     #[serde(default = "d_carcass")]
     pub carcass_stiffness_kn_per_m: f64,
     /// Rolling-resistance coefficient for the rolling (hysteresis) heat, 0–0.05.
