@@ -147,7 +147,7 @@ pub fn advance(h0_m: f64, dt_s: f64, substeps: usize, k: &FilmCoeffs) -> FilmSte
     FilmStep { h_end_m: s, inv_h_integral: inv, squeezed_m: sq }
 }
 
-/// Result of advancing a wet pixel's film under the friction law [`WetFilm`] (energies per unit
+/// Result of advancing a wet pixel's film under the friction law [`super::friction::WetFilm`] (energies per unit
 /// area over the interval, J/m^2).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct WetStep {

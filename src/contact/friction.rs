@@ -13,7 +13,7 @@
 //! gives eps directly (`heat::tread_fraction`). Eq. 4.16 also reuses S for both slip and area.
 
 /// Coldest interface temperature the ice friction law distinguishes, degC: below it the friction
-/// holds its cold plateau (the dissertation, 2.5 citing its ref. [37]: dry ice below about -10 degC
+/// holds its cold plateau (the dissertation, 2.5 citing its ref. 37: dry ice below about -10 degC
 /// holds 0.16-0.20, i.e. the rise with cold levels off). Assumption: -12 degC, so that with
 /// c_T = 0.028 /K the plateau is 6 % above the -10 degC value (0.157 -> 0.166 on the rig's ice,
 /// inside 0.16-0.20).
