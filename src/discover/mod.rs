@@ -9,6 +9,7 @@
 //! - [`search`]: the greedy search that names effects, round by round.
 //! - [`synth`]: synthetic runs with one effect on; [`report`]: report.json, report.md, plots.
 //! - [`uncertainty`]: confidence intervals of fitted parameters.
+//! - [`sensors`]: the measurement chain (accelerometer position, channel latency).
 //! - [`equivalence`]: what the data cannot tell apart, and the manoeuvre that would.
 //! - [`stanford`]: conversion of the Stanford lap data to the run format.
 
@@ -21,6 +22,7 @@ pub mod replay;
 pub mod report;
 pub mod search;
 pub mod select;
+pub mod sensors;
 pub mod stanford;
 pub mod synth;
 pub mod uncertainty;

@@ -69,6 +69,8 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::SteerCompliance => vec![0.004],
         Effect::SteerLag => vec![0.12],
         Effect::SensorBias => vec![0.02, 0.25],
+        Effect::SensorLatency => vec![0.08, 0.05],
+        Effect::AccelPosition => vec![1.2, 0.4],
         Effect::AxleStiffness => vec![1.0, 0.7],
         Effect::AxleFriction => vec![1.0, 0.8],
         Effect::YawInertia => vec![1.4],
