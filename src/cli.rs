@@ -203,6 +203,10 @@ pub enum Command {
         /// Noise seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Manoeuvres to write, comma-separated ids (default: the eight of the standard set;
+        /// also gentle_sine_dry, gentle_sine_ice; a discovery's separating manoeuvre is one).
+        #[arg(long, value_delimiter = ',')]
+        maneuvers: Vec<String>,
         /// Output folder.
         #[arg(long)]
         out: PathBuf,
@@ -272,8 +276,8 @@ pub fn main() -> ExitCode {
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force } => {
             crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force)
         }
-        Command::Synth { effect, params, vehicle, tyre_model, seed, out } => {
-            crate::discover::cli_synth(&effect, &params, &vehicle, tyre_model, seed, &out)
+        Command::Synth { effect, params, vehicle, tyre_model, seed, maneuvers, out } => {
+            crate::discover::cli_synth(&effect, &params, &vehicle, tyre_model, seed, &maneuvers, &out)
         }
         Command::ConvertStanford { dir, out, segment_s, segments } => {
             crate::discover::cli_convert(&dir, &out, segment_s, segments)

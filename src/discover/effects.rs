@@ -120,12 +120,16 @@ pub enum Effect {
     LoadTransferSensitive,
     ThermalState,
     FrictionBand,
+    SensorLatency,
+    AccelPosition,
 }
 
 impl Effect {
     /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 17] = [
+    pub const TRIED: [Effect; 19] = [
         Effect::SensorBias,
+        Effect::SensorLatency,
+        Effect::AccelPosition,
         Effect::SteerCompliance,
         Effect::SteerLag,
         Effect::TyreRelaxation,
@@ -145,16 +149,18 @@ impl Effect {
     ];
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 17] = Self::TRIED;
+    pub const ALL: [Effect; 19] = Self::TRIED;
 
     /// Every name accepted on the command line.
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 11] = [
         "tyre_relaxation",
         "load_transfer",
         "thermal_friction",
         "friction_change",
         "steer_compliance",
         "sensor_bias",
+        "sensor_latency",
+        "accelerometer_position",
         "axle_cornering_stiffness",
         "axle_peak_friction",
         "yaw_inertia",
@@ -170,6 +176,8 @@ impl Effect {
             }
             Effect::SteerCompliance | Effect::SteerLag => "steer_compliance",
             Effect::SensorBias => "sensor_bias",
+            Effect::SensorLatency => "sensor_latency",
+            Effect::AccelPosition => "accelerometer_position",
             Effect::AxleStiffness => "axle_cornering_stiffness",
             Effect::AxleFriction => "axle_peak_friction",
             Effect::YawInertia => "yaw_inertia",
@@ -230,6 +238,10 @@ impl Effect {
             Effect::SteerCompliance => "effective steer is reduced in proportion to the front lateral force",
             Effect::SteerLag => "effective steer follows the measured steer with a first-order lag",
             Effect::SensorBias => "constant offsets on the yaw-rate and lateral-acceleration sensors",
+            Effect::SensorLatency => "the logged yaw rate and lateral acceleration arrive late, each by its own delay",
+            Effect::AccelPosition => {
+                "the accelerometer sits away from the CG and also measures the yaw acceleration and centripetal terms there"
+            }
             Effect::AxleStiffness => {
                 "each axle's cornering stiffness differs from the tyre's by its own factor (peak force unchanged)"
             }
@@ -301,6 +313,17 @@ impl Effect {
                 }
                 v
             }
+            // The latencies: a grid of both delays, so that the simplex starts near the right
+            // pair (the objective is periodic-looking in a delay on a sine steer).
+            Effect::SensorLatency => {
+                let mut v = Vec::new();
+                for tr in [0.0, 0.03, 0.1, 0.25] {
+                    for ta in [0.0, 0.03, 0.1, 0.25] {
+                        v.push(vec![tr, ta]);
+                    }
+                }
+                v
+            }
             // The tread state: a grid of sensitivities, heat capacities (which act only through
             // the melting cap, so the simplex cannot find them from a flat start) and cooling times.
             Effect::ThermalState => {
@@ -357,6 +380,17 @@ impl Effect {
                         pd("bias_ay_mps2", "m/s^2", 0.0, 0.1, -5.0, 5.0, ZERO),
                     ]
                 }
+            }
+            Effect::SensorLatency => {
+                const {
+                    &[
+                        pd("latency_yaw_rate_s", "s", 0.02, 0.03, 0.0, 0.5, ZERO),
+                        pd("latency_ay_s", "s", 0.02, 0.03, 0.0, 0.5, ZERO),
+                    ]
+                }
+            }
+            Effect::AccelPosition => {
+                const { &[pd("accel_x_m", "m", 0.0, 0.5, -3.0, 3.0, ZERO), pd("accel_y_m", "m", 0.0, 0.3, -1.5, 1.5, ZERO)] }
             }
             Effect::AxleStiffness => {
                 const {
@@ -435,7 +469,7 @@ impl Effect {
             | Effect::SteerLag => InVehicleSpec::Lateral,
             Effect::YawInertia => InVehicleSpec::YawInertiaScale,
             Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
-            Effect::SensorBias => InVehicleSpec::Instruments,
+            Effect::SensorBias | Effect::SensorLatency | Effect::AccelPosition => InVehicleSpec::Instruments,
             Effect::AxleStiffness
             | Effect::AxleFriction
             | Effect::TransientSlip
@@ -463,6 +497,8 @@ impl Effect {
                 p.bias_yaw_rate_radps = v[0];
                 p.bias_ay_mps2 = v[1];
             }
+            Effect::SensorLatency => p.latency_s = [v[0], v[1]],
+            Effect::AccelPosition => p.accel_position_m = [v[0], v[1]],
             Effect::AxleStiffness => p.stiffness_scale = [v[0], v[1]],
             Effect::AxleFriction => p.mu_axle_scale = [v[0], v[1]],
             Effect::YawInertia => p.yaw_inertia_scale = v[0],

@@ -130,6 +130,44 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
         .iter()
         .map(|s| s.to_string())
         .collect();
+    let (used, notices) = header_columns(path, &headers)?;
+    let cols = read_columns(path, &mut rdr, &used)?;
+    let get = |name: &str| -> Vec<f64> {
+        used.iter().position(|(_, n)| n == name).map(|j| cols[j].clone()).unwrap_or_default()
+    };
+    let t = get("t");
+    check_time(path, &t)?;
+    let (steer, vx, yaw_rate) = (get("steer"), get("vx"), get("yaw_rate"));
+    check_channels(path, &steer, &vx, &yaw_rate)?;
+    let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
+    let run = MeasuredRun {
+        path: path.to_path_buf(),
+        name,
+        optional: OPTIONAL
+            .iter()
+            .filter(|o| headers.iter().any(|h| h == *o))
+            .map(|o| (o.to_string(), get(o)))
+            .collect(),
+        initial_vx: vx[0],
+        t,
+        steer,
+        vx,
+        yaw_rate,
+        ay: get("ay"),
+        mu: 1.0,
+        ice_temp_c: -3.0,
+        on_ice: false,
+        notices,
+    };
+    Ok(run)
+}
+
+/// Columns of the run format in a CSV header: (index, name).
+type Columns = Vec<(usize, String)>;
+
+/// The header's columns of the run format, (index, name), every required one present and none
+/// twice; a notice for each other column (ignored).
+fn header_columns(path: &Path, headers: &[String]) -> Result<(Columns, Vec<String>)> {
     let mut notices = Vec::new();
     for r in REQUIRED {
         if !headers.iter().any(|h| h == r) {
@@ -151,12 +189,17 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             notices.push(format!("{}: column '{h}' ignored (not part of the run format)", path.display()));
         }
     }
-    let used: Vec<(usize, &str)> = headers
+    let used: Vec<(usize, String)> = headers
         .iter()
         .enumerate()
         .filter(|(_, h)| REQUIRED.contains(&h.as_str()) || OPTIONAL.contains(&h.as_str()))
-        .map(|(i, h)| (i, h.as_str()))
+        .map(|(i, h)| (i, h.clone()))
         .collect();
+    Ok((used, notices))
+}
+
+/// The cells of the `used` columns, row by row, each a finite number.
+fn read_columns(path: &Path, rdr: &mut csv::Reader<&[u8]>, used: &[(usize, String)]) -> Result<Vec<Vec<f64>>> {
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); used.len()];
     for (k, rec) in rdr.records().enumerate() {
         // Row numbers count the header as line 1.
@@ -185,10 +228,12 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             cols[j].push(v);
         }
     }
-    let get = |name: &str| -> Vec<f64> {
-        used.iter().position(|(_, n)| *n == name).map(|j| cols[j].clone()).unwrap_or_default()
-    };
-    let t = get("t");
+    Ok(cols)
+}
+
+/// Time: at least two rows, strictly increasing, in seconds (the median interval within what
+/// vehicle data is logged at) and of a replayable duration.
+fn check_time(path: &Path, t: &[f64]) -> Result<()> {
     if t.len() < 2 {
         return Err(Error::input(path, format!("{} data rows; a run needs at least 2", t.len())));
     }
@@ -239,7 +284,11 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             ),
         ));
     }
-    let steer = get("steer");
+    Ok(())
+}
+
+/// The steer a road-wheel angle in radians, vx forwards, and a yaw rate a rolling car can have.
+fn check_channels(path: &Path, steer: &[f64], vx: &[f64], yaw_rate: &[f64]) -> Result<()> {
     if let Some((k, v)) = steer.iter().enumerate().find(|(_, v)| v.abs() > STEER_MAX_RAD) {
         return Err(Error::input(
             path,
@@ -249,8 +298,6 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             ),
         ));
     }
-    let vx = get("vx");
-    let yaw_rate = get("yaw_rate");
     if let Some(k) = vx.iter().position(|v| *v < -VX_NOISE_MPS) {
         return Err(Error::input(
             path,
@@ -276,27 +323,7 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             ),
         ));
     }
-    let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
-    let run = MeasuredRun {
-        path: path.to_path_buf(),
-        name,
-        optional: OPTIONAL
-            .iter()
-            .filter(|o| headers.iter().any(|h| h == *o))
-            .map(|o| (o.to_string(), get(o)))
-            .collect(),
-        initial_vx: vx[0],
-        t,
-        steer,
-        vx,
-        yaw_rate,
-        ay: get("ay"),
-        mu: 1.0,
-        ice_temp_c: -3.0,
-        on_ice: false,
-        notices,
-    };
-    Ok(run)
+    Ok(())
 }
 
 fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {

@@ -5,18 +5,24 @@
 //! - [`measured`]: the measured-run format and its validation.
 //! - [`model`]: the replay model (lateral bicycle, prescribed speed) with the candidate effects.
 //! - [`effects`]: the candidate library; [`fit`]: Nelder–Mead fitting.
-//! - [`select`]: noise estimate, residuals, disagreement windows, greedy selection.
+//! - [`select`]: noise estimate, residuals, scores, disagreement windows, the result types.
+//! - [`search`]: the greedy search that names effects, round by round.
 //! - [`synth`]: synthetic runs with one effect on; [`report`]: report.json, report.md, plots.
 //! - [`uncertainty`]: confidence intervals of fitted parameters.
+//! - [`sensors`]: the measurement chain (accelerometer position, channel latency).
+//! - [`equivalence`]: what the data cannot tell apart, and the manoeuvre that would.
 //! - [`stanford`]: conversion of the Stanford lap data to the run format.
 
 pub mod effects;
+pub mod equivalence;
 pub mod fit;
 pub mod measured;
 pub mod model;
 pub mod replay;
 pub mod report;
+pub mod search;
 pub mod select;
+pub mod sensors;
 pub mod stanford;
 pub mod synth;
 pub mod uncertainty;
@@ -29,7 +35,8 @@ use crate::spec::vehicle::{Vehicle, VehicleFile};
 use crate::tyre::spec::TyreModelKind;
 
 pub use effects::Effect;
-pub use select::{discover, Dataset, Discovery};
+pub use search::discover;
+pub use select::{Dataset, Discovery};
 
 /// Options of `vehsim discover`.
 #[derive(Debug, Clone)]
@@ -127,7 +134,7 @@ pub fn run_discover_checked(opts: &DiscoverOptions, force: bool) -> Result<(Disc
     let model = model::ReplayModel::new(vehicle);
     let mut data = Dataset::new(runs);
     let say = |m: &str| eprintln!("discover: {m}");
-    let mut d = select::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
+    let mut d = search::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
     data.held = d.held.clone();
     if opts.jackknife {
         let finals: Vec<(Effect, Vec<f64>)> =
@@ -192,6 +199,9 @@ pub fn cli_discover(
                 b.yaw_rate_radps, f.yaw_rate_radps, b.ay_mps2, f.ay_mps2
             );
             println!("verdict: {} (named: {})", d.verdict, d.named_text());
+            for line in report::classes_text(&d) {
+                println!("{line}");
+            }
             println!("wrote {}", opts.out.display());
             std::process::ExitCode::SUCCESS
         }
@@ -206,9 +216,11 @@ pub fn cli_synth(
     vehicle: &Path,
     tyre_model: TyreModelKind,
     seed: u64,
+    maneuvers: &[String],
     out: &Path,
 ) -> std::process::ExitCode {
     let r = (|| -> Result<usize> {
+        let plan = synth::select(maneuvers)?;
         let v = load_vehicle(vehicle, None, tyre_model)?;
         let mut p = model::EffectParams::default();
         if effect != "none" {
@@ -241,7 +253,7 @@ pub fn cli_synth(
         } else if !params.is_empty() {
             return Err(Error::usage("--params", "effect 'none' takes no parameters"));
         }
-        let runs = synth::generate(&model::ReplayModel::new(v), &p, seed);
+        let runs = synth::generate_plan(&model::ReplayModel::new(v), &p, seed, &plan);
         synth::write_runs(out, &runs)?;
         Ok(runs.len())
     })();

@@ -74,6 +74,7 @@
 //! - `axle_peak_friction`: each axle's tyres see the surface friction s_i mu_e, so the peak force
 //!   scales by s_i (for providers whose force saturates at mu Fz).
 //! - `yaw_inertia`: I_z is replaced by s_I I_z.
+//! - `sensor_latency`, `accelerometer_position`: the measurement chain ([`super::sensors`]).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
 
@@ -117,6 +118,12 @@ pub struct EffectParams {
     pub bias_yaw_rate_radps: f64,
     /// Lateral-acceleration sensor offset, m/s^2 (typical |b| < 0.5).
     pub bias_ay_mps2: f64,
+    /// Latency of the logged yaw-rate and lateral-acceleration channels, s (0 = none;
+    /// [`super::sensors`]).
+    pub latency_s: [f64; 2],
+    /// Accelerometer position relative to the CG: x ahead, y to the left, m (0 = at the CG;
+    /// [`super::sensors`]).
+    pub accel_position_m: [f64; 2],
     /// Cornering-stiffness factor per axle (front, rear), 1 (1 = off; typical 0.5-2).
     pub stiffness_scale: [f64; 2],
     /// Peak-friction factor per axle (front, rear), 1 (1 = off; typical 0.5-1.5).
@@ -158,6 +165,8 @@ impl Default for EffectParams {
             load_transfer_height_m: 0.0,
             bias_yaw_rate_radps: 0.0,
             bias_ay_mps2: 0.0,
+            latency_s: [0.0; 2],
+            accel_position_m: [0.0; 2],
             stiffness_scale: [1.0; 2],
             mu_axle_scale: [1.0; 2],
             yaw_inertia_scale: 1.0,

@@ -516,13 +516,17 @@ pub(super) fn replay(
     // The first row is recorded before the first step, so there is always a last one to hold.
     let last = rows.last().copied().unwrap_or_default();
     for r in rows.iter().chain(std::iter::repeat_n(&last, n - rows.len())) {
-        out.yaw_rate.push(r.r + p.bias_yaw_rate_radps);
-        out.ay.push(r.ay + p.bias_ay_mps2);
+        out.yaw_rate.push(r.r);
+        out.ay.push(r.ay);
         out.vy.push(r.vy);
         out.alpha_f.push(r.alpha_f);
         out.contact_rise_k.push(r.contact_c - ice);
         steer.push(r.steer);
     }
+    // What the instruments log: the accelerometer's place, the channels' latency, their offsets.
+    super::sensors::measure(&mut out.yaw_rate, &mut out.ay, &run.t, p);
+    out.yaw_rate.iter_mut().for_each(|v| *v += p.bias_yaw_rate_radps);
+    out.ay.iter_mut().for_each(|v| *v += p.bias_ay_mps2);
     (out, steer)
 }
 

@@ -9,7 +9,8 @@ use std::path::Path;
 use serde_json::json;
 
 use super::effects::InVehicleSpec;
-use super::model::ReplayModel;
+use super::equivalence::Class;
+use super::model::{ReplayModel, Simulated};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
 use super::uncertainty::Interval;
 use super::DiscoverOptions;
@@ -62,6 +63,9 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
     let _ = writeln!(s, "# Vehicle: {}", opts.vehicle.display());
     let _ = writeln!(s, "verdict = \"{}\"", d.verdict);
     let _ = writeln!(s, "named_effects = {:?}", d.named_names());
+    for c in &d.classes {
+        let _ = writeln!(s, "# {} cannot be told apart on these runs: {}", c.named.label(), c.text());
+    }
     // Final values (after any joint refit; see report.json `steps` for the values at acceptance).
     for fe in &d.final_effects {
         let _ = writeln!(s, "\n[{}]", fe.effect.name());
@@ -143,14 +147,45 @@ fn write(path: &Path, text: &str) -> Result<()> {
 }
 
 /// Write every output into `out` (atomically).
+/// Write report.json, report.md, effects.toml, vehicle.toml and the plots into `out`, atomically.
 pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: &Dataset, d: &Discovery) -> Result<()> {
     let base_p = super::baseline_for(opts.model, &model.vehicle).0;
-    let base_sims = simulate_all(model, data, &base_p);
-    let final_sims = simulate_all(model, data, &d.params);
-    let windows = disagreement_windows(data, &base_sims);
-    let windows_after = disagreement_windows(data, &final_sims);
-    let regions = operating_regions(data, &base_sims);
-    let report = json!({
+    let sims = Sims { base: simulate_all(model, data, &base_p), last: simulate_all(model, data, &d.params) };
+    let windows = disagreement_windows(data, &sims.base);
+    let windows_after = disagreement_windows(data, &sims.last);
+    let regions = operating_regions(data, &sims.base);
+    let report = report_json(opts, data, d, &sims, [&windows, &windows_after], &regions);
+    let md = markdown(opts, data, d, &windows, &windows_after, &regions);
+    let toml = effects_toml(opts, d);
+    let vehicle_toml = improved_vehicle_toml(opts, d)?;
+    crate::run::write_dir_atomic(out, |tmp| {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
+        write(&tmp.join("report.json"), &text)?;
+        write(&tmp.join("report.md"), &md)?;
+        write(&tmp.join("effects.toml"), &toml)?;
+        write(&tmp.join("vehicle.toml"), &vehicle_toml)?;
+        write_plots(&tmp.join("plots"), data, &sims, &windows)
+    })
+}
+
+/// The replays of every run by the baseline and by the final model.
+struct Sims {
+    base: Vec<Simulated>,
+    last: Vec<Simulated>,
+}
+
+/// report.json (see docs/discover.md, Outputs); `windows` are the baseline's and the final
+/// model's disagreement windows.
+fn report_json(
+    opts: &DiscoverOptions,
+    data: &Dataset,
+    d: &Discovery,
+    sims: &Sims,
+    [windows, windows_after]: [&[Window]; 2],
+    regions: &[super::select::RegionBin],
+) -> serde_json::Value {
+    let (base_sims, final_sims) = (&sims.base, &sims.last);
+    json!({
         "baseline_model": opts.model,
         "vehicle": opts.vehicle.display().to_string(),
         "runs": data.runs.iter().map(|r| r.path.display().to_string()).collect::<Vec<_>>(),
@@ -206,49 +241,85 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
                 "leave_one_out": e.leave_one_out,
             })).collect::<Vec<_>>(),
         })),
-        "largest_remaining_windows": largest_windows(&windows_after, 10),
+        "largest_remaining_windows": largest_windows(windows_after, 10),
         "named_effects": d.named_names(),
+        "named_classes": d.named.iter().map(|e| {
+            let class = d.classes.iter().find(|c| c.named == *e);
+            std::iter::once(e.label()).chain(class.into_iter().flat_map(|c| c.members.iter().map(|m| m.effect.label()))).collect::<Vec<_>>()
+        }).collect::<Vec<_>>(),
+        "equivalence_classes": d.classes.iter().map(class_json).collect::<Vec<_>>(),
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,
         "disagreement_windows_final": windows_after,
         "operating_regions_baseline": regions,
         "thresholds": { "bic_min": super::select::BIC_MIN, "min_gain": super::select::MIN_GAIN, "explained_chi2": super::select::EXPLAINED_NOISE_RATIO.powi(2), "explained_noise_ratio": super::select::EXPLAINED_NOISE_RATIO, "confidence": 0.95 },
-    });
-    let md = markdown(opts, data, d, &windows, &windows_after, &regions);
-    let toml = effects_toml(opts, d);
-    let vehicle_toml = improved_vehicle_toml(opts, d)?;
-    crate::run::write_dir_atomic(out, |tmp| {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
-        write(&tmp.join("report.json"), &text)?;
-        write(&tmp.join("report.md"), &md)?;
-        write(&tmp.join("effects.toml"), &toml)?;
-        write(&tmp.join("vehicle.toml"), &vehicle_toml)?;
-        let plots = tmp.join("plots");
-        std::fs::create_dir_all(&plots).map_err(|e| Error::Io { path: plots.clone(), source: e })?;
-        for (i, r) in data.runs.iter().enumerate() {
-            let spans: Vec<(f64, f64)> = windows.iter().filter(|w| w.run == r.name).map(|w| (w.t0_s, w.t1_s)).collect();
-            for (ch, unit, meas, b, f) in [
-                ("yaw_rate", "rad/s", &r.yaw_rate, &base_sims[i].yaw_rate, &final_sims[i].yaw_rate),
-                ("ay", "m/s^2", &r.ay, &base_sims[i].ay, &final_sims[i].ay),
-            ] {
-                let pts = |v: &Vec<f64>| r.t.iter().zip(v).map(|(t, y)| (*t, *y)).collect::<Vec<_>>();
-                let chart = XyChart {
-                    title: format!("{} — {ch} (shaded: baseline disagreement)", r.name),
-                    x_label: "t (s)".into(),
-                    y_label: format!("{ch} ({unit})"),
-                    series: vec![
-                        Series { label: "measured".into(), points: pts(meas) },
-                        Series { label: "baseline".into(), points: pts(b) },
-                        Series { label: "improved".into(), points: pts(f) },
-                    ],
-                    spans: spans.clone(),
-                    ..XyChart::default()
-                };
-                xy_chart(&plots.join(format!("{}_{ch}", r.name)), &chart)?;
-            }
-        }
-        Ok(())
     })
+}
+
+/// The measured, baseline and improved traces of every run and channel, the baseline's
+/// disagreement windows shaded, into `plots`.
+fn write_plots(plots: &Path, data: &Dataset, sims: &Sims, windows: &[Window]) -> Result<()> {
+    let (base_sims, final_sims) = (&sims.base, &sims.last);
+    std::fs::create_dir_all(plots).map_err(|e| Error::Io { path: plots.to_path_buf(), source: e })?;
+    for (i, r) in data.runs.iter().enumerate() {
+        let spans: Vec<(f64, f64)> = windows.iter().filter(|w| w.run == r.name).map(|w| (w.t0_s, w.t1_s)).collect();
+        for (ch, unit, meas, b, f) in [
+            ("yaw_rate", "rad/s", &r.yaw_rate, &base_sims[i].yaw_rate, &final_sims[i].yaw_rate),
+            ("ay", "m/s^2", &r.ay, &base_sims[i].ay, &final_sims[i].ay),
+        ] {
+            let pts = |v: &Vec<f64>| r.t.iter().zip(v).map(|(t, y)| (*t, *y)).collect::<Vec<_>>();
+            let chart = XyChart {
+                title: format!("{} — {ch} (shaded: baseline disagreement)", r.name),
+                x_label: "t (s)".into(),
+                y_label: format!("{ch} ({unit})"),
+                series: vec![
+                    Series { label: "measured".into(), points: pts(meas) },
+                    Series { label: "baseline".into(), points: pts(b) },
+                    Series { label: "improved".into(), points: pts(f) },
+                ],
+                spans: spans.clone(),
+                ..XyChart::default()
+            };
+            xy_chart(&plots.join(format!("{}_{ch}", r.name)), &chart)?;
+        }
+    }
+    Ok(())
+}
+
+/// One equivalence class for report.json: the named effect, its equivalents with their fitted
+/// parameters and held-out BIC, the proposed manoeuvre and every manoeuvre's separation.
+fn class_json(c: &Class) -> serde_json::Value {
+    json!({
+        "named": { "effect": c.named.name(), "form": c.named.form() },
+        "equivalents": c.members.iter().map(|m| json!({
+            "effect": m.effect.name(), "form": m.effect.form(),
+            "params": params_json(&m.params, &[]),
+            "delta_bic": m.delta_bic, "named_delta_bic": m.named_delta_bic,
+        })).collect::<Vec<_>>(),
+        "separating_maneuver": c.proposal().maneuver,
+        "predicted_difference_over_noise": c.proposal().class,
+        "separations": c.separations,
+    })
+}
+
+/// The classes for people (report.md and the terminal): what cannot be told apart, and which
+/// runs to add.
+pub fn classes_text(d: &Discovery) -> Vec<String> {
+    d.classes
+        .iter()
+        .map(|c| {
+            let p = c.proposal();
+            format!(
+                "the data cannot tell apart {} (held-out dBIC within {}); runs of the manoeuvre {} would \
+                 (predicted difference {:.1} x the noise; `vehsim synth --maneuvers {}` makes them)",
+                c.text(),
+                super::equivalence::EQUIVALENCE_BIC,
+                p.maneuver,
+                p.class,
+                p.maneuver
+            )
+        })
+        .collect()
 }
 
 fn markdown(
@@ -260,6 +331,22 @@ fn markdown(
     regions: &[super::select::RegionBin],
 ) -> String {
     let mut s = String::new();
+    md_header(&mut s, opts, data, d);
+    md_rms(&mut s, d);
+    md_accepted(&mut s, d);
+    md_folds(&mut s, d);
+    md_remaining(&mut s, d, windows_after);
+    md_jackknife(&mut s, d);
+    md_dropped(&mut s, d);
+    md_rejected(&mut s, d);
+    md_noise(&mut s, data);
+    md_windows(&mut s, windows);
+    md_regions(&mut s, regions);
+    s
+}
+
+/// report.md: The title, the runs, the verdict and any equivalent forms.
+fn md_header(s: &mut String, opts: &DiscoverOptions, data: &Dataset, d: &Discovery) {
     let _ = writeln!(s, "# Discovery report\n");
     let _ = writeln!(s, "Baseline model: {} (vehicle {}).", opts.model, opts.vehicle.display());
     let _ = writeln!(s, "Runs: {}; held out: {}.\n", data.runs.len(), {
@@ -271,6 +358,17 @@ fn markdown(
         }
     });
     let _ = writeln!(s, "**Verdict: {}.** Named effects: {}.\n", d.verdict, d.named_text());
+    if !d.classes.is_empty() {
+        let _ = writeln!(s, "## Equivalent forms\n");
+        for line in classes_text(d) {
+            let _ = writeln!(s, "- {}{}.", line[..1].to_uppercase(), &line[1..]);
+        }
+        let _ = writeln!(s);
+    }
+}
+
+/// report.md: The RMS error per channel, baseline and final, on fitted and held-out data.
+fn md_rms(s: &mut String, d: &Discovery) {
     let _ = writeln!(s, "## RMS error per channel\n");
     let _ = writeln!(s, "| data | channel | baseline | final |\n|---|---|---|---|");
     for (label, held) in [("fitted", false), ("held-out", true)] {
@@ -278,6 +376,10 @@ fn markdown(
         let _ = writeln!(s, "| {label} | yaw rate (rad/s) | {:.5} | {:.5} |", b.yaw_rate_radps, f.yaw_rate_radps);
         let _ = writeln!(s, "| {label} | ay (m/s^2) | {:.4} | {:.4} |", b.ay_mps2, f.ay_mps2);
     }
+}
+
+/// report.md: The accepted effects with their evidence, and the final joint values.
+fn md_accepted(s: &mut String, d: &Discovery) {
     let _ = writeln!(s, "\n## Accepted effects\n");
     if d.steps.is_empty() {
         let _ = writeln!(s, "None.");
@@ -300,6 +402,10 @@ fn markdown(
             let _ = writeln!(s, "- {}: {}", fe.effect.label(), params_text(&fe.params, &fe.intervals));
         }
     }
+}
+
+/// report.md: The held-out gap per fold.
+fn md_folds(s: &mut String, d: &Discovery) {
     let _ = writeln!(
         s,
         "\n## Held-out gap per fold (RMS residual / noise, yaw rate and ay; explained at <= {})\n",
@@ -318,6 +424,10 @@ fn markdown(
             f.final_noise_ratio[1]
         );
     }
+}
+
+/// report.md: The largest windows the final model leaves, when the data are not explained.
+fn md_remaining(s: &mut String, d: &Discovery, windows_after: &[Window]) {
     if !d.verdict.at_noise() {
         let _ = writeln!(s, "\n## Largest remaining disagreement windows (final model)\n");
         let w = largest_windows(windows_after, 10);
@@ -328,6 +438,10 @@ fn markdown(
             let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
         }
     }
+}
+
+/// report.md: The leave-one-run-out intervals, when asked for.
+fn md_jackknife(s: &mut String, d: &Discovery) {
     if let Some(j) = &d.jackknife {
         let _ = writeln!(
             s,
@@ -339,6 +453,10 @@ fn markdown(
             let _ = writeln!(s, "- {}: {}", e.effect.label(), params_text(&e.params, &e.intervals));
         }
     }
+}
+
+/// report.md: The effects named, then dropped.
+fn md_dropped(s: &mut String, d: &Discovery) {
     if !d.dropped.is_empty() {
         let _ = writeln!(s, "\n## Named, then dropped\n");
         for x in &d.dropped {
@@ -353,6 +471,10 @@ fn markdown(
             );
         }
     }
+}
+
+/// report.md: Every candidate tried and not accepted, with its reason.
+fn md_rejected(s: &mut String, d: &Discovery) {
     let _ = writeln!(s, "\n## Candidates tried and rejected\n");
     let _ = writeln!(
         s,
@@ -370,11 +492,19 @@ fn markdown(
             t.reason
         );
     }
+}
+
+/// report.md: The noise estimate per run and channel.
+fn md_noise(s: &mut String, data: &Dataset) {
     let _ = writeln!(s, "\n## Noise estimate (from second differences of the measured signals)\n");
     let _ = writeln!(s, "| run | yaw rate (rad/s) | ay (m/s^2) |\n|---|---|---|");
     for (r, n) in data.runs.iter().zip(&data.noise) {
         let _ = writeln!(s, "| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
     }
+}
+
+/// report.md: The baseline's disagreement windows.
+fn md_windows(s: &mut String, windows: &[Window]) {
     let _ = writeln!(s, "\n## Baseline disagreement windows (residual mean square > 2x noise over 0.5 s)\n");
     if windows.is_empty() {
         let _ = writeln!(s, "None.");
@@ -385,6 +515,10 @@ fn markdown(
     if windows.len() > 50 {
         let _ = writeln!(s, "- ... {} more in report.json", windows.len() - 50);
     }
+}
+
+/// report.md: The baseline's residual by operating region, and where the plots are.
+fn md_regions(s: &mut String, regions: &[super::select::RegionBin]) {
     let _ = writeln!(s, "\n## Baseline residual by operating region (1 = noise level)\n");
     let _ = writeln!(s, "| variable | range | samples | excess | disagrees |\n|---|---|---|---|---|");
     for b in regions {
@@ -400,5 +534,4 @@ fn markdown(
         );
     }
     let _ = writeln!(s, "\nPlots: `plots/<run>_yaw_rate.png` and `plots/<run>_ay.png`.");
-    s
 }

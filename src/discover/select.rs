@@ -1,5 +1,6 @@
-//! Residuals, noise estimate, disagreement windows and operating regions, and the greedy
-//! selection of effects scored on held-out data with an information criterion.
+//! Residuals, noise estimate, disagreement windows and operating regions, the scores and
+//! thresholds by which effects are selected on held-out data with an information criterion, and
+//! the result types. The greedy search itself is [`super::search`].
 //!
 //! Noise: for each run and channel, sigma = MAD(second differences) / 0.6745 / sqrt(6). The second
 //! difference of a smooth signal sampled at 100 Hz is tiny, while white noise of variance s^2
@@ -22,9 +23,11 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::effects::Effect;
+use super::equivalence::{Class, Equivalent};
 use super::fit::nelder_mead;
 use super::measured::MeasuredRun;
 use super::model::{EffectParams, ReplayModel, Simulated};
+use super::search::triples;
 use super::uncertainty::{refine, significant, Interval};
 
 /// Held-out BIC improvement needed to accept an effect.
@@ -292,6 +295,9 @@ pub struct Step {
     pub heldout_rmse_before: Rmse,
     pub heldout_rmse_after: Rmse,
     pub evidence: String,
+    /// The candidates of its round that explain the data as well, within the criterion's
+    /// resolution ([`equivalence::members`]); empty when the data told it apart from all.
+    pub equivalents: Vec<Equivalent>,
 }
 
 /// One fold of the held-out design: the model is fitted on one side of the split and scored on
@@ -342,6 +348,9 @@ pub enum Verdict {
     NothingMissing,
     /// Effects named, and with them every fold's held-out residuals are within that ratio.
     Explained,
+    /// As `Explained`, but some named effect has equivalent forms: candidates that explain the
+    /// data as well ([`Discovery::classes`]), which the runs given cannot tell apart.
+    ExplainedEquivalent,
     /// Effects named, but some fold's held-out residuals stay above that ratio.
     PartlyExplained,
     /// Nothing named, and the residuals stay above that ratio.
@@ -353,6 +362,7 @@ impl Verdict {
         match self {
             Verdict::NothingMissing => "nothing_missing",
             Verdict::Explained => "explained",
+            Verdict::ExplainedEquivalent => "explained (equivalent forms)",
             Verdict::PartlyExplained => "partly_explained",
             Verdict::Unexplained => "unexplained",
         }
@@ -360,7 +370,7 @@ impl Verdict {
 
     /// True when the final model leaves the data at the noise (explained or nothing missing).
     pub fn at_noise(self) -> bool {
-        matches!(self, Verdict::NothingMissing | Verdict::Explained)
+        matches!(self, Verdict::NothingMissing | Verdict::Explained | Verdict::ExplainedEquivalent)
     }
 }
 
@@ -392,6 +402,9 @@ pub struct Discovery {
     pub folds: Vec<Fold>,
     /// Leave-one-run-out intervals of the final effects ([`jackknife`]), when asked for.
     pub jackknife: Option<Jackknife>,
+    /// The named effects that have equivalent forms, each with the manoeuvre proposed to
+    /// separate them ([`equivalence`]); empty when every named effect was told apart.
+    pub classes: Vec<Class>,
 }
 
 /// Parameters with `effects` switched on over `base`, their values the flat vector `x` (in the
@@ -413,7 +426,12 @@ pub fn apply_flat(base: &EffectParams, effects: &[(Effect, Vec<f64>)]) -> Effect
     apply_all(base, effects, &x)
 }
 
-fn fit_effect(model: &ReplayModel, data: &Dataset, base: &EffectParams, e: Effect) -> (Vec<f64>, EffectParams) {
+pub(super) fn fit_effect(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    e: Effect,
+) -> (Vec<f64>, EffectParams) {
     let cost = |v: &[f64]| {
         let mut p = *base;
         e.apply(&mut p, v);
@@ -519,296 +537,6 @@ pub fn redundant(
     let last = accepted.len().saturating_sub(1);
     let gone = (0..last).filter(|&i| !significant(accepted[i].0, &ivs[i])).collect();
     (vals, ivs, gone)
-}
-
-/// Run the greedy discovery over `candidates` from the plain bicycle baseline.
-pub fn discover(model: &ReplayModel, data: &Dataset, candidates: &[Effect]) -> Discovery {
-    discover_from(model, data, EffectParams::default(), candidates)
-}
-
-/// Run the greedy discovery over `candidates` from the baseline `base`.
-pub fn discover_from(model: &ReplayModel, data: &Dataset, base: EffectParams, candidates: &[Effect]) -> Discovery {
-    discover_with(model, data, base, candidates, None)
-}
-
-/// A progress sink: one line per finished candidate and per round.
-pub type Progress<'a> = Option<&'a (dyn Fn(&str) + Sync)>;
-
-/// Parameter triples (name, value, unit) of an effect.
-fn triples(e: Effect, v: &[f64]) -> Vec<(String, f64, String)> {
-    e.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect()
-}
-
-/// Held-out noise ratio of a fold's scores as the larger channel.
-fn worst(r: [f64; 2]) -> f64 {
-    r[0].max(r[1])
-}
-
-/// Run the greedy discovery over `candidates` from the baseline `base`, on the split stratified
-/// from the baseline's residuals ([`Dataset::stratified`]), reporting progress to `progress`.
-pub fn discover_with(
-    model: &ReplayModel,
-    data: &Dataset,
-    base: EffectParams,
-    candidates: &[Effect],
-    progress: Progress,
-) -> Discovery {
-    let say = |m: String| {
-        if let Some(f) = progress {
-            f(&m)
-        }
-    };
-    let base_sims = simulate_all(model, data, &base);
-    let data = &data.stratified(&base_sims);
-    let mut p = base;
-    let baseline = score(data, &base_sims);
-    let mut current = baseline;
-    let mut k_params = 0usize;
-    let mut steps = Vec::new();
-    let mut rejected = Vec::new();
-    let mut named = Vec::new();
-    let mut left: Vec<Effect> = candidates.to_vec();
-    let mut accepted: Vec<(Effect, Vec<f64>)> = Vec::new();
-    // The round each accepted effect was accepted in.
-    let mut accepted_round: Vec<usize> = Vec::new();
-    let mut dropped = Vec::new();
-    let mut round = 0;
-    while !left.is_empty() {
-        round += 1;
-        say(format!("round {round}: fitting {} candidates", left.len()));
-        let t0 = std::time::Instant::now();
-        let mut trials: Vec<(Effect, Trial, EffectParams)> = left
-            .par_iter()
-            .map(|&e| {
-                let t = std::time::Instant::now();
-                let (vals, pc) = fit_effect(model, data, &p, e);
-                let sc = score(data, &simulate_all(model, data, &pc));
-                let k = k_params + e.params().len();
-                let trial = Trial {
-                    effect: e,
-                    round,
-                    params: triples(e, &vals),
-                    delta_bic: current.bic_held(k_params) - sc.bic_held(k),
-                    heldout_rss_ratio: sc.rss_held / current.rss_held.max(1e-300),
-                    intervals: Vec::new(),
-                    reason: String::new(),
-                    values: vals,
-                    scores: sc,
-                };
-                say(format!(
-                    "round {round}: {} held-out dBIC {:.1} ({:.1} s)",
-                    e.label(),
-                    trial.delta_bic,
-                    t.elapsed().as_secs_f64()
-                ));
-                (e, trial, pc)
-            })
-            .collect();
-        // Best first by held-out BIC; the first that passes the held-out tests and whose interval
-        // excludes its no-effect value is accepted.
-        trials.sort_by(|a, b| b.1.delta_bic.total_cmp(&a.1.delta_bic));
-        let mut chosen = None;
-        let mut polished = Vec::new();
-        for (j, (e, t, _)) in trials.iter_mut().enumerate() {
-            if !(t.delta_bic > BIC_MIN && t.heldout_rss_ratio < 1.0 - MIN_GAIN) {
-                t.reason = format!(
-                    "held-out dBIC {:.1} (needs > {BIC_MIN}) or RSS ratio {:.3} (needs < {:.2})",
-                    t.delta_bic,
-                    t.heldout_rss_ratio,
-                    1.0 - MIN_GAIN
-                );
-                continue;
-            }
-            let mut with = accepted.clone();
-            with.push((*e, t.values.clone()));
-            let (vals, ivs) = refine(model, data, &base, &with);
-            t.intervals = ivs.last().cloned().unwrap_or_default();
-            if significant(*e, &t.intervals) {
-                chosen = Some(j);
-                polished = vals;
-                break;
-            }
-            t.reason = "a 95 % interval contains the no-effect value".to_string();
-        }
-        for (j, (_, tr, _)) in trials.iter().enumerate() {
-            if Some(j) != chosen {
-                let mut tr = tr.clone();
-                if tr.reason.is_empty() {
-                    tr.reason = "a better candidate was accepted this round".to_string();
-                }
-                rejected.push(tr);
-            }
-        }
-        let Some(bi) = chosen else {
-            say(format!("round {round}: nothing accepted ({:.1} s)", t0.elapsed().as_secs_f64()));
-            break;
-        };
-        let (e, mut t, _) = trials[bi].clone();
-        say(format!("round {round}: accepted {} ({:.1} s)", e.label(), t0.elapsed().as_secs_f64()));
-        // The polished values of every accepted effect and of the new one.
-        accepted.push((e, Vec::new()));
-        accepted_round.push(round);
-        for (a, v) in accepted.iter_mut().zip(polished) {
-            a.1 = v;
-        }
-        p = apply_flat(&base, &accepted);
-        let after = score(data, &simulate_all(model, data, &p));
-        t.params = triples(e, &accepted[accepted.len() - 1].1);
-        steps.push(Step {
-            effect: t.effect,
-            params: t.params.clone(),
-            intervals: t.intervals.clone(),
-            rmse_before: current.rmse(false),
-            rmse_after: after.rmse(false),
-            heldout_rmse_before: current.rmse(true),
-            heldout_rmse_after: after.rmse(true),
-            evidence: format!(
-                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only; 95 % interval excludes the no-effect value",
-                t.delta_bic,
-                t.heldout_rss_ratio,
-                e.params().len()
-            ),
-        });
-        named.push(t.effect);
-        k_params += e.params().len();
-        current = after;
-        if accepted.len() >= 2 {
-            // Joint refit of everything accepted so far; kept only when it does not make the
-            // held-out data worse.
-            let (vals, pj) = fit_jointly(model, data, &base, &accepted);
-            let sj = score(data, &simulate_all(model, data, &pj));
-            if sj.rss_held <= current.rss_held {
-                for (a, v) in accepted.iter_mut().zip(vals) {
-                    a.1 = v;
-                }
-                current = sj;
-                p = pj;
-            }
-            // An effect named earlier whose intervals, now estimated jointly with the new one,
-            // all contain their no-effect values is dropped, and the rest refitted without it.
-            let (vals, ivs, gone) = redundant(model, data, &base, &accepted);
-            if !gone.is_empty() {
-                for &i in gone.iter().rev() {
-                    let (de, _) = accepted.remove(i);
-                    let r0 = accepted_round.remove(i);
-                    named.remove(i);
-                    k_params -= de.params().len();
-                    say(format!("round {round}: dropped {} (its intervals contain the no-effect values)", de.label()));
-                    dropped.push(Dropped {
-                        effect: de,
-                        accepted_round: r0,
-                        dropped_round: round,
-                        params: triples(de, &vals[i]),
-                        intervals: ivs[i].clone(),
-                        reason: format!(
-                            "after the joint refit with {}, every 95 % interval of its parameters contains the no-effect value",
-                            e.label()
-                        ),
-                    });
-                }
-                let (vals, pj) = fit_jointly(model, data, &base, &accepted);
-                for (a, v) in accepted.iter_mut().zip(vals) {
-                    a.1 = v;
-                }
-                p = pj;
-                current = score(data, &simulate_all(model, data, &p));
-            }
-        }
-        // Both forms of a named effect leave the pool together.
-        left.retain(|x| x.name() != e.name());
-    }
-    // The final values and intervals, all accepted effects polished together. The final set
-    // answers to the rule of every round, the newest effect included: an effect whose intervals,
-    // estimated jointly with all the others, contain their no-effect values (or cannot be
-    // estimated: a singular Jacobian) is not named. The newest such effect is dropped and the
-    // rest refitted, until every remaining one is significant.
-    let final_iv = loop {
-        if accepted.is_empty() {
-            break Vec::new();
-        }
-        let (vals, iv) = refine(model, data, &base, &accepted);
-        for (a, v) in accepted.iter_mut().zip(vals) {
-            a.1 = v;
-        }
-        p = apply_flat(&base, &accepted);
-        current = score(data, &simulate_all(model, data, &p));
-        let Some(i) = (0..accepted.len()).rev().find(|&i| !significant(accepted[i].0, &iv[i])) else {
-            break iv;
-        };
-        let (de, v) = accepted.remove(i);
-        let r0 = accepted_round.remove(i);
-        named.remove(i);
-        say(format!("final: dropped {} (its intervals contain the no-effect values)", de.label()));
-        dropped.push(Dropped {
-            effect: de,
-            accepted_round: r0,
-            dropped_round: round,
-            params: triples(de, &v),
-            intervals: iv[i].clone(),
-            reason: "in the final joint fit of every named effect, every 95 % interval of its parameters contains \
-                     the no-effect value (or none could be estimated)"
-                .to_string(),
-        });
-        if !accepted.is_empty() {
-            let (vals, _) = fit_jointly(model, data, &base, &accepted);
-            for (a, v) in accepted.iter_mut().zip(vals) {
-                a.1 = v;
-            }
-        }
-    };
-    let final_effects = accepted
-        .iter()
-        .zip(&final_iv)
-        .map(|((e, v), iv)| FinalEffect {
-            effect: *e,
-            params: triples(*e, v),
-            intervals: iv.clone(),
-            significant: significant(*e, iv),
-        })
-        .collect();
-    // The second fold: the accepted effects refitted on the other side of the split.
-    let other = data.swapped();
-    let other_base = score(&other, &base_sims);
-    let other_final = if accepted.is_empty() {
-        other_base
-    } else {
-        let (vals, _) = fit_jointly(model, &other, &base, &accepted);
-        let refit: Vec<(Effect, Vec<f64>)> = accepted.iter().map(|a| a.0).zip(vals).collect();
-        let (vals, _) = refine(model, &other, &base, &refit);
-        let refit: Vec<(Effect, Vec<f64>)> = accepted.iter().map(|a| a.0).zip(vals).collect();
-        score(&other, &simulate_all(model, &other, &apply_flat(&base, &refit)))
-    };
-    let folds: Vec<Fold> = [(data, &baseline, &current), (&other, &other_base, &other_final)]
-        .into_iter()
-        .map(|(d, b, f)| Fold {
-            heldout_runs: d.heldout_runs(),
-            baseline_heldout_rmse: b.rmse(true),
-            final_heldout_rmse: f.rmse(true),
-            baseline_noise_ratio: b.noise_ratio(),
-            final_noise_ratio: f.noise_ratio(),
-        })
-        .collect();
-    let explained = folds.iter().all(|f| worst(f.final_noise_ratio) <= EXPLAINED_NOISE_RATIO);
-    let verdict = match (explained, named.is_empty()) {
-        (true, true) => Verdict::NothingMissing,
-        (true, false) => Verdict::Explained,
-        (false, true) => Verdict::Unexplained,
-        (false, false) => Verdict::PartlyExplained,
-    };
-    Discovery {
-        baseline,
-        final_scores: current,
-        params: p,
-        steps,
-        final_effects,
-        rejected,
-        dropped,
-        named,
-        verdict,
-        held: data.held.clone(),
-        folds,
-        jackknife: None,
-    }
 }
 
 impl Discovery {
