@@ -1,4 +1,12 @@
-# Chebyshev-interpolation coefficients (monomial form) for the fast atan / sin kernels.
+#!/usr/bin/env python3
+"""The polynomial kernels of src/tyre/fastmath.rs: Chebyshev interpolants, computed in 60-digit
+decimal arithmetic and printed in monomial form (lowest degree first) with their largest error.
+
+    python3 scripts/fastmath_kernels.py [ATAN_DEGREE [SIN_DEGREE]]     (defaults 8 and 7)
+
+Q(s) = (atan(sqrt s)/sqrt s - 1)/s on [0, tan^2(pi/12)], R(s) = (sin(sqrt s)/sqrt s - 1)/s on
+[0, pi^2/4], G(r) = (e^r - 1 - r)/r^2 on [-ln2/2, ln2/2] (degree 9). Standard library only.
+"""
 from decimal import Decimal as D, getcontext
 getcontext().prec = 60
 PI = D('3.14159265358979323846264338327950288419716939937510582097494')
@@ -69,7 +77,8 @@ def q_atan(s):
     u = dsqrt(s)
     return (atan_small(u) / u - 1) / s
 import sys
-n = int(sys.argv[1]); m = int(sys.argv[2])
+n = int(sys.argv[1]) if len(sys.argv) > 1 else 8
+m = int(sys.argv[2]) if len(sys.argv) > 2 else 7
 pa = cheb_fit(q_atan, D(0), smax * D('1.0001'), n)
 print("atan Q deg", n, "max abs err", check(q_atan, pa, D(0), smax), "times s_max*u:", check(q_atan, pa, D(0), smax) * smax)
 for v in pa: print("    %s," % format(float(v), '.17e'))
