@@ -17,6 +17,10 @@
 //! resident high-water mark (`VmHWM` in `/proc/self/status`, Linux only; `-` where unavailable);
 //! each invocation is its own process, so it is the peak of this benchmark alone (the binary, the
 //! spec, the vehicle, and one run's recorder and tables).
+//!
+//! `vehsim yardstick [--runs N] [--tsv]` times the naive single-track RK4 run of [`yardstick`]
+//! the same way and prints the same line (name `yardstick`, model `single_track_rk4_1ms`, tyre
+//! `simple_mf`, contact `-`): the wall-time unit beside which the README's medians are quoted.
 
 use std::path::Path;
 use std::time::Instant;
@@ -27,6 +31,8 @@ use crate::run;
 use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::ManeuverFile;
 use crate::tyre::TyreModelKind;
+
+pub mod yardstick;
 
 /// Column names of the `--tsv` line (documentation; the test below holds [`Report::tsv`] to it).
 #[cfg_attr(not(test), allow(dead_code))]
@@ -153,6 +159,44 @@ pub fn bench(file: &Path, opts: &Options) -> Result<Report> {
         min_s: times[0],
         peak_mem_kib: peak_memory_kib(),
     })
+}
+
+/// Median and minimum of `runs` timed calls of `f` (after one untimed call), s.
+fn time_runs<R>(runs: usize, mut f: impl FnMut() -> R) -> (f64, f64) {
+    std::hint::black_box(f());
+    let mut times: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let t0 = Instant::now();
+            std::hint::black_box(f());
+            t0.elapsed().as_secs_f64()
+        })
+        .collect();
+    times.sort_by(|a, b| a.total_cmp(b));
+    (times[times.len() / 2], times[0])
+}
+
+/// Time `runs` runs of the [`yardstick`].
+pub fn yardstick_bench(runs: usize) -> Report {
+    let (median_s, min_s) = time_runs(runs, yardstick::run);
+    Report {
+        name: "yardstick".into(),
+        model: "single_track_rk4_1ms",
+        tyre: "simple_mf",
+        contact: "-",
+        runs: runs.max(1),
+        sim_s: yardstick::DURATION_S,
+        steps: yardstick::STEPS as u64,
+        median_s,
+        min_s,
+        peak_mem_kib: peak_memory_kib(),
+    }
+}
+
+/// `vehsim yardstick`: time the yardstick and print the sentence (or the `--tsv` line).
+pub(crate) fn cli_yardstick(runs: usize, tsv: bool) -> std::process::ExitCode {
+    let r = yardstick_bench(runs);
+    println!("{}", if tsv { r.tsv() } else { r.line() });
+    std::process::ExitCode::SUCCESS
 }
 
 /// `vehsim bench`: time the runs and print the sentence (or the `--tsv` line).

@@ -136,6 +136,17 @@ pub enum Command {
         #[arg(long)]
         tsv: bool,
     },
+    /// Time the yardstick: a deliberately naive single-track model, RK4 at 1 ms over 10 s
+    /// (src/bench/yardstick.rs); prints the same line as `bench`. Wall times of `bench` rows are
+    /// quoted beside its median, timed the same hour on the same machine.
+    Yardstick {
+        /// Number of timed runs.
+        #[arg(long, default_value_t = 200)]
+        runs: usize,
+        /// One tab-separated line (columns: see src/bench.rs) instead of the sentence.
+        #[arg(long)]
+        tsv: bool,
+    },
     /// ISO 3888-2: the highest entry speed that clears the course; constant radius: the highest
     /// steady lateral acceleration; for every [sweep] combination. Writes <out>/<name>/envelope.csv
     /// and plots/envelope.png/.svg (spec keys: src/envelope.rs, docs/iso3888-2.md).
@@ -272,6 +283,7 @@ pub fn main() -> ExitCode {
         Command::Bench { file, runs, model, tyre_model, contact, tsv } => {
             code(crate::bench::cli_bench(&file, &crate::bench::Options { runs, model, tyre_model, contact }, tsv))
         }
+        Command::Yardstick { runs, tsv } => crate::bench::cli_yardstick(runs, tsv),
         Command::Envelope { file, out, jobs } => code(crate::envelope::cli_envelope(&file, &out, jobs)),
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force } => {
             crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force)

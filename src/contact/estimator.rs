@@ -466,7 +466,8 @@ impl FlashTable {
     /// temperature, which arrives last (it follows the bulk step): w is formed from logarithms
     /// taken beside that chain (ln dtm, ln heat_ratio, the trilinear ln R0), so the chain is one
     /// exponential, one division-free logarithm (the self-heating term), the w lookup and one
-    /// exponential; the divisions of R0 and S run beside it.
+    /// exponential (both by `crate::tyre::fastmath::exp`, within an ulp or two of the library's);
+    /// the divisions of R0 and S run beside it.
     #[inline]
     fn rise_k_priced(&self, fz_n: f64, vs_mps: f64, vr_mps: f64, t_c: f64, heat_ratio: f64) -> f64 {
         if !(fz_n > 0.0 && vs_mps > 0.0 && t_c < MELT_C && vs_mps.is_finite() && heat_ratio > 0.0) {
@@ -506,7 +507,7 @@ impl FlashTable {
         // the dry rise is linear in the heat flux: the force pricing and the dry law's temperature
         // factor at the start temperature; then the self-heating correction of `ln_dry_rise`
         let ln_r_lin = lr0 + ln_temp_factor(self.c_t, t_c);
-        let r_lin = ln_r_lin.exp();
+        let r_lin = crate::tyre::fastmath::exp(ln_r_lin);
         let (r0, wq) = if self.c_t <= 0.0 {
             (r_lin, ln_dtm - ln_r_lin)
         } else {
@@ -530,7 +531,7 @@ impl FlashTable {
         } else {
             r0 * dtm / (r0 + dtm)
         };
-        let r = (capped * lg.exp() * scale).min(MELT_C - t_c);
+        let r = (capped * crate::tyre::fastmath::exp(lg) * scale).min(MELT_C - t_c);
         if r.is_finite() && r > RISE_FLOOR_K * 10.0 {
             r
         } else {

@@ -827,14 +827,17 @@ mod tests {
         assert!(worst < 1e-5, "{worst}");
     }
 
-    /// A replay that leaves its bounds (here a yaw inertia 1e-4 of the car's, whose yaw mode RK4
-    /// cannot follow at 10 ms) ends there: not ok, every sample finite, |r| within 1e2 rad/s, the
-    /// last samples holding the last value recorded within the bounds.
+    /// A replay that leaves its bounds (here a yaw inertia 6e-5 of the car's, whose yaw mode RK4
+    /// cannot follow at 10 ms: it grows from the eighth sample on) ends there: not ok, every sample
+    /// finite, |r| within 1e2 rad/s, the last samples holding the last value recorded within the
+    /// bounds. (At 1e-4 of the car's the saturating tyres hold the unstable mode in an oscillation
+    /// peaking near 99 rad/s, just inside the bound: whether it crossed depended on the last bits
+    /// of the arctangent.)
     #[test]
     fn a_diverging_replay_holds_its_last_sample_within_bounds() {
         let m = model();
         let runs = synth::generate(&m, &EffectParams::default(), 5);
-        let p = EffectParams { yaw_inertia_scale: 1e-4, ..EffectParams::default() };
+        let p = EffectParams { yaw_inertia_scale: 6e-5, ..EffectParams::default() };
         let s = m.simulate(&runs[1].0, &p);
         assert!(!s.ok);
         assert!(s.yaw_rate.iter().chain(&s.ay).chain(&s.vy).all(|v| v.is_finite()));

@@ -16,6 +16,8 @@
 //! |Fx0| <= Dx and |Fy0| <= Dy: a friction ellipse, never a friction square. Both weights stay
 //! bounded as s -> 0 and the pure curves vanish at zero slip, so the result is continuous there.
 
+use super::fastmath;
+
 /// `x.powf(p)`, bit for bit, remembering the last four distinct (x, p) pairs of the calling thread.
 ///
 /// The providers' load factors (Fz / Fz_nominal)^p cost a libm `pow` (about 120 instructions) per
@@ -49,13 +51,14 @@ pub fn powf_memo(x: f64, p: f64) -> f64 {
     })
 }
 
-/// Magic Formula sine curve y = D sin(C atan(B x - E (B x - atan(B x)))).
+/// Magic Formula sine curve y = D sin(C atan(B x - E (B x - atan(B x)))) (the arctangents and
+/// the sine by [`fastmath`], a polynomial kernel within an ulp or two of the library's).
 #[inline]
 pub fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     // E = 0 is common; skipping the inner atan then is exact.
-    let phi = if e == 0.0 { bx } else { bx - e * (bx - bx.atan()) };
-    d * (c * phi.atan()).sin()
+    let phi = if e == 0.0 { bx } else { bx - e * (bx - fastmath::atan(bx)) };
+    d * fastmath::sin(c * fastmath::atan(phi))
 }
 
 /// cos(C atan(B x - E (B x - atan(B x)))), the Magic Formula weighting shape. With C = 1 it is
@@ -63,20 +66,20 @@ pub fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
 #[inline]
 pub fn mf_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    let phi = if e == 0.0 { bx } else { bx - e * (bx - bx.atan()) };
+    let phi = if e == 0.0 { bx } else { bx - e * (bx - fastmath::atan(bx)) };
     if c == 1.0 {
         1.0 / (1.0 + phi * phi).sqrt()
     } else {
-        (c * phi.atan()).cos()
+        (c * fastmath::atan(phi)).cos()
     }
 }
 
 /// dy/dx of [`mf_sin`] at `x` (E held fixed).
 pub fn mf_sin_slope(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    let phi = bx - e * (bx - bx.atan());
+    let phi = bx - e * (bx - fastmath::atan(bx));
     let dphi = b - e * (b - b / (1.0 + bx * bx));
-    d * (c * phi.atan()).cos() * c / (1.0 + phi * phi) * dphi
+    d * (c * fastmath::atan(phi)).cos() * c / (1.0 + phi * phi) * dphi
 }
 
 /// Weights and equivalent slip magnitude of the normalised-slip combination:

@@ -129,7 +129,7 @@ impl SurfaceFriction {
     /// The sliding speed of a tyre input, m/s: |V_x| sqrt(kappa^2 + tan^2 alpha).
     #[inline]
     pub fn sliding_speed(i: &TyreInput) -> f64 {
-        let t = i.alpha_rad.tan();
+        let t = super::fastmath::tan(i.alpha_rad);
         let v = i.vx_mps.abs() * (i.kappa * i.kappa + t * t).sqrt();
         if v.is_finite() {
             v

@@ -22,6 +22,7 @@
 pub mod atiim;
 pub mod combine;
 pub mod dugoff;
+pub mod fastmath;
 pub mod ice;
 pub mod linear;
 pub mod pacejka;

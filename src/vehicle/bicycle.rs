@@ -193,7 +193,7 @@ impl Bicycle {
     fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64) -> Axles {
         let v = &self.vehicle;
         let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
-        let (sin_d, cos_d) = steer.sin_cos();
+        let (sin_d, cos_d) = crate::tyre::fastmath::sin_cos(steer);
         let radius = v.tyre.rolling_radius_m;
         // Wheel-centre velocities in wheel axes.
         let vf = (vx * cos_d + (vy + v.a_m * r) * sin_d, -vx * sin_d + (vy + v.a_m * r) * cos_d);
@@ -294,7 +294,7 @@ impl Bicycle {
     ) -> SVector<f64, N> {
         let v = &self.vehicle;
         let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
-        let (s, c) = yaw.sin_cos();
+        let (s, c) = crate::tyre::fastmath::sin_cos(yaw);
         let radius = v.tyre.rolling_radius_m;
         let sigma = v.tyre.relaxation_length_x_m;
         let mut d = SVector::<f64, N>::zeros();

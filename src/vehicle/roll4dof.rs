@@ -65,7 +65,7 @@ use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleMode
 use crate::contact::TyreContact;
 use crate::maneuver::EventKind;
 use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
-use crate::tyre::{Prepared, TyreForces, TyreInput};
+use crate::tyre::{fastmath, Prepared, TyreForces, TyreInput};
 
 /// State dimension of the 4-DOF model.
 pub const N: usize = 18;
@@ -148,15 +148,15 @@ pub fn front_steer_angles(delta: f64, ackermann: f64, l: f64, t: f64) -> (f64, f
     if ackermann == 0.0 || delta == 0.0 {
         return (delta, delta);
     }
-    let tan_d = delta.tan();
+    let tan_d = fastmath::tan(delta);
     let q = 0.5 * t * tan_d;
     // L - q and L + q stay positive for |delta| below atan(2 L / t) (~74 deg for a car); beyond
     // that ideal Ackermann is undefined and the wheels stay parallel.
     if l - q.abs() <= 0.05 * l {
         return (delta, delta);
     }
-    let left = (l * tan_d / (l - q)).atan();
-    let right = (l * tan_d / (l + q)).atan();
+    let left = fastmath::atan(l * tan_d / (l - q));
+    let right = fastmath::atan(l * tan_d / (l + q));
     (delta + ackermann * (left - delta), delta + ackermann * (right - delta))
 }
 
@@ -286,6 +286,8 @@ impl Roll4Dof {
         (axle, fz)
     }
 
+    // (inlined into its callers: the 288-byte result is then built in place, not copied)
+    #[inline(always)]
     fn wheels(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Wheels {
         let v = &self.vehicle;
         let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
@@ -294,8 +296,8 @@ impl Roll4Dof {
         let (dl, dr) = front_steer_angles(u.steer_rad, self.roll.ackermann, v.wheelbase_m(), v.track_m);
         // Rear wheels are not steered: sin 0 = 0, cos 0 = 1 exactly, no trigonometry needed; front
         // wheels at the same angle (no Ackermann) share theirs.
-        let sc_left = dl.sin_cos();
-        let sc_right = if dr.to_bits() == dl.to_bits() { sc_left } else { dr.sin_cos() };
+        let sc_left = fastmath::sin_cos(dl);
+        let sc_right = if dr.to_bits() == dl.to_bits() { sc_left } else { fastmath::sin_cos(dr) };
         let steer_sc = [sc_left, sc_right, (0.0, 1.0), (0.0, 1.0)];
         let front_share = v.drive_front_share();
         let drive_axle = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
@@ -413,6 +415,7 @@ impl Roll4Dof {
         }
     }
 
+    #[inline(always)]
     fn eval(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, Wheels) {
         let v = &self.vehicle;
         let ro = &self.roll;
@@ -424,7 +427,7 @@ impl Roll4Dof {
         let rhs =
             Vector3::new(fy - m * r * vx, mz, -k * phi - c * p + self.roll_gravity * phi + self.roll_ms_hp * r * vx);
         let acc = self.m_inv * rhs;
-        let (s, co) = yaw.sin_cos();
+        let (s, co) = fastmath::sin_cos(yaw);
         let radius = v.tyre.rolling_radius_m;
         let sigma = v.tyre.relaxation_length_x_m;
         let tau = ro.load_transfer_lag_s;

@@ -23,14 +23,14 @@ pub const TORQUE_RATE_MAX: f64 = 400.0;
 /// Velocity of a wheel centre in wheel axes, from its body-frame velocity (vx, vy) and steer angle.
 #[inline]
 pub fn to_wheel_axes(vx: f64, vy: f64, steer_rad: f64) -> (f64, f64) {
-    let (s, c) = steer_rad.sin_cos();
+    let (s, c) = crate::tyre::fastmath::sin_cos(steer_rad);
     (vx * c + vy * s, -vx * s + vy * c)
 }
 
-/// Slip angle, rad, from wheel-axis velocities.
+/// Slip angle, rad, from wheel-axis velocities (the arctangent by [`crate::tyre::fastmath`]).
 #[inline]
 pub fn slip_angle(vxw: f64, vyw: f64) -> f64 {
-    -(vyw / vxw.abs().max(V_LOW)).atan()
+    -crate::tyre::fastmath::atan(vyw / vxw.abs().max(V_LOW))
 }
 
 /// Kinematic slip ratio (what the relaxed slip tends to).
@@ -81,6 +81,6 @@ pub fn resisting_torque_at(torque_nm: f64, omega1: f64, omega: f64) -> f64 {
 #[inline]
 pub fn slide_speed(kappa: f64, alpha: f64, vxw: f64) -> f64 {
     let v = vxw.abs();
-    let (sx, sy) = (v * kappa, v * alpha.tan().clamp(-1e3, 1e3));
+    let (sx, sy) = (v * kappa, v * crate::tyre::fastmath::tan(alpha).clamp(-1e3, 1e3));
     (sx * sx + sy * sy).sqrt()
 }
