@@ -174,7 +174,7 @@ const RISE_FLOOR_K: f64 = 1e-9;
 /// clamp; no self-heating), and, on a fixed grid of w = ln(dtm / R0(T)) (the kink sits near w = 0
 /// for every node), the ratio G = rise / S of the rise to the smooth cap S = R0 dtm / (R0 + dtm).
 /// R0(T) is the stored rise carried to start temperature T by the dry law's temperature factor
-/// exp(-c_T (T + 40)) and a first-order self-heating correction ([`ln_dry_rise`]); each w node is
+/// exp(-c_T (T + 40)) and a first-order self-heating correction (`ln_dry_rise`); each w node is
 /// solved at the ice temperature where w(T) equals it ([`node_ice_temp_c`]). G is near 1 at both
 /// ends (dry: rise = R0; fully capped: rise = dtm) and smooth between, so it interpolates well.
 /// Above the w range G is held at its last-node value (dry); below it the rise is proportional
@@ -329,7 +329,7 @@ fn ln_dry_rise(ln_r_lin: f64, c_t: f64, t_c: f64) -> f64 {
 }
 
 /// The ice temperature, degC, at which a table cell's melting coordinate
-/// w = ln((0 degC - T) / R0(T)) equals `w`, with R0(T) the dry rise of [`ln_dry_rise`] for a
+/// w = ln((0 degC - T) / R0(T)) equals `w`, with R0(T) the dry rise of `ln_dry_rise` for a
 /// cell whose rise with the friction of -40 degC is exp(`ln_r0_cold`) and c_T = `c_t`. w is not
 /// monotonic in T (the friction rises as the ice gets colder), so the warmest solution is
 /// returned: a scan up in ln(-T) from 1e-6 K in steps of 0.05, then 50 bisections. The table's
@@ -808,6 +808,10 @@ pub fn coupled_tol_k(h_s: f64) -> f64 {
     }
 }
 
+/// A coupled solve's accepted point for one tyre: (|residual|, bulk temperature, trial
+/// temperature = output, G, the tyre's conditions, forcing), degC and K as in the solve.
+type Accepted = (f64, f64, f64, f64, TyreContact, [f64; 2]);
+
 impl ContactTemperature for AtiimEstimator {
     fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
         let k = self.bulk_constants();
@@ -876,7 +880,7 @@ impl ContactTemperature for AtiimEstimator {
         }
         let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
         let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
-        let mut best: [Option<(f64, f64, f64, f64, TyreContact, [f64; 2])>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut best: [Option<Accepted>; MAX_TYRES] = [None; MAX_TYRES];
         let mut done = [false; MAX_TYRES];
         let mut side = [0i8; MAX_TYRES];
         for eval in 0..COUPLED_MAX_EVALS {

@@ -4,11 +4,11 @@
 //! cannot tell apart is [`super::equivalence`]'s.
 //!
 //! [`discover_with`] reads as its phases: stratify the split, run rounds
-//! ([`Search::round`]: fit every candidate left, choose the best that passes the held-out tests
+//! (`Search::round`: fit every candidate left, choose the best that passes the held-out tests
 //! and the interval test, accept it, refit jointly and drop what it made redundant) until none
 //! passes, make every named effect significant in the final joint fit
-//! ([`Search::final_intervals`]), then score the second fold and give the verdict
-//! ([`Search::conclude`]).
+//! (`Search::final_intervals`), then score the second fold and give the verdict
+//! (`Search::conclude`).
 
 use rayon::prelude::*;
 

@@ -296,7 +296,7 @@ pub struct Step {
     pub heldout_rmse_after: Rmse,
     pub evidence: String,
     /// The candidates of its round that explain the data as well, within the criterion's
-    /// resolution ([`equivalence::members`]); empty when the data told it apart from all.
+    /// resolution ([`super::equivalence::members`]); empty when the data told it apart from all.
     pub equivalents: Vec<Equivalent>,
 }
 
@@ -403,7 +403,7 @@ pub struct Discovery {
     /// Leave-one-run-out intervals of the final effects ([`jackknife`]), when asked for.
     pub jackknife: Option<Jackknife>,
     /// The named effects that have equivalent forms, each with the manoeuvre proposed to
-    /// separate them ([`equivalence`]); empty when every named effect was told apart.
+    /// separate them ([`super::equivalence`]); empty when every named effect was told apart.
     pub classes: Vec<Class>,
 }
 

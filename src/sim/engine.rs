@@ -5,7 +5,7 @@
 //! inputs can be read between steps, and [`Simulation::finish`] records the final state and
 //! returns the [`Summary`]. [`simulate`] is the loop over it. Each step has three named phases:
 //!
-//! 1. [`Simulation::sample_controls`], at every controller sample (every `control_period_s`, a
+//! 1. `Simulation::sample_controls`, at every controller sample (every `control_period_s`, a
 //!    whole number of steps, on its own clock: the period does not follow the step): the
 //!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the end of the
 //!    coming control period*, t + T_c, along the tangent at t (x_k + T_c f(x_k); the slope is the
@@ -29,7 +29,7 @@
 //!    to the estimate carried on by its change over the period behind (second order in T_c like
 //!    the other ramps; held at the first sample, never past melting), and the next sample
 //!    replaces that end by the estimate at the state reached.
-//! 2. [`Simulation::advance`]: one step of the chosen integrator (RK4, or RK4 with the
+//! 2. `Simulation::advance`: one step of the chosen integrator (RK4, or RK4 with the
 //!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
 //!    difference at the step's start, or RK4 with the model's first-order lag states relaxed
 //!    exactly, [`Method::Rk4Lag`]). Inputs that are known functions of time (an open-loop steer
@@ -37,7 +37,7 @@
 //!    its time ([`Inputs::t_s`]: a model with prescribed channels reads them by it). An output
 //!    row, when one is due, is recorded from the first stage's model evaluation (no evaluation of
 //!    its own; under [`Method::Rk4Lag`] the observation is the model's own call).
-//! 3. [`Simulation::check_end`]: the model's projection of the new state
+//! 3. `Simulation::check_end`: the model's projection of the new state
 //!    ([`VehicleModel::project`]: bounds, prescribed components), divergence (non-finite state),
 //!    the onset and recovery of the model's unphysical conditions (wheel lift, negative normal
 //!    load; [`super::watch`]), spin-out (|sideslip| > 60 deg above 1 m/s, for models that keep

@@ -640,7 +640,7 @@ pub const MAX_RATE_PER_S: f64 = 25_000.0;
 const DIVISIONS_SCANNED: usize = 16;
 
 /// The longest step `period / n` (n = 1, 2, ... below the `period / h` divisions of the plain
-/// step `h`) for which `stable` holds, or `None`. The first [`DIVISIONS_SCANNED`] counts are tried
+/// step `h`) for which `stable` holds, or `None`. The first `DIVISIONS_SCANNED` counts are tried
 /// in turn (the shipped vehicles settle there); beyond them the count is found by bisection, so
 /// the search costs at most about 16 + log2(period / h) stability checks whatever the inputs.
 pub fn fewest_stable_division(period: f64, h: f64, stable: impl Fn(f64) -> bool) -> Option<f64> {

@@ -139,7 +139,7 @@ impl SurfaceFriction {
     }
 
     /// The Magic Formula modifier at input `i`, given the temperature part as the pair
-    /// (Phi_T ratio, Phi_T ratio ^ k_exp) (see [`TempFactors`]).
+    /// (Phi_T ratio, Phi_T ratio ^ k_exp) (see `TempFactors`).
     #[inline]
     pub fn scale(&self, i: &TyreInput, phi_t: (f64, f64)) -> Scale {
         let mu = phi_t.0 * self.speed_ratio(Self::sliding_speed(i));

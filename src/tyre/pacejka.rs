@@ -834,7 +834,7 @@ impl PacejkaTyre {
     }
 
     /// [`TyreModel::peak_force_floor_prepared`] with the modifier `m` applied: max(|Dx|, |Dy|)
-    /// at the prepared load, scaled (N). [`Self::bound`] is at least that in both combinations
+    /// at the prepared load, scaled (N). `Self::bound` is at least that in both combinations
     /// (Magic Formula: the hypot of (|Dx| + |SVx|) / |Gxa0| and of (|Dy| + |SVy|) / |Gyk0| plus
     /// |DVyk|, with |G0| <= 1; ellipse: max(|Dx|, |Dy|) plus a non-negative term), for finite
     /// slips (with which the bound is finite); the modifier scales Dx and Dy inside it alike.
