@@ -119,6 +119,21 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     let text = read_input(spec)?;
     crate::spec::kind::expect_text(spec, &text, crate::spec::kind::SpecKind::TyreCurves)?;
     let s: TyreSweepSpec = parse_toml(spec, &text)?;
+    let (providers, thermal) = validate(spec, &s)?;
+    let tyres = build_tyres(spec, &s, &providers, &thermal)?;
+    let run = CurveRun { s: &s, tyres: &tyres };
+    // Written under a temporary name and swapped in whole (see output::replace).
+    let dest = out_root.join(&s.name);
+    let staged = Staged::new(&dest)?;
+    let out = staged.path().to_path_buf();
+    let (long_curves, lat_curves) = run.curves_and_charts(&out, &providers, &thermal)?;
+    write_csvs(&out, &s, &long_curves, &lat_curves)?;
+    staged.commit()?;
+    Ok(dest)
+}
+
+/// The spec's values in range; the providers compared and those swept over temperature rises.
+fn validate(spec: &Path, s: &TyreSweepSpec) -> Result<(Vec<TyreModelKind>, Vec<TyreModelKind>)> {
     let c = Checker::new(spec);
     if s.name.is_empty() || !s.name.chars().all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_') {
         return Err(Error::key(spec, "name", format!("'{}' must be non-empty letters, digits, '-' or '_'", s.name)));
@@ -145,101 +160,135 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     c.range("surface_temp_c", s.surface_temp_c, -80.0, 80.0)?;
     check_sweep(&c, "slip_ratio", &s.slip_ratio, -1.0, 10.0)?;
     check_sweep(&c, "slip_angle_deg", &s.slip_angle_deg, -90.0, 90.0)?;
+    Ok((providers, thermal))
+}
 
+/// The tyre of every provider named, built from the spec's tyre file.
+fn build_tyres(
+    spec: &Path,
+    s: &TyreSweepSpec,
+    providers: &[TyreModelKind],
+    thermal: &[TyreModelKind],
+) -> Result<Vec<(TyreModelKind, Tyre)>> {
     let tyre_path = resolve(spec, &s.tyre_file);
     let tyre_spec = TyreFileSpec::load(&tyre_path).map_err(crate::error::referred_by(spec, "tyre_file"))?;
-    let mut all: Vec<TyreModelKind> = providers.clone();
-    for k in &thermal {
+    let mut all: Vec<TyreModelKind> = providers.to_vec();
+    for k in thermal {
         if !all.contains(k) {
             all.push(*k);
         }
     }
-    let tyres: Vec<(TyreModelKind, Tyre)> =
-        all.iter().map(|&k| tyre_spec.build(&tyre_path, k).map(|t| (k, t))).collect::<Result<_>>()?;
-    // Every kind in `providers` and `thermal` is in `all` and so was built above; a kind that is
-    // not found yields no curve rather than a panic.
-    let tyre_of = |k: TyreModelKind| tyres.iter().find(|(kk, _)| *kk == k).map(|(_, t)| t);
+    all.iter().map(|&k| tyre_spec.build(&tyre_path, k).map(|t| (k, t))).collect::<Result<_>>()
+}
 
-    let input = |fz: f64, dt: f64, kappa: f64, alpha: f64| TyreInput {
-        fz_n: fz,
-        kappa,
-        alpha_rad: alpha,
-        camber_rad: 0.0,
-        vx_mps: 10.0,
-        mu_surface: s.mu_surface,
-        surface_temp_c: s.surface_temp_c,
-        contact_temp_c: s.surface_temp_c + dt,
-    };
-    let long_curve = |k: TyreModelKind, fz: f64, dt: f64| Curve {
-        provider: k.as_str(),
-        fz,
-        dt,
-        points: s
-            .slip_ratio
-            .values()
-            .filter_map(|kappa| {
-                let f = tyre_of(k)?.model.forces(&input(fz, dt, kappa, 0.0));
-                Some((kappa, f.fx_n, f.fy_n, f.mz_nm))
-            })
-            .collect(),
-    };
-    let lat_curve = |k: TyreModelKind, fz: f64, dt: f64| Curve {
-        provider: k.as_str(),
-        fz,
-        dt,
-        points: s
-            .slip_angle_deg
-            .values()
-            .filter_map(|deg| {
-                let f = tyre_of(k)?.model.forces(&input(fz, dt, 0.0, deg.to_radians()));
-                Some((deg.to_radians(), f.fx_n, f.fy_n, f.mz_nm))
-            })
-            .collect(),
-    };
+/// One tyre-curve run: the spec and the providers' tyres.
+struct CurveRun<'a> {
+    s: &'a TyreSweepSpec,
+    tyres: &'a [(TyreModelKind, Tyre)],
+}
 
-    // Written under a temporary name and swapped in whole (see output::replace).
-    let dest = out_root.join(&s.name);
-    let staged = Staged::new(&dest)?;
-    let out = staged.path().to_path_buf();
-    let mut long_curves = Vec::new();
-    let mut lat_curves = Vec::new();
-    for &fz in &s.loads_n {
-        for &k in &thermal {
-            let lc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| long_curve(k, fz, dt)).collect();
-            let yc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| lat_curve(k, fz, dt)).collect();
-            let stem = format!("{}_{}N", k.as_str(), fz.round());
-            let label = |c: &Curve| format!("ΔT = {} K", c.dt);
-            fx_fy_charts(
-                &out,
-                (&format!("fx_vs_slip_ratio_{stem}"), &format!("fy_vs_slip_angle_{stem}")),
-                &format!("{} Fx vs slip ratio, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
-                &format!("{} Fy vs slip angle, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
-                (&lc, &yc),
-                label,
-            )?;
-            long_curves.extend(lc);
-            lat_curves.extend(yc);
-        }
-        if !providers.is_empty() {
-            let dt = s.compare_delta_t_k;
-            let lc: Vec<Curve> = providers.iter().map(|&k| long_curve(k, fz, dt)).collect();
-            let yc: Vec<Curve> = providers.iter().map(|&k| lat_curve(k, fz, dt)).collect();
-            let label = |c: &Curve| c.provider.to_string();
-            fx_fy_charts(
-                &out,
-                (&format!("compare_fx_{}N", fz.round()), &format!("compare_fy_{}N", fz.round())),
-                &format!("Fx vs slip ratio, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
-                &format!("Fy vs slip angle, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
-                (&lc, &yc),
-                label,
-            )?;
-            long_curves.extend(lc);
-            lat_curves.extend(yc);
+impl CurveRun<'_> {
+    /// The input at load `fz` (N), contact rise `dt` (K), slip ratio and slip angle (rad).
+    fn input(&self, fz: f64, dt: f64, kappa: f64, alpha: f64) -> TyreInput {
+        TyreInput {
+            fz_n: fz,
+            kappa,
+            alpha_rad: alpha,
+            camber_rad: 0.0,
+            vx_mps: 10.0,
+            mu_surface: self.s.mu_surface,
+            surface_temp_c: self.s.surface_temp_c,
+            contact_temp_c: self.s.surface_temp_c + dt,
         }
     }
 
+    /// Every kind in `providers` and `thermal` was built; a kind that is not found yields no
+    /// curve rather than a panic.
+    fn tyre_of(&self, k: TyreModelKind) -> Option<&Tyre> {
+        self.tyres.iter().find(|(kk, _)| *kk == k).map(|(_, t)| t)
+    }
+
+    /// Fx, Fy, Mz over the slip ratios.
+    fn long_curve(&self, k: TyreModelKind, fz: f64, dt: f64) -> Curve {
+        let points = self
+            .s
+            .slip_ratio
+            .values()
+            .filter_map(|kappa| {
+                let f = self.tyre_of(k)?.model.forces(&self.input(fz, dt, kappa, 0.0));
+                Some((kappa, f.fx_n, f.fy_n, f.mz_nm))
+            })
+            .collect();
+        Curve { provider: k.as_str(), fz, dt, points }
+    }
+
+    /// Fx, Fy, Mz over the slip angles.
+    fn lat_curve(&self, k: TyreModelKind, fz: f64, dt: f64) -> Curve {
+        let points = self
+            .s
+            .slip_angle_deg
+            .values()
+            .filter_map(|deg| {
+                let f = self.tyre_of(k)?.model.forces(&self.input(fz, dt, 0.0, deg.to_radians()));
+                Some((deg.to_radians(), f.fx_n, f.fy_n, f.mz_nm))
+            })
+            .collect();
+        Curve { provider: k.as_str(), fz, dt, points }
+    }
+
+    /// Per load: the thermal providers' curves over the rises and the providers' curves at the
+    /// comparison rise, each pair drawn into `out`; all curves returned (longitudinal, lateral).
+    fn curves_and_charts(
+        &self,
+        out: &Path,
+        providers: &[TyreModelKind],
+        thermal: &[TyreModelKind],
+    ) -> Result<(Vec<Curve>, Vec<Curve>)> {
+        let s = self.s;
+        let mut long_curves = Vec::new();
+        let mut lat_curves = Vec::new();
+        for &fz in &s.loads_n {
+            for &k in thermal {
+                let lc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| self.long_curve(k, fz, dt)).collect();
+                let yc: Vec<Curve> = s.delta_t_k.iter().map(|&dt| self.lat_curve(k, fz, dt)).collect();
+                let stem = format!("{}_{}N", k.as_str(), fz.round());
+                let label = |c: &Curve| format!("ΔT = {} K", c.dt);
+                fx_fy_charts(
+                    out,
+                    (&format!("fx_vs_slip_ratio_{stem}"), &format!("fy_vs_slip_angle_{stem}")),
+                    &format!("{} Fx vs slip ratio, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                    &format!("{} Fy vs slip angle, Fz = {} N, mu = {}", k.as_str(), fz, s.mu_surface),
+                    (&lc, &yc),
+                    label,
+                )?;
+                long_curves.extend(lc);
+                lat_curves.extend(yc);
+            }
+            if !providers.is_empty() {
+                let dt = s.compare_delta_t_k;
+                let lc: Vec<Curve> = providers.iter().map(|&k| self.long_curve(k, fz, dt)).collect();
+                let yc: Vec<Curve> = providers.iter().map(|&k| self.lat_curve(k, fz, dt)).collect();
+                let label = |c: &Curve| c.provider.to_string();
+                fx_fy_charts(
+                    out,
+                    (&format!("compare_fx_{}N", fz.round()), &format!("compare_fy_{}N", fz.round())),
+                    &format!("Fx vs slip ratio, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                    &format!("Fy vs slip angle, Fz = {} N, mu = {}, ΔT = {} K", fz, s.mu_surface, dt),
+                    (&lc, &yc),
+                    label,
+                )?;
+                long_curves.extend(lc);
+                lat_curves.extend(yc);
+            }
+        }
+        Ok((long_curves, lat_curves))
+    }
+}
+
+/// fx_vs_slip_ratio.csv and fy_vs_slip_angle.csv of the curves, into `out`.
+fn write_csvs(out: &Path, s: &TyreSweepSpec, long_curves: &[Curve], lat_curves: &[Curve]) -> Result<()> {
     let mut csv = String::from("provider,fz_n,delta_t_k,mu_surface,kappa,fx_n,fy_n,mz_nm,fx_over_fz\n");
-    for cv in &long_curves {
+    for cv in long_curves {
         for p in &cv.points {
             let _ = writeln!(
                 csv,
@@ -258,7 +307,7 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     }
     write_atomic(&out.join("fx_vs_slip_ratio.csv"), csv.as_bytes())?;
     let mut csv = String::from("provider,fz_n,delta_t_k,mu_surface,alpha_deg,alpha_rad,fx_n,fy_n,mz_nm,fy_over_fz\n");
-    for cv in &lat_curves {
+    for cv in lat_curves {
         for p in &cv.points {
             let _ = writeln!(
                 csv,
@@ -277,8 +326,7 @@ pub fn run_tyre_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
         }
     }
     write_atomic(&out.join("fy_vs_slip_angle.csv"), csv.as_bytes())?;
-    staged.commit()?;
-    Ok(dest)
+    Ok(())
 }
 
 /// Draw the pair of charts of one sweep: Fx versus slip ratio from `curves.0` into `stems.0`,

@@ -217,8 +217,20 @@ fn line_err(path: &Path, line_no: usize, msg: impl std::fmt::Display) -> Error {
 
 /// Parse the text of a `.tir` file; `path` is used in messages only.
 pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
-    // Raw entries with their line numbers; units are applied after the whole file is read, because
-    // [UNITS] need not come first.
+    let (raw, mut warnings) = read_entries(path, text)?;
+    let units = read_units(path, &raw, &mut warnings)?;
+    let values = to_si(path, raw, &units)?;
+    let format = file_format(path, &values)?;
+    Ok(TirFile { values, format, warnings })
+}
+
+/// One `KEY = value` entry of a read section: (line number, upper-case key, raw value).
+type Entry = (usize, String, TirValue);
+
+/// The entries of the sections vehsim reads, with their line numbers, in file order; units are
+/// applied after the whole file is read, because [UNITS] need not come first. Warnings for
+/// unknown sections.
+fn read_entries(path: &Path, text: &str) -> Result<(Vec<Entry>, Vec<String>)> {
     let mut raw: Vec<(usize, String, TirValue)> = Vec::new();
     let mut warnings = Vec::new();
     let mut section: Option<String> = None;
@@ -283,36 +295,33 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         if !key_ok {
             return Err(line_err(path, no, format!("malformed key '{}' (expected a name like PCX1)", k.trim())));
         }
-        let v = v.trim();
-        let value = if let Some(s) = v.strip_prefix('\'') {
-            match s.strip_suffix('\'') {
-                Some(inner) => TirValue::Str(inner.to_string()),
-                None => return Err(line_err(path, no, format!("unterminated string for {key}: {v}"))),
-            }
-        } else if let Some(s) = v.strip_prefix('"') {
-            match s.strip_suffix('"') {
-                Some(inner) => TirValue::Str(inner.to_string()),
-                None => return Err(line_err(path, no, format!("unterminated string for {key}: {v}"))),
-            }
-        } else {
-            match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => TirValue::Num(x),
-                _ => {
-                    return Err(line_err(
-                        path,
-                        no,
-                        format!("value of {key} is not a finite number or a quoted string: '{v}'"),
-                    ))
-                }
-            }
-        };
+        let value = parse_value(path, no, &key, v.trim())?;
         if let Some((first, _, _)) = raw.iter().find(|(_, k2, _)| *k2 == key) {
             return Err(line_err(path, no, format!("{key} is given twice (first on line {first})")));
         }
         raw.push((no, key, value));
     }
+    Ok((raw, warnings))
+}
 
-    // Units.
+/// A value: a quoted string ('...' or "...") or a finite number.
+fn parse_value(path: &Path, no: usize, key: &str, v: &str) -> Result<TirValue> {
+    for q in ['\'', '"'] {
+        if let Some(s) = v.strip_prefix(q) {
+            return match s.strip_suffix(q) {
+                Some(inner) => Ok(TirValue::Str(inner.to_string())),
+                None => Err(line_err(path, no, format!("unterminated string for {key}: {v}"))),
+            };
+        }
+    }
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(TirValue::Num(x)),
+        _ => Err(line_err(path, no, format!("value of {key} is not a finite number or a quoted string: '{v}'"))),
+    }
+}
+
+/// The file's [UNITS] (SI, with a warning, when it has none).
+fn read_units(path: &Path, raw: &[Entry], warnings: &mut Vec<String>) -> Result<Units> {
     let mut units = Units {
         length: 1.0,
         force: 1.0,
@@ -323,7 +332,7 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         force_name: "newton (none given)".into(),
     };
     let mut saw_units = false;
-    for (no, key, value) in &raw {
+    for (no, key, value) in raw {
         if !matches!(key.as_str(), "LENGTH" | "FORCE" | "ANGLE" | "MASS" | "TIME") {
             continue;
         }
@@ -344,7 +353,11 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
     if !saw_units {
         warnings.push(format!("{}: no [UNITS] section; values are read as SI", path.display()));
     }
+    Ok(units)
+}
 
+/// Every value in SI units, each dimensional one checked against its plausible range.
+fn to_si(path: &Path, raw: Vec<Entry>, units: &Units) -> Result<BTreeMap<String, TirValue>> {
     let mut values = BTreeMap::new();
     for (no, key, value) in raw {
         let value = match (value, dimension_of(&key)) {
@@ -374,7 +387,11 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
         };
         values.insert(key, value);
     }
+    Ok(values)
+}
 
+/// The PROPERTY_FILE_FORMAT, one of the supported ones.
+fn file_format(path: &Path, values: &BTreeMap<String, TirValue>) -> Result<String> {
     let format = match values.get("PROPERTY_FILE_FORMAT") {
         Some(TirValue::Str(s)) => s.trim().to_ascii_uppercase(),
         Some(TirValue::Num(x)) => format!("{x}"),
@@ -394,7 +411,7 @@ pub fn parse_tir(path: &Path, text: &str) -> Result<TirFile> {
             ),
         ));
     }
-    Ok(TirFile { values, format, warnings })
+    Ok(format)
 }
 
 #[cfg(test)]
