@@ -6,9 +6,9 @@
 //! [`BIC_MIN`], RSS lower by at least [`MIN_GAIN`]) and its held-out BIC is within
 //! [`EQUIVALENCE_BIC`] of A's. That is the acceptance threshold itself: the data must prefer a
 //! named effect over an alternative by the same margin they must prefer it over no effect at all,
-//! or they have not told the two apart. The BIC carries its own penalty per parameter (ln n, about
-//! 9 for two 12 s runs), so a form with one parameter more is equivalent only when it fits
-//! better. A form that contains A as a special case (or is contained in it: [`nested`]) is not an
+//! or they have not told the two apart. The BIC carries its own penalty per parameter (ln n of the
+//! held-out residuals: 7.1 for one 12 s run at 100 Hz with half of it held out, 9.2 for four
+//! held-out runs), so a form with one parameter more is equivalent only when it fits better. A form that contains A as a special case (or is contained in it: [`nested`]) is not an
 //! alternative explanation but the same one with a parameter more or less; the criterion's
 //! penalty decides between those, and they are not reported as equivalent.
 //!
