@@ -12,8 +12,8 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::TyreInput;
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 
 fn inputs() -> Vec<TyreInput> {
     (0..64)

@@ -18,8 +18,8 @@
 use std::hint::black_box;
 use std::path::Path;
 
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::TyreInput;
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -13,9 +13,12 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::error::{read_input, Error, Result};
+use crate::files::read_input;
+
+use crate::error::{Error, Result};
 use crate::output::write_atomic;
-use crate::run::{self, write_dir_atomic, RunOutput};
+use crate::run::{self, RunOutput};
+use crate::run_files::write_dir_atomic;
 use crate::sim::Summary;
 use crate::spec::{ManeuverFile, RunConfig};
 
@@ -131,7 +134,7 @@ pub fn load(path: &Path) -> Result<Batch> {
 /// As [`load`], for spec text already read from `path` (named in messages; the vehicle file and
 /// other paths inside the spec are resolved against its folder).
 pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
-    from_table(path, crate::error::parse_toml(path, text)?)
+    from_table(path, crate::files::parse_toml(path, text)?)
 }
 
 /// As [`load`], for a spec already parsed into a TOML table.
@@ -480,7 +483,7 @@ fn execute_one(run: &BatchRun, dir: Option<&Path>) -> Result<RunRecord> {
             if let Some(d) = dir {
                 let rd = d.join(run_folder(run.index));
                 crate::output::create_dir(&rd)?;
-                run::write_run_files(&rd, cfg, &out, &run.params)?;
+                crate::run_files::write_run_files(&rd, cfg, &out, &run.params)?;
             }
             (RunStatus::of(&out.summary), Some(out.summary), String::new())
         }
@@ -541,7 +544,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         let out = run::execute(cfg);
         check_interrupted(&dir)?;
         write_dir_atomic(&dir, |tmp| {
-            run::write_run_files(tmp, cfg, &out, &[])?;
+            crate::run_files::write_run_files(tmp, cfg, &out, &[])?;
             if cfg.output.plots {
                 crate::plot::runs::plot_results(tmp, tmp)?;
             }
@@ -637,11 +640,11 @@ pub fn batch_digest(batch: &Batch) -> Result<String> {
     for (v, reads_tir) in &files {
         add("vehicle", v)?;
         let vf = crate::spec::VehicleFile::load(v)?;
-        let tyre_path = crate::error::resolve(v, &vf.tyre);
+        let tyre_path = crate::files::resolve(v, &vf.tyre);
         add("tyre", &tyre_path)?;
         let tf = crate::tyre::TyreFileSpec::load(&tyre_path)?;
         if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()).filter(|_| *reads_tir) {
-            add("tir", &crate::error::resolve(&tyre_path, rel))?;
+            add("tir", &crate::files::resolve(&tyre_path, rel))?;
         }
     }
     Ok(sha256_hex(&text))
@@ -1130,7 +1133,7 @@ pub(crate) fn cli_run(files: &[PathBuf], flags: &RunFlags) -> Result<std::proces
             println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
             print!("{}", table(&b.keys, &result.records, 40));
         } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
-            println!("{}", run::summary_line(&b.name, s, &result.dir));
+            println!("{}", crate::run_files::summary_line(&b.name, s, &result.dir));
             for r in &s.implausible {
                 println!("  implausible: {r}");
             }

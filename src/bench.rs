@@ -28,9 +28,9 @@ use std::time::Instant;
 use crate::contact::spec::ContactModelKind;
 use crate::error::Result;
 use crate::run;
-use crate::spec::maneuver::VehicleModelKind;
 use crate::spec::ManeuverFile;
 use crate::tyre::TyreModelKind;
+use crate::vehicle::VehicleModelKind;
 
 pub mod yardstick;
 

@@ -14,8 +14,8 @@ use crate::batch;
 use crate::contact::spec::ContactModelKind;
 use crate::error::{Error, Result};
 use crate::output::signals;
-use crate::spec::maneuver::VehicleModelKind;
 use crate::tyre::TyreModelKind;
+use crate::vehicle::VehicleModelKind;
 
 /// The exit codes, as `--help` shows them (README "Exit codes" says the same).
 pub(crate) const EXIT_CODES: &str =
@@ -256,7 +256,7 @@ flag_values!(VehicleModelKind, TyreModelKind, ContactModelKind);
 /// The one place an error becomes a message and an exit code; an interruption ends the process
 /// with its one line (130 / 143).
 pub(crate) fn report(e: &Error) -> ExitCode {
-    if let Error::Interrupted(kept) = e {
+    if let Error::Interrupted { kept, .. } = e {
         signals::exit_with(e.exit_code(), &signals::interrupted_line(kept));
     }
     eprintln!("error: {e}");

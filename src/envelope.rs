@@ -30,9 +30,11 @@ use rayon::prelude::*;
 use serde::Deserialize;
 
 use crate::batch::{self, set_path};
-use crate::error::{parse_toml, read_input, Error, Result};
+use crate::error::{Error, Result};
+use crate::files::{parse_toml, read_input};
 use crate::output::write_atomic;
-use crate::run::{self, write_dir_atomic};
+use crate::run;
+use crate::run_files::write_dir_atomic;
 use crate::sim::EndReason;
 use crate::spec::maneuver::{ManeuverConfig, ManeuverKind};
 use crate::spec::RunConfig;

@@ -26,10 +26,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::contact::patch::{parse_csv, read_png_map, ImageLayout};
+use crate::contact::patch_file::{parse_csv, read_png_map, ImageLayout};
 use crate::contact::spec::{ContactSpec, ScenarioSpec};
 use crate::discover::measured::{apply_sidecar, parse_run_csv, MeasuredRun};
-use crate::error::parse_toml;
+use crate::files::parse_toml;
 use crate::sim::Method;
 use crate::spec::VehicleFile;
 use crate::tyre::spec::PacejkaSection;

@@ -130,6 +130,7 @@ pub mod control;
 pub mod discover;
 pub mod envelope;
 pub mod error;
+pub mod files;
 #[doc(hidden)] // for the fuzz crate (fuzz/) and tests/fuzz_corpus.rs only
 pub mod fuzz_entry;
 pub mod maneuver;
@@ -137,6 +138,7 @@ pub mod output;
 pub(crate) mod plot;
 pub(crate) mod progress;
 pub mod run;
+pub mod run_files;
 pub mod sim;
 pub mod spec;
 pub mod tyre;

@@ -1,28 +1,24 @@
-//! One run from a manoeuvre spec: build the model and manoeuvre from a validated [`RunConfig`],
-//! simulate (no I/O), and write `results/<name>/timeseries.csv` and `summary.json` atomically
-//! (into a temporary folder renamed into place).
+//! One run from a manoeuvre spec: build the model and manoeuvre from a validated [`RunConfig`]
+//! and simulate (no I/O). The files of a run are written by the application.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
-use serde::Serialize;
-
 use crate::contact::{ContactTemperature, Isothermal};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::maneuver::constant_radius::ConstantRadius;
 use crate::maneuver::iso3888_2::{Body, Iso3888_2};
 use crate::maneuver::longitudinal::Longitudinal;
 use crate::maneuver::open_loop::OpenLoop;
 use crate::maneuver::steady_state::{self, SteadyState, UndersteerGradient};
 use crate::maneuver::{Event, EventKind, Maneuver};
-use crate::output::write_atomic;
 use crate::sim::observer::NoOutput;
 use crate::sim::plausibility::{self, Plausibility};
 use crate::sim::{Controls, EndReason, Observer, Recorder, Row, Simulation, Summary};
-use crate::spec::maneuver::{ManeuverConfig, VehicleModelKind};
-use crate::spec::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
+use crate::spec::maneuver::ManeuverConfig;
 use crate::spec::{ManeuverFile, RunConfig};
+use crate::vehicle::VehicleModelKind;
 use crate::vehicle::{Bicycle, Roll4Dof, VehicleModel};
+use crate::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 
 /// Everything a run produced.
 #[derive(Debug, Clone)]
@@ -166,7 +162,8 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
             Err(e) => (Box::new(Isothermal), Some(e.to_string())),
         };
     let windows = maneuver.steady_state_windows();
-    let mut plausibility = Plausibility::for_run(cfg);
+    let mut plausibility = Plausibility::new(cfg.vehicle.tyre.model.clone(), cfg.env, path_tolerance_m(cfg))
+        .with_ranges(cfg.vehicle.tyre_ranges);
     // Rows are kept only when someone reads them (the time series or the steady-state means); the
     // plausibility checks see every recorded row either way.
     let keep: &mut dyn Observer = if cfg.output.timeseries || !windows.is_empty() {
@@ -198,7 +195,7 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
             summary.end_reason = r;
         }
     }
-    let tol = plausibility::path_tolerance_m(cfg);
+    let tol = path_tolerance_m(cfg);
     let steady_states = steady_state::steady_states(&windows, &recorder.rows, tol);
     plausibility.finish(&mut summary, &steady_states);
     let (understeer_gradient, understeer_gradient_note) = if windows.is_empty() {
@@ -227,167 +224,20 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
     (out, stopped)
 }
 
-/// `summary.json`: the run's identity plus the engine's figures.
-#[derive(Debug, Serialize)]
-struct SummaryFile<'a> {
-    name: &'a str,
-    spec: String,
-    /// Swept parameters of this run within its batch (empty for a single run).
-    params: serde_json::Map<String, serde_json::Value>,
-    vehicle: &'a str,
-    tyre: &'a str,
-    tyre_model: &'static str,
-    maneuver: &'static str,
-    mu: f64,
-    surface_temperature_c: f64,
-    integrator: &'static str,
-    step_s: f64,
-    vehicle_model: &'static str,
-    #[serde(flatten)]
-    summary: &'a Summary,
-    #[serde(skip_serializing_if = "<[SteadyState]>::is_empty")]
-    steady_states: &'a [SteadyState],
-    #[serde(skip_serializing_if = "Option::is_none")]
-    understeer_gradient: Option<&'a UndersteerGradient>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    understeer_gradient_note: Option<&'a str>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    results: Option<&'a serde_json::Value>,
-}
-
-/// Column names of timeseries.csv, units in the names.
-pub const COLUMNS: &[&str] = &[
-    "t_s",
-    "x_m",
-    "y_m",
-    "yaw_rad",
-    "vx_mps",
-    "vy_mps",
-    "yaw_rate_radps",
-    "sideslip_rad",
-    "ax_mps2",
-    "ay_mps2",
-    "steer_rad",
-    "alpha_front_rad",
-    "alpha_rear_rad",
-    "kappa_front",
-    "kappa_rear",
-    "fx_front_n",
-    "fy_front_n",
-    "fx_rear_n",
-    "fy_rear_n",
-    "omega_front_radps",
-    "omega_rear_radps",
-    "drive_torque_nm",
-    "brake_torque_nm",
-    "speed_target_mps",
-    "path_error_m",
-    "contact_temp_front_c",
-    "contact_temp_rear_c",
-    "roll_rad",
-    "fz_fl_n",
-    "fz_fr_n",
-    "fz_rl_n",
-    "fz_rr_n",
-];
-
-/// One row's values in the order of [`COLUMNS`] (the units are in the names).
-pub fn row_values(r: &Row) -> [f64; 32] {
-    let o = &r.obs;
-    let k = &o.kin;
-    [
-        r.t_s,
-        k.x_m,
-        k.y_m,
-        k.yaw_rad,
-        k.vx_mps,
-        k.vy_mps,
-        k.yaw_rate_radps,
-        k.sideslip_rad(),
-        o.ax_mps2,
-        o.ay_mps2,
-        r.inputs.steer_rad,
-        o.alpha_rad[0],
-        o.alpha_rad[1],
-        o.kappa[0],
-        o.kappa[1],
-        o.fx_n[0],
-        o.fy_n[0],
-        o.fx_n[1],
-        o.fy_n[1],
-        o.omega_radps[0],
-        o.omega_radps[1],
-        r.inputs.drive_torque_nm,
-        r.inputs.brake_torque_nm,
-        r.speed_target_mps,
-        r.path_error_m,
-        o.contact_temp_axle_c[0],
-        o.contact_temp_axle_c[1],
-        o.roll_rad,
-        o.fz_n[0],
-        o.fz_n[1],
-        o.fz_n[2],
-        o.fz_n[3],
-    ]
-}
-
-/// The CSV text of a run's rows (non-finite values, e.g. no speed target while coasting, are empty).
-pub fn timeseries_csv(rows: &[Row]) -> String {
-    let mut s = String::with_capacity(rows.len() * 400);
-    s.push_str(&COLUMNS.join(","));
-    s.push('\n');
-    for r in rows {
-        for (i, v) in row_values(r).iter().enumerate() {
-            if i > 0 {
-                s.push(',');
-            }
-            if v.is_finite() {
-                let _ = write!(s, "{v}");
-            }
+/// The path tolerance of a run's manoeuvre, m (`None` for open-loop manoeuvres, which have no path).
+pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
+    match &cfg.maneuver {
+        ManeuverConfig::ConstantRadius(p) => Some(plausibility::circle_tolerance_m(p.radius_m)),
+        ManeuverConfig::Iso3888_2(p) => {
+            let gates = crate::maneuver::iso3888_2::layout(cfg.vehicle.body_width_m, p.lane5_min_width_m);
+            Some(0.5 * gates.iter().map(|g| g.width_m()).fold(0.0, f64::max))
         }
-        s.push('\n');
+        ManeuverConfig::OpenLoop { .. }
+        | ManeuverConfig::Braking(_)
+        | ManeuverConfig::Launch(_)
+        | ManeuverConfig::BrakingInTurn(_) => None,
     }
-    s
 }
-
-/// Write a run's files into the existing folder `dir`: timeseries.csv (unless switched off),
-/// summary.json and, for manoeuvres with a course, layout.json. `params` are the swept values.
-pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -> Result<()> {
-    if cfg.output.timeseries {
-        write_atomic(&dir.join("timeseries.csv"), timeseries_csv(&out.rows).as_bytes())?;
-    }
-    let sf = SummaryFile {
-        name: &cfg.name,
-        spec: cfg.spec_file.display().to_string(),
-        params: params.iter().map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone()))).collect(),
-        vehicle: &cfg.vehicle.name,
-        tyre: &cfg.vehicle.tyre.name,
-        tyre_model: cfg.tyre_model.as_str(),
-        maneuver: cfg.kind.as_str(),
-        mu: cfg.env.mu,
-        surface_temperature_c: cfg.env.surface_temp_c,
-        integrator: cfg.settings.method.name(),
-        step_s: cfg.settings.step_s,
-        vehicle_model: cfg.vehicle_model.as_str(),
-        summary: &out.summary,
-        steady_states: &out.steady_states,
-        understeer_gradient: out.understeer_gradient.as_ref(),
-        understeer_gradient_note: out.understeer_gradient_note.as_deref(),
-        results: out.results.as_ref(),
-    };
-    let json = serde_json::to_string_pretty(&sf).map_err(|e| Error::Run(format!("summary.json: {e}")))?;
-    write_atomic(&dir.join("summary.json"), (json + "\n").as_bytes())?;
-    if !out.steady_states.is_empty() {
-        write_atomic(&dir.join("steady_states.csv"), steady_state::steady_states_csv(&out.steady_states).as_bytes())?;
-    }
-    if let Some(layout) = &out.layout {
-        let json = serde_json::to_string_pretty(layout).map_err(|e| Error::Run(format!("layout.json: {e}")))?;
-        write_atomic(&dir.join("layout.json"), (json + "\n").as_bytes())?;
-    }
-    Ok(())
-}
-
-pub use crate::output::write_dir_atomic;
 
 /// The run's observer: every recorded row goes to the plausibility checks and to `keep`.
 struct Checked<'a> {
@@ -400,25 +250,4 @@ impl Observer for Checked<'_> {
         self.plausibility.check(row);
         self.keep.record(row);
     }
-}
-
-/// The line `vehsim run` prints for a single run `name` written to `dir`: why and when it ended,
-/// the pass verdict (and plausibility), the peaks and the folder.
-pub(crate) fn summary_line(name: &str, s: &Summary, dir: &Path) -> String {
-    use crate::output::num::Sig;
-    let verdict = match s.passed {
-        Some(true) => "passed".to_string(),
-        Some(false) => format!("FAILED ({} cone boundaries hit)", s.cones_hit),
-        None => "no pass rule".to_string(),
-    };
-    let verdict = if s.plausible { verdict } else { format!("{verdict}, IMPLAUSIBLE") };
-    format!(
-        "{name}: {} at t = {} s, {verdict}; peak yaw rate {} rad/s, peak sideslip {} deg, peak ay {} m/s^2 -> {}",
-        s.end_reason,
-        Sig(s.end_time_s),
-        Sig(s.peak_yaw_rate_radps),
-        Sig(s.peak_sideslip_rad.to_degrees()),
-        Sig(s.peak_ay_mps2),
-        dir.display()
-    )
 }

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use vehsim::contact::patch::{parse_csv, read_png_map, ImageLayout};
+use vehsim::contact::patch_file::{parse_csv, read_png_map, ImageLayout};
 use vehsim::contact::spec::ScenarioSpec;
 use vehsim::Error;
 

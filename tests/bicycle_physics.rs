@@ -5,9 +5,9 @@ mod common;
 use vehsim::maneuver::open_loop::{SpeedSchedule, SteerProfile};
 use vehsim::run::execute;
 use vehsim::spec::maneuver::ManeuverConfig;
-use vehsim::spec::vehicle::GRAVITY;
-use vehsim::spec::DriveLayout;
 use vehsim::tyre::TyreFileSpec;
+use vehsim::vehicle::DriveLayout;
+use vehsim::vehicle::GRAVITY;
 
 /// Steady-state cornering at small steer matches r = v delta / (L + K_us v^2) within 0.5 % for the
 /// understeering sedan at two speeds.

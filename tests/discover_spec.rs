@@ -24,7 +24,7 @@ fn improved_vehicle_spec_from_discover_runs_with_vehsim_run() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let vf = vehsim::spec::vehicle::VehicleFile::load(&out.join("vehicle.toml")).unwrap();
-    let v = vf.build(&out.join("vehicle.toml"), vehsim::tyre::spec::TyreModelKind::Pacejka).unwrap();
+    let v = vf.build(&out.join("vehicle.toml"), vehsim::tyre::TyreModelKind::Pacejka).unwrap();
     assert!((v.lateral.mu_scale - 0.6).abs() < 0.25 * 0.6, "mu_scale {}", v.lateral.mu_scale);
     assert_eq!(v.lateral.steer_compliance_rad_per_kn, 0.0);
     let spec = "name = \"improved\"\nvehicle = \"out/vehicle.toml\"\ntyre_model = \"pacejka\"\nduration_s = 4.0\n\
@@ -76,11 +76,12 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
 #[test]
 fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
     use vehsim::discover::model::{EffectParams, ReplayModel};
-    use vehsim::spec::vehicle::{Lateral, Vehicle, VehicleFile};
-    use vehsim::tyre::spec::TyreModelKind;
+    use vehsim::spec::VehicleFile;
     use vehsim::tyre::TyreInput;
+    use vehsim::tyre::TyreModelKind;
     use vehsim::vehicle::bicycle::{ix, Bicycle};
     use vehsim::vehicle::{Environment, Inputs, VehicleModel};
+    use vehsim::vehicle::{Lateral, Vehicle};
 
     // The sedan with an edited copy of its tyre: longitudinal shifts and the aligning moment on.
     let case = common::Case::new("engine-replay-derivatives", "unused.toml", "");

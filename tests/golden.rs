@@ -13,7 +13,8 @@ use std::path::PathBuf;
 
 use vehsim::compare::compare;
 use vehsim::output::table::Table;
-use vehsim::run::{execute, timeseries_csv};
+use vehsim::run::execute;
+use vehsim::run_files::timeseries_csv;
 
 /// Absolute tolerances per channel. They allow for last-bit differences of libm between machines
 /// amplified through the closed loop, and are far below any physically meaningful change.

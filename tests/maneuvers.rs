@@ -2,7 +2,9 @@
 
 mod common;
 
-use vehsim::run::{execute, timeseries_csv};
+use vehsim::run::execute;
+
+use vehsim::run_files::timeseries_csv;
 
 /// The PID holds 10 m/s within 1 % through the DLC on mu 0.15 (dissertation Fig. 6.6).
 #[test]
@@ -69,7 +71,7 @@ fn friction_limited_tyres_bound_lateral_acceleration_by_mu_g() {
     let sat = common::root().join("tests/data/vehicles/sedan_saturating.toml");
     cfg.vehicle = vehsim::spec::VehicleFile::load(&sat).unwrap().build(&sat, cfg.tyre_model).unwrap();
     let out = execute(&cfg);
-    let mu_g = cfg.env.mu * vehsim::spec::vehicle::GRAVITY;
+    let mu_g = cfg.env.mu * vehsim::vehicle::GRAVITY;
     assert!(out.summary.peak_ay_mps2 <= mu_g * (1.0 + 1e-9), "peak ay {} > mu g {mu_g}", out.summary.peak_ay_mps2);
     assert!(out.summary.peak_ay_mps2 > 0.95 * mu_g, "the tyres never reached the friction limit");
     assert_eq!(out.summary.passed, Some(false));

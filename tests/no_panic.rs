@@ -202,7 +202,7 @@ fn mutated_pressure_grids_and_atiim_scenarios_never_panic() {
     let p = Path::new("grid.csv");
     for _ in 0..400 {
         let m = mutate(&csv, &mut rng);
-        check("parse_csv", &m, || vehsim::contact::patch::parse_csv(p, &m, 0.01, 0.01).map(|_| ())).ok();
+        check("parse_csv", &m, || vehsim::contact::patch_file::parse_csv(p, &m, 0.01, 0.01).map(|_| ())).ok();
     }
     let dir = common::temp_dir("nopanic-atiim");
     for f in ["valid.csv", "negative.csv"] {

@@ -8,9 +8,10 @@ mod common;
 
 use vehsim::maneuver::constant_radius::ConstantRadiusParams;
 use vehsim::run::execute;
-use vehsim::spec::maneuver::{ManeuverConfig, VehicleModelKind};
+use vehsim::spec::maneuver::ManeuverConfig;
 use vehsim::spec::RunConfig;
 use vehsim::tyre::{TyreFileSpec, TyreInput, TyreModelKind};
+use vehsim::vehicle::VehicleModelKind;
 
 #[test]
 fn shipped_physical_examples_are_plausible() {

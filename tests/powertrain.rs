@@ -9,10 +9,10 @@ mod common;
 
 use vehsim::run::{execute, RunOutput};
 use vehsim::sim::Row;
-use vehsim::spec::vehicle::GRAVITY;
 use vehsim::spec::RunConfig;
 use vehsim::tyre::{TyreInput, TyreModelKind};
 use vehsim::vehicle::wheel::V_LOW;
+use vehsim::vehicle::GRAVITY;
 
 const LAUNCH: &str = "maneuvers/traction/launch_ice_tcs.toml";
 const BRAKING: &str = "maneuvers/traction/braking_50kmh_ice_abs.toml";

@@ -17,10 +17,11 @@ use vehsim::maneuver::constant_radius::{ConstantRadiusParams, Direction};
 use vehsim::maneuver::open_loop::{SpeedSchedule, SteerProfile};
 use vehsim::run::{execute, RunOutput};
 use vehsim::sim::Method;
-use vehsim::spec::maneuver::{ManeuverConfig, VehicleModelKind};
-use vehsim::spec::vehicle::GRAVITY;
+use vehsim::spec::maneuver::ManeuverConfig;
 use vehsim::spec::{RunConfig, VehicleFile};
 use vehsim::tyre::TyreFileSpec;
+use vehsim::vehicle::VehicleModelKind;
+use vehsim::vehicle::GRAVITY;
 
 /// A scratch copy of the sedan and its tyre with edits, plus a spec written next to them.
 fn scratch(tag: &str, vehicle_edits: &[(&str, &str)], tyre_edits: &[(&str, &str)], spec: &str) -> RunConfig {

@@ -1,12 +1,12 @@
 //! One source of truth per bound: README's key tables state the ranges the code declares
-//! (`spec::maneuver::bounds`, `spec::vehicle::lateral_bounds`), each bound's message keeps its
+//! (`spec::maneuver::bounds`, `vehicle::lateral_bounds`), each bound's message keeps its
 //! wording, a `[lateral]` section on a 4-DOF run is refused, and bad flags are usage errors.
 
 mod common;
 
 use vehsim::error::Bound;
 use vehsim::spec::maneuver::bounds;
-use vehsim::spec::vehicle::lateral_bounds;
+use vehsim::vehicle::lateral_bounds;
 
 fn readme() -> String {
     std::fs::read_to_string(common::root().join("README.md")).unwrap().replace('\u{2212}', "-")
@@ -117,8 +117,9 @@ fn bad_flags_are_usage_errors() {
 fn choice_names_are_the_file_format() {
     use vehsim::contact::estimator::Statistic;
     use vehsim::contact::spec::{ContactModelKind, PressureSource};
-    use vehsim::spec::maneuver::{ManeuverKind, VehicleModelKind};
+    use vehsim::spec::maneuver::ManeuverKind;
     use vehsim::tyre::TyreModelKind;
+    use vehsim::vehicle::VehicleModelKind;
     macro_rules! names {
         ($t:ty, $expected:expr) => {{
             let names: Vec<&str> = <$t>::ALL.iter().map(|k| k.as_str()).collect();

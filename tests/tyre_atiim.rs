@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use vehsim::tyre::atiim::{AxisLaw, KShift, MeltLaw};
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::{TyreInput, TyreModel};
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");
@@ -294,7 +294,7 @@ fn simulate(spec: &str, tyre_model: &str, vehicle_model: &str, contact: &str) ->
     file.vehicle_model = Some(vehicle_model.to_string());
     file.contact.model = contact.to_string();
     let cfg = file.build(&path).unwrap();
-    vehsim::run::timeseries_csv(&vehsim::run::execute(&cfg).rows)
+    vehsim::run_files::timeseries_csv(&vehsim::run::execute(&cfg).rows)
 }
 
 /// A whole run with `atiim_pacejka` and isothermal contact gives the same time series as

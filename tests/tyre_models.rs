@@ -5,7 +5,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
 
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::{TyreInput, TyreModel};
 use vehsim::Error;
 

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::{TyreInput, TyreModel};
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");

@@ -178,7 +178,7 @@ use vehsim::tyre::TyreModelKind;
 
 /// The SRTT-like test tyre of `TIR` with only the lateral offset PVY1 = `pvy1` (conicity /
 /// ply-steer: Fy = PVY1 mu_y Fz at zero slip), measured on `side`.
-fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::spec::Tyre {
+fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::Tyre {
     let tir = TIR
         .replace("SIDE_LINE", &format!("TYRESIDE = '{side}'"))
         .replace("PHX1 = 0.001\n", "")
@@ -192,7 +192,7 @@ fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::spec::Tyre {
 
 /// A sine steer of amplitude `steer_deg` (0: straight running) at 10 m/s on mu 0.3 with `tyre`,
 /// model `vm`; the rows of the time series.
-fn run(vm: &str, tyre: &vehsim::tyre::spec::Tyre, steer_deg: f64) -> Vec<vehsim::sim::Row> {
+fn run(vm: &str, tyre: &vehsim::tyre::Tyre, steer_deg: f64) -> Vec<vehsim::sim::Row> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/sine_steer.toml");
     let mut file = ManeuverFile::load(&path).unwrap();
     file.tyre_model = "pacejka".into();
@@ -215,7 +215,7 @@ fn a_symmetric_tyre_runs_the_same_whatever_its_side() {
     for vm in ["bicycle", "roll4dof"] {
         let (a, b) = (run(vm, &l, 10.0), run(vm, &r, 10.0));
         assert!(a.len() > 100);
-        assert!(vehsim::run::timeseries_csv(&a) == vehsim::run::timeseries_csv(&b), "{vm}");
+        assert!(vehsim::run_files::timeseries_csv(&a) == vehsim::run_files::timeseries_csv(&b), "{vm}");
     }
 }
 

@@ -20,7 +20,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use vehsim::error::{parse_toml, read_input};
+use vehsim::files::{parse_toml, read_input};
 use vehsim::sim::{ExternalInputs, StepRun, Torque};
 use vehsim::spec::RunConfig;
 use vehsim::Error;

@@ -29,10 +29,11 @@ use vehsim::batch::{self, BatchRun};
 use vehsim::contact::command::operating;
 use vehsim::contact::model::{drawbar_curve, solve_patch_at};
 use vehsim::contact::spec::ScenarioSpec;
-use vehsim::error::{parse_toml, read_input, Checker};
+use vehsim::files::{parse_toml, read_input};
+use vehsim::error::Checker;
 use vehsim::run::{self, RunOutput};
 use vehsim::spec::RunConfig;
-use vehsim::tyre::spec::{TyreFileSpec, TyreModelKind};
+use vehsim::tyre::{TyreFileSpec, TyreModelKind};
 use vehsim::tyre::{TyreInput, TyreModel};
 use vehsim::Error;
 
@@ -49,7 +50,7 @@ fn py_err(e: Error) -> PyErr {
     match e {
         Error::Input { .. } | Error::Usage { .. } => PyValueError::new_err(msg),
         Error::Io { .. } => PyOSError::new_err(msg),
-        Error::Interrupted(_) => PyKeyboardInterrupt::new_err(msg),
+        Error::Interrupted { .. } => PyKeyboardInterrupt::new_err(msg),
         _ => PyRuntimeError::new_err(msg),
     }
 }

@@ -18,6 +18,7 @@ pub mod friction;
 pub mod heat;
 pub mod model;
 pub mod patch;
+pub mod patch_file;
 pub mod spec;
 pub mod thermal;
 

@@ -11,12 +11,12 @@ use super::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableR
 use super::film::FilmParams;
 use super::friction::IceFriction;
 use super::model::{carcass_stiffness_n_per_m, PatchParams};
-use super::patch::{
-    parse_csv, read_png_map, synthesize, tilt_for_slip_angle, ImageLayout, PressureGrid, SynthInputs, TreadPattern,
-};
+use super::patch::{synthesize, tilt_for_slip_angle, PressureGrid, SynthInputs, TreadPattern};
+use super::patch_file::{parse_csv, read_png_map, ImageLayout};
 use super::thermal::{gent_modulus_mpa, preset_shore_a, Compound, PRESETS};
 use super::{ContactTemperature, Isothermal};
-use crate::error::{read_input, resolve, Checker, Error, Result};
+use crate::error::{Checker, Error, Result};
+use crate::files::{read_input, resolve};
 
 fn d_inflation() -> f64 {
     241.3
@@ -559,7 +559,7 @@ impl ScenarioSpec {
     pub fn load(file: &Path) -> Result<Scenario> {
         let text = read_input(file)?;
         crate::spec::kind::expect_text(file, &text, crate::spec::kind::SpecKind::AtiimScenario)?;
-        let spec: ScenarioSpec = crate::error::parse_toml(file, &text)?;
+        let spec: ScenarioSpec = crate::files::parse_toml(file, &text)?;
         spec.validate(file)
     }
 

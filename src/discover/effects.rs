@@ -5,7 +5,7 @@
 
 use super::model::EffectParams;
 use crate::error::Bound;
-use crate::spec::vehicle::lateral_bounds as lb;
+use crate::vehicle::lateral_bounds as lb;
 
 /// One parameter of an effect.
 #[derive(Debug, Clone, Copy)]

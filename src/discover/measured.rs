@@ -21,7 +21,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::error::{parse_toml, read_input, Checker, Error, Result};
+use crate::files::{parse_toml, read_input};
+
+use crate::error::{Checker, Error, Result};
 
 /// Required columns, in the order of the format.
 pub const REQUIRED: [&str; 5] = ["t", "steer", "vx", "yaw_rate", "ay"];

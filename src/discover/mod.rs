@@ -30,9 +30,10 @@ pub mod uncertainty;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::spec::maneuver::VehicleModelKind;
-use crate::spec::vehicle::{Vehicle, VehicleFile};
-use crate::tyre::spec::TyreModelKind;
+use crate::spec::VehicleFile;
+use crate::tyre::TyreModelKind;
+use crate::vehicle::Vehicle;
+use crate::vehicle::VehicleModelKind;
 
 pub use effects::Effect;
 pub use search::discover;

@@ -89,9 +89,9 @@ use crate::contact::thermal::MELT_C;
 use crate::contact::TyreContact;
 use crate::control::driver::Driver;
 use crate::maneuver::path::RefPath;
-use crate::spec::vehicle::Vehicle;
 use crate::tyre::{TyreForces, TyreInput, TyreModel};
 use crate::vehicle::wheel::slide_speed;
+use crate::vehicle::Vehicle;
 use crate::vehicle::{lateral, single_track};
 
 /// Parameters of every candidate effect; the default is the baseline.

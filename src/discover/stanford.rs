@@ -9,7 +9,9 @@
 
 use std::path::Path;
 
-use crate::error::{read_input, Error, Result};
+use crate::files::read_input;
+
+use crate::error::{Error, Result};
 
 fn column(dir: &Path, name: &str) -> Result<Vec<f64>> {
     let p = dir.join(name);

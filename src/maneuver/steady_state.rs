@@ -22,7 +22,7 @@ use serde::Serialize;
 
 use super::SteadyWindow;
 use crate::sim::Row;
-use crate::spec::vehicle::GRAVITY;
+use crate::vehicle::GRAVITY;
 
 /// Speed error a steady window allows: the larger of this (m/s) and the fraction of the target.
 pub const SPEED_TOL_MPS: f64 = 0.2;

@@ -61,7 +61,7 @@ pub fn raise(sig: i32) {
 pub fn check(kept: impl FnOnce() -> String) -> Result<()> {
     match received() {
         None => Ok(()),
-        Some(_) => Err(Error::Interrupted(kept())),
+        Some(signal) => Err(Error::Interrupted { signal, kept: kept() }),
     }
 }
 

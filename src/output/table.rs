@@ -3,7 +3,9 @@
 
 use std::path::Path;
 
-use crate::error::{read_input, Error, Result};
+use crate::files::read_input;
+
+use crate::error::{Error, Result};
 
 /// A numeric table, column-major.
 #[derive(Debug, Clone, PartialEq)]

@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 use super::{
     coincidence_note, figure, xy_chart, Band, Figure, LineStyle, RefLine, Series, XyChart, PALETTE_LEN, STYLES,
 };
-use crate::error::{read_input, Error, Result};
+use crate::error::{Error, Result};
+use crate::files::read_input;
 use crate::output::num::sig;
 use crate::output::table::Table;
 use crate::output::write_atomic;

@@ -25,9 +25,10 @@ use super::observer::{NoOutput, Row};
 use crate::contact::ContactTemperature;
 use crate::error::{Error, Result};
 use crate::maneuver::{Event, Maneuver, Outcome};
-use crate::run::{build_maneuver, controls, row_values, COLUMNS};
-use crate::spec::maneuver::VehicleModelKind;
+use crate::run::{build_maneuver, controls};
+use crate::sim::columns::{row_values, COLUMNS};
 use crate::spec::RunConfig;
+use crate::vehicle::VehicleModelKind;
 use crate::vehicle::{bicycle, roll4dof, Bicycle, Environment, Inputs, Roll4Dof, VehicleModel};
 
 /// Inputs the caller sets in place of the controllers' (see the module docs).
@@ -260,7 +261,7 @@ impl<const N: usize, M: VehicleModel<N> + Send + 'static> Stepper for Owned<N, M
 }
 
 /// Names of the values of [`StepRun::observation`], units in the names: the columns of
-/// `timeseries.csv` (see [`crate::run::COLUMNS`]).
+/// `timeseries.csv` (see [`crate::sim::columns::COLUMNS`]).
 pub const OBSERVATION: &[&str] = COLUMNS;
 
 /// One run of a validated spec, stepped by the caller (see the module docs).

@@ -2,6 +2,7 @@
 //! the contact temperature, advances the state, reports the model's unphysical conditions and
 //! notifies observers.
 
+pub mod columns;
 pub mod engine;
 pub mod external;
 pub mod integrator;

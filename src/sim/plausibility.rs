@@ -29,14 +29,11 @@ use std::sync::Arc;
 use super::engine::{EndReason, Summary};
 use super::observer::Row;
 use super::watch::MAX_ONSETS;
-use crate::maneuver::iso3888_2;
 use crate::maneuver::steady_state::SteadyState;
 use crate::maneuver::{Event, EventKind};
-use crate::spec::maneuver::ManeuverConfig;
-use crate::spec::vehicle::GRAVITY;
-use crate::spec::RunConfig;
 use crate::tyre::{Prepared, TyreInput, TyreModel};
 use crate::vehicle::Environment;
+use crate::vehicle::GRAVITY;
 
 /// Largest plausible |F| / (mu Fz) of an axle.
 pub const FORCE_RATIO_LIMIT: f64 = 1.05;
@@ -46,21 +43,6 @@ pub const AY_RATIO_LIMIT: f64 = 1.05;
 /// Radial tolerance of a constant-radius run on a circle of radius `radius_m`, m: max(1, 0.05 R).
 pub fn circle_tolerance_m(radius_m: f64) -> f64 {
     (0.05 * radius_m).max(1.0)
-}
-
-/// The path tolerance of a run's manoeuvre, m (`None` for open-loop manoeuvres, which have no path).
-pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
-    match &cfg.maneuver {
-        ManeuverConfig::ConstantRadius(p) => Some(circle_tolerance_m(p.radius_m)),
-        ManeuverConfig::Iso3888_2(p) => {
-            let gates = iso3888_2::layout(cfg.vehicle.body_width_m, p.lane5_min_width_m);
-            Some(0.5 * gates.iter().map(|g| g.width_m()).fold(0.0, f64::max))
-        }
-        ManeuverConfig::OpenLoop { .. }
-        | ManeuverConfig::Braking(_)
-        | ManeuverConfig::Launch(_)
-        | ManeuverConfig::BrakingInTurn(_) => None,
-    }
 }
 
 /// The three row checks, in the order of [`CHECKS`].
@@ -147,13 +129,13 @@ impl Plausibility {
         }
     }
 
-    /// The checker of a validated run.
-    pub fn for_run(cfg: &RunConfig) -> Self {
-        let mut p = Self::new(cfg.vehicle.tyre.model.clone(), cfg.env, path_tolerance_m(cfg));
-        if cfg.vehicle.tyre_ranges.any() {
-            p.ranges = Some(super::range_check::RangeCheck::new(cfg.vehicle.tyre_ranges));
+    /// The same checker, also flagging operating points outside the ranges the tyre data
+    /// declares as measured (none declared: unchanged).
+    pub fn with_ranges(mut self, ranges: super::range_check::TyreRanges) -> Self {
+        if ranges.any() {
+            self.ranges = Some(super::range_check::RangeCheck::new(ranges));
         }
-        p
+        self
     }
 
     /// The friction bound of axle `axle` (N) and its tyres' load (N) at `row`.
@@ -537,7 +519,7 @@ mod tests {
     fn floor_pretest_changes_no_event_or_reason() {
         let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
         let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
-        let tyre = spec.build(path, crate::tyre::spec::TyreModelKind::Pacejka).unwrap().model;
+        let tyre = spec.build(path, crate::tyre::TyreModelKind::Pacejka).unwrap().model;
         let (mut with, mut without) = (
             Plausibility::new(tyre.clone(), ENV, Some(1.0)),
             Plausibility::new(Arc::new(NoFloor(tyre)), ENV, Some(1.0)),
@@ -571,7 +553,7 @@ mod tests {
     fn twin_tyres_share_their_floor_and_bound() {
         let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml"));
         let spec = crate::tyre::spec::TyreFileSpec::load(path).unwrap();
-        let atiim = spec.build(path, crate::tyre::spec::TyreModelKind::AtiimPacejka).unwrap().model;
+        let atiim = spec.build(path, crate::tyre::TyreModelKind::AtiimPacejka).unwrap().model;
         for (tyre, with_floor) in [(atiim, true), (linear(false), false)] {
             let (mut shared, mut each) =
                 (Plausibility::new(tyre.clone(), ENV, None), Plausibility::new(tyre, ENV, None));

@@ -1,7 +1,7 @@
 //! Plausibility by the tyre's own range: events when a run's slip ratio, slip angle or tyre load
 //! leaves the range the tyre file declares as measured (the `.tir` sections
 //! `[LONG_SLIP_RANGE]` KPUMIN/KPUMAX, `[SLIP_ANGLE_RANGE]` ALPMIN/ALPMAX (rad) and
-//! `[VERTICAL_FORCE_RANGE]` FZMIN/FZMAX (N), read by [`TyreRanges::of_tyre_file`]). A tyre that
+//! `[VERTICAL_FORCE_RANGE]` FZMIN/FZMAX (N), read by the spec layer when it builds the vehicle). A tyre that
 //! declares no range is not checked on that quantity (nothing to hold it to).
 //!
 //! Checked on every recorded row: each axle's slip ratio and slip angle as the tyre sees them
@@ -10,8 +10,6 @@
 //! naming the axle or wheel, the value and the range, and one recovery event when it returns (at
 //! most [`super::watch::MAX_ONSETS`] onsets each); a run that left a range is implausible, with
 //! the first time, the worst value and where.
-
-use std::path::Path;
 
 use super::observer::Row;
 use super::watch::MAX_ONSETS;
@@ -27,20 +25,7 @@ pub struct TyreRanges {
 }
 
 impl TyreRanges {
-    /// The ranges declared by the `.tir` file of the tyre file `tyre_file`'s `[pacejka]` section
-    /// (none for a tyre without one). The files were validated when the vehicle was built; a
-    /// file that cannot be read here declares nothing.
-    pub fn of_tyre_file(tyre_file: &Path) -> Self {
-        let Ok(spec) = crate::tyre::TyreFileSpec::load(tyre_file) else { return Self::default() };
-        let Some(tir) = spec.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()) else { return Self::default() };
-        let Ok(f) = crate::tyre::tir::read_tir(&crate::error::resolve(tyre_file, tir)) else { return Self::default() };
-        let pair = |lo: &str, hi: &str| match (f.num(lo), f.num(hi)) {
-            (Some(a), Some(b)) if a < b => Some((a, b)),
-            _ => None,
-        };
-        Self { kappa: pair("KPUMIN", "KPUMAX"), alpha_rad: pair("ALPMIN", "ALPMAX"), fz_n: pair("FZMIN", "FZMAX") }
-    }
-
+    /// Whether any range is declared.
     pub fn any(&self) -> bool {
         self.kappa.is_some() || self.alpha_rad.is_some() || self.fz_n.is_some()
     }

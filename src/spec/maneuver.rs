@@ -30,16 +30,18 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::vehicle::{Vehicle, VehicleFile};
+use super::vehicle::VehicleFile;
 use crate::contact::spec::ContactSpec;
 use crate::control::{DriverParams, PidParams};
-use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
+use crate::error::{Checker, Error, Result};
+use crate::files::{parse_toml, read_input, resolve};
 use crate::maneuver::constant_radius::{ConstantRadiusParams, Direction};
 use crate::maneuver::iso3888_2::{Iso3888_2Params, SpeedMode};
 use crate::maneuver::open_loop::{SpeedSchedule, SteerProfile};
 use crate::sim::{Method, SimSettings};
 use crate::tyre::TyreModelKind;
 use crate::vehicle::Environment;
+use crate::vehicle::{Vehicle, VehicleModelKind};
 
 /// `[surface]`: the road.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -388,22 +390,6 @@ impl std::fmt::Display for ManeuverKind {
         f.write_str(self.as_str())
     }
 }
-
-/// Which vehicle model a run uses (top-level `vehicle_model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum VehicleModelKind {
-    /// Nonlinear single-track model, static axle loads (default).
-    Bicycle,
-    /// Four-wheel model with body roll and load transfer; needs the vehicle's `[roll]` section.
-    Roll4Dof,
-}
-
-choice_names!(VehicleModelKind {
-    Bicycle => "bicycle",
-    Roll4Dof => "roll4dof",
-});
-
-named_by_as_str!(VehicleModelKind);
 
 impl ManeuverSpec {
     /// Parse a raw `[maneuver]` table: its `kind` selects the parameter set, whose keys are then
@@ -1131,7 +1117,7 @@ impl ManeuverFile {
 
 /// The slowest mean acceleration (m/s^2) the default duration of a braking or launch run allows
 /// for, twice over: 0.05 g.
-const LONGITUDINAL_MIN_DECEL: f64 = 0.05 * crate::spec::vehicle::GRAVITY;
+const LONGITUDINAL_MIN_DECEL: f64 = 0.05 * crate::vehicle::GRAVITY;
 
 /// `[maneuver]` with `kind = "braking"`: straight-line braking with the pedal at its stop.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

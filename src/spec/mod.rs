@@ -10,4 +10,4 @@ pub mod strict;
 pub mod vehicle;
 
 pub use maneuver::{ManeuverFile, RunConfig};
-pub use vehicle::{DriveLayout, Vehicle, VehicleFile};
+pub use vehicle::VehicleFile;

@@ -24,7 +24,9 @@ pub mod combine;
 pub mod dugoff;
 pub mod fastmath;
 pub mod ice;
+pub mod kind;
 pub mod linear;
+pub mod mounted;
 pub mod pacejka;
 pub mod polynomial;
 pub mod spec;
@@ -33,10 +35,12 @@ pub mod tir;
 
 pub use atiim::{AtiimPacejkaTyre, KShift};
 pub use dugoff::{DugoffThermalTyre, DugoffTyre};
+pub use kind::TyreModelKind;
 pub use linear::LinearTyre;
+pub use mounted::Tyre;
 pub use pacejka::{PacejkaTyre, TyreSide};
 pub use polynomial::PolynomialTyre;
-pub use spec::{TyreFileSpec, TyreModelKind};
+pub use spec::TyreFileSpec;
 pub use sweep::run_tyre_command;
 
 /// Everything a provider may use to compute the force of one tyre at one instant.

@@ -21,7 +21,6 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::str::FromStr;
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
@@ -30,43 +29,10 @@ use super::atiim::{AtiimPacejkaTyre, AxisLaw, KShift, MeltLaw};
 use super::dugoff::{DugoffThermalTyre, DugoffTyre, ThermalFactor};
 use super::pacejka::{Combination, MfCoefficients, PacejkaTyre, TyreSide};
 use super::polynomial::{PolyShape, PolynomialTyre};
-use super::{LinearTyre, TyreModel};
-use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
-
-/// Names of the tyre providers a spec can select.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum TyreModelKind {
-    /// Linear in slip, stiffness proportional to load ([`LinearTyre`]).
-    Linear,
-    /// Third-order brush polynomial with theoretical-slip combination ([`PolynomialTyre`]).
-    Polynomial,
-    /// Magic Formula MF 5.2 / PAC2002 ([`PacejkaTyre`]).
-    Pacejka,
-    /// Dugoff, eq. 5.2–5.4 with the lateral term C_alpha tan(alpha) ([`DugoffTyre`]).
-    Dugoff,
-    /// Dugoff with the temperature factor H, eq. 5.5–5.6 ([`DugoffThermalTyre`]).
-    DugoffThermal,
-    /// ATIIM-modified Magic Formula, eq. 5.8–5.17 ([`AtiimPacejkaTyre`]).
-    AtiimPacejka,
-}
-
-choice_names!(TyreModelKind {
-    Linear => "linear",
-    Polynomial => "polynomial",
-    Pacejka => "pacejka",
-    Dugoff => "dugoff",
-    DugoffThermal => "dugoff_thermal",
-    AtiimPacejka => "atiim_pacejka",
-});
-
-impl FromStr for TyreModelKind {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::parse(s).ok_or_else(|| format!("unknown tyre model '{s}'; allowed: {}", Self::allowed()))
-    }
-}
+use super::{LinearTyre, Tyre, TyreModel, TyreModelKind};
+use crate::error::{Checker, Error, Result};
+use crate::files::{parse_toml, read_input, resolve};
+use crate::sim::range_check::TyreRanges;
 
 /// Raw `[linear]` section.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -274,55 +240,6 @@ pub struct TyreFileSpec {
     /// ATIIM-modified Magic Formula coefficients.
     #[serde(default)]
     pub atiim_pacejka: Option<AtiimSection>,
-}
-
-/// A validated tyre: geometry plus one built provider.
-#[derive(Debug, Clone)]
-pub struct Tyre {
-    /// Name from the spec file.
-    pub name: String,
-    /// Effective rolling radius, m.
-    pub rolling_radius_m: f64,
-    /// Unloaded radius, m.
-    pub unloaded_radius_m: f64,
-    /// Nominal load, N.
-    pub nominal_load_n: f64,
-    /// Longitudinal relaxation length, m.
-    pub relaxation_length_x_m: f64,
-    /// The force provider, as measured (a `.tir` tyre on the side its TYRESIDE names).
-    pub model: Arc<dyn TyreModel>,
-    /// The provider mounted on the vehicle's left and right wheels ([`Tyre::on`]): for a Magic
-    /// Formula tyre with side-dependent coefficients the measured tyre on its own side and its
-    /// mirror image on the other; for every other tyre `model` itself on both sides.
-    pub mounted: [Arc<dyn TyreModel>; 2],
-}
-
-impl Tyre {
-    /// The provider of a wheel on `side` of the vehicle.
-    #[inline]
-    pub fn on(&self, side: TyreSide) -> &Arc<dyn TyreModel> {
-        &self.mounted[side as usize]
-    }
-
-    /// The same tyre on an ice surface whose friction follows `law` ([`super::ice`]): the Magic
-    /// Formula providers (pacejka, atiim_pacejka) are wrapped; every other provider is unchanged
-    /// (its `mu` stays fixed).
-    pub fn on_ice(&self, law: &super::ice::SurfaceFriction) -> Tyre {
-        let wrap = |m: &Arc<dyn TyreModel>| m.on_ice(law).unwrap_or_else(|| m.clone());
-        let model = wrap(&self.model);
-        let mounted = if self.same_on_both_sides() {
-            let m = wrap(&self.mounted[0]);
-            [m.clone(), m]
-        } else {
-            [wrap(&self.mounted[0]), wrap(&self.mounted[1])]
-        };
-        Tyre { model, mounted, ..self.clone() }
-    }
-
-    /// Whether the left and right wheels carry the same provider (no side-dependent coefficients).
-    pub fn same_on_both_sides(&self) -> bool {
-        Arc::ptr_eq(&self.mounted[0], &self.mounted[1])
-    }
 }
 
 impl TyreFileSpec {
@@ -747,4 +664,20 @@ pub fn missing(path: &Path, section: &str) -> Error {
             "tyre model '{section}' was selected but the tyre file has no [{section}] section with its coefficients"
         ),
     )
+}
+
+/// The ranges declared by the `.tir` file of the tyre file `tyre_file`'s `[pacejka]` section
+/// (none for a tyre without one). The files were validated when the vehicle was built; a
+/// file that cannot be read here declares nothing.
+pub fn declared_ranges(tyre_file: &Path) -> TyreRanges {
+    let Ok(spec) = crate::tyre::TyreFileSpec::load(tyre_file) else { return TyreRanges::default() };
+    let Some(tir) = spec.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()) else { return TyreRanges::default() };
+    let Ok(f) = crate::tyre::tir::read_tir(&crate::files::resolve(tyre_file, tir)) else {
+        return TyreRanges::default();
+    };
+    let pair = |lo: &str, hi: &str| match (f.num(lo), f.num(hi)) {
+        (Some(a), Some(b)) if a < b => Some((a, b)),
+        _ => None,
+    };
+    TyreRanges { kappa: pair("KPUMIN", "KPUMAX"), alpha_rad: pair("ALPMIN", "ALPMAX"), fz_n: pair("FZMIN", "FZMAX") }
 }

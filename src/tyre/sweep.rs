@@ -28,9 +28,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::spec::{Tyre, TyreFileSpec, TyreModelKind};
 use super::TyreInput;
-use crate::error::{parse_toml, read_input, resolve, Checker, Error, Result};
+use super::{Tyre, TyreFileSpec, TyreModelKind};
+use crate::error::{Checker, Error, Result};
+use crate::files::{parse_toml, read_input, resolve};
 use crate::output::{write_atomic, Staged};
 use crate::plot::{line_chart, LineChart, Series};
 

@@ -207,7 +207,7 @@ fn unit_factor(key: &str, name: &str) -> std::result::Result<f64, &'static str> 
 
 /// Read and parse a `.tir` file.
 pub fn read_tir(path: &Path) -> Result<TirFile> {
-    let text = crate::error::read_input(path)?;
+    let text = crate::files::read_input(path)?;
     parse_tir(path, &text)
 }
 

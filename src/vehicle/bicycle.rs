@@ -5,7 +5,7 @@
 //! and rear relaxed axle lateral forces (N; used only with a lateral relaxation length) and the
 //! lagged road-wheel angle (rad; used only with a steering lag).
 //! Each axle carries two tyres at half the axle load, one mounted on the left and one on the
-//! right ([`crate::tyre::spec::Tyre::on`]), both at the axle's slip: the axle force is their sum,
+//! right ([`crate::tyre::Tyre::on`]), both at the axle's slip: the axle force is their sum,
 //! twice the tyre force for a tyre that is its own mirror image; for a `.tir` tyre with
 //! side-dependent coefficients the mirrored pair cancels conicity and ply steer (docs/tyres.md). Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
 //! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
@@ -40,8 +40,8 @@ use super::wheel::{
 };
 use super::{lateral, single_track, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
-use crate::spec::vehicle::{Vehicle, AIR_DENSITY};
 use crate::tyre::{Prepared, TyreForces, TyreInput};
+use crate::vehicle::{Vehicle, AIR_DENSITY};
 
 /// State dimension of the bicycle model.
 pub const N: usize = 13;

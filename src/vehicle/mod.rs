@@ -8,6 +8,7 @@
 pub mod bicycle;
 pub mod condition;
 pub mod lateral;
+pub mod params;
 pub mod powertrain;
 pub mod roll4dof;
 pub mod single_track;
@@ -19,6 +20,7 @@ use crate::contact::TyreContact;
 
 pub use bicycle::Bicycle;
 pub use condition::Condition;
+pub use params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, AIR_DENSITY, GRAVITY};
 pub use roll4dof::Roll4Dof;
 
 /// Inputs at one instant of a step (the controllers' ramps, and an open-loop steer, evaluated at
@@ -305,3 +307,19 @@ pub(crate) fn assert_shared_evaluation<const N: usize, M: VehicleModel<N>>(
     // not trivially empty (a lifted wheel transmits nothing, so not every tyre)
     assert!(c[..M::TYRES].iter().any(|t| t.friction_force_n > 0.0 && t.slide_speed_mps > 0.0), "{c:?}");
 }
+
+/// Which vehicle model a run uses (top-level `vehicle_model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VehicleModelKind {
+    /// Nonlinear single-track model, static axle loads (default).
+    Bicycle,
+    /// Four-wheel model with body roll and load transfer; needs the vehicle's `[roll]` section.
+    Roll4Dof,
+}
+
+choice_names!(VehicleModelKind {
+    Bicycle => "bicycle",
+    Roll4Dof => "roll4dof",
+});
+
+named_by_as_str!(VehicleModelKind);

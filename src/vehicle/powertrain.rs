@@ -35,7 +35,7 @@
 //!   acceleration).
 //!
 //! The default (no `[powertrain]` in the vehicle file) is [`None`] in
-//! [`crate::spec::vehicle::Vehicle::powertrain`]: the engine is the torque source of the single
+//! [`crate::vehicle::Vehicle::powertrain`]: the engine is the torque source of the single
 //! limit `drive_torque_max_nm` (the PID's clamp), no driveline inertia beyond the wheel's own, open
 //! differentials; the models then take their unchanged code path, bit for bit.
 

@@ -46,7 +46,7 @@
 //!   is that load before clamping, N.
 //!
 //! Tyres: the left wheels (FL, RL) carry the tyre mounted on the left, the right wheels its
-//! mounting on the right ([`crate::tyre::spec::Tyre::on`]: a `.tir` tyre is mirrored on the side
+//! mounting on the right ([`crate::tyre::Tyre::on`]: a `.tir` tyre is mirrored on the side
 //! opposite its TYRESIDE, so an axle's conicity and ply-steer offsets cancel; docs/tyres.md).
 //!
 //! Drive: the drive torque is split between the axles by the layout and within an axle equally
@@ -64,8 +64,8 @@ use super::wheel::{
 use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::maneuver::EventKind;
-use crate::spec::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
 use crate::tyre::{fastmath, Prepared, TyreForces, TyreInput};
+use crate::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
 
 /// State dimension of the 4-DOF model.
 pub const N: usize = 18;
