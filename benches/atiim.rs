@@ -6,12 +6,12 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use vehsim::contact::model::{solve_patch_at, Kinematics, PatchParams};
-use vehsim::contact::patch::{synthesize, SynthInputs, TreadPattern};
-use vehsim::contact::spec::ContactSpec;
-use vehsim::contact::TyreContact;
+use vehsim_core::contact::model::{solve_patch_at, Kinematics, PatchParams};
+use vehsim_core::contact::patch::{synthesize, SynthInputs, TreadPattern};
+use vehsim_core::contact::TyreContact;
+use vehsim_spec::contact::ContactSpec;
 
-fn grid(load: f64) -> vehsim::contact::patch::PressureGrid {
+fn grid(load: f64) -> vehsim_core::contact::patch::PressureGrid {
     synthesize(
         Path::new("bench"),
         &SynthInputs {
@@ -77,15 +77,15 @@ fn bench(c: &mut Criterion) {
         },
     ];
     let mut out = [0.0; 4];
-    use vehsim::contact::ContactTemperature;
+    use vehsim_core::contact::ContactTemperature;
     c.bench_function("estimator_update_4_tyres", |b| {
         b.iter(|| {
             est.update(black_box(0.001), black_box(&tyres), &mut out);
             black_box(out[0])
         })
     });
-    let rg = vehsim::contact::estimator::TableRanges::default();
-    let tb = vehsim::contact::estimator::TyreBuild {
+    let rg = vehsim_core::contact::estimator::TableRanges::default();
+    let tb = vehsim_core::contact::estimator::TyreBuild {
         inflation_pa: 241.3e3,
         tread_width_m: 0.18,
         rated_load_n: 7000.0,
@@ -95,7 +95,9 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("table");
     g.sample_size(10);
     g.bench_function("flash_table_build", |b| {
-        b.iter(|| black_box(vehsim::contact::estimator::FlashTable::build(Path::new("b"), &tb, &rg).expect("builds")))
+        b.iter(|| {
+            black_box(vehsim_core::contact::estimator::FlashTable::build(Path::new("b"), &tb, &rg).expect("builds"))
+        })
     });
     g.finish();
 }

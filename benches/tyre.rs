@@ -12,8 +12,9 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use vehsim::tyre::TyreInput;
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
+use vehsim_core::tyre::TyreInput;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_spec::tyre::TyreFileSpec;
 
 fn inputs() -> Vec<TyreInput> {
     (0..64)

@@ -18,8 +18,9 @@
 use std::hint::black_box;
 use std::path::Path;
 
-use vehsim::tyre::TyreInput;
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
+use vehsim_core::tyre::TyreInput;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_spec::tyre::TyreFileSpec;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -5,4 +5,4 @@
 # nothing, so they are skipped here; run them by name (see their doc comments).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --release --locked -- --ignored --skip explore --skip golden_distances
+cargo test --release --workspace --locked -- --ignored --skip explore --skip golden_distances

@@ -13,14 +13,14 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::files::read_input;
+use vehsim_spec::files::read_input;
 
-use crate::error::{Error, Result};
 use crate::output::write_atomic;
-use crate::run::{self, RunOutput};
-use crate::run_files::write_dir_atomic;
-use crate::sim::Summary;
-use crate::spec::{ManeuverFile, RunConfig};
+use crate::run::write_dir_atomic;
+use vehsim_core::error::{Error, Result};
+use vehsim_core::sim::Summary;
+use vehsim_spec::run::{self, RunOutput};
+use vehsim_spec::{ManeuverFile, RunConfig};
 
 /// `Err(Interrupted)` once SIGINT or SIGTERM was received: a batch checks it before each run and
 /// a single run before it writes; the temporary folder is then removed, so a results folder is
@@ -134,12 +134,12 @@ pub fn load(path: &Path) -> Result<Batch> {
 /// As [`load`], for spec text already read from `path` (named in messages; the vehicle file and
 /// other paths inside the spec are resolved against its folder).
 pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
-    from_table(path, crate::files::parse_toml(path, text)?)
+    from_table(path, vehsim_spec::files::parse_toml(path, text)?)
 }
 
 /// As [`load`], for a spec already parsed into a TOML table.
 pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
-    crate::spec::kind::expect(path, &table, crate::spec::kind::SpecKind::Run)?;
+    vehsim_spec::kind::expect(path, &table, vehsim_spec::kind::SpecKind::Run)?;
     let source = toml::to_string(&table).unwrap_or_default();
     let sweep = match table.remove("sweep") {
         None => None,
@@ -182,7 +182,7 @@ pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
     // A large sweep takes a while to validate: progress on a terminal, stop on a signal.
     let checked = crate::progress::Progress::new(total, "combinations checked");
     // Vehicle, tyre and .tir files are parsed once per distinct file over the combinations.
-    let mut cache = crate::spec::maneuver::BuildCache::default();
+    let mut cache = vehsim_spec::maneuver::BuildCache::default();
     for index in 0..total {
         crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
         let choice = combination(index, &lists);
@@ -227,7 +227,7 @@ pub enum RunStatus {
     Invalid,
 }
 
-choice_names!(RunStatus {
+vehsim_core::choice_names!(RunStatus {
     Ok => "ok",
     Failed => "failed",
     Invalid => "invalid",
@@ -427,18 +427,21 @@ pub fn check_limits(batch: &Batch, shard: Option<Shard>, out_root: &Path, force:
                      take without --force: it would run for minutes. A car manoeuvre needs under 1e6; a step this \
                      short comes from integrator.step_s or from the vehicle's fastest mode (its tyre stiffnesses \
                      and wheel inertia in {}). Use --force to run it anyway",
-                    crate::error::short_num(steps),
-                    crate::error::short_num(cfg.settings.step_s),
+                    vehsim_core::error::short_num(steps),
+                    vehsim_core::error::short_num(cfg.settings.step_s),
                     crate::output::num::Sig(cfg.settings.duration_s),
-                    crate::error::short_num(MAX_RUN_STEPS),
+                    vehsim_core::error::short_num(MAX_RUN_STEPS),
                     cfg.vehicle_file.display()
                 ),
             ));
         }
     }
     let (steps, bytes) = estimate(batch, shard);
-    let what =
-        format!("estimated {} integration steps and {} of output", crate::error::short_num(steps), human_bytes(bytes));
+    let what = format!(
+        "estimated {} integration steps and {} of output",
+        vehsim_core::error::short_num(steps),
+        human_bytes(bytes)
+    );
     if !force && (steps > MAX_STEPS || bytes > MAX_OUTPUT_BYTES) {
         return Err(Error::input(
             &batch.spec_file,
@@ -483,7 +486,7 @@ fn execute_one(run: &BatchRun, dir: Option<&Path>) -> Result<RunRecord> {
             if let Some(d) = dir {
                 let rd = d.join(run_folder(run.index));
                 crate::output::create_dir(&rd)?;
-                crate::run_files::write_run_files(&rd, cfg, &out, &run.params)?;
+                crate::run::write_run_files(&rd, cfg, &out, &run.params)?;
             }
             (RunStatus::of(&out.summary), Some(out.summary), String::new())
         }
@@ -544,7 +547,7 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
         let out = run::execute(cfg);
         check_interrupted(&dir)?;
         write_dir_atomic(&dir, |tmp| {
-            crate::run_files::write_run_files(tmp, cfg, &out, &[])?;
+            crate::run::write_run_files(tmp, cfg, &out, &[])?;
             if cfg.output.plots {
                 crate::plot::runs::plot_results(tmp, tmp)?;
             }
@@ -628,7 +631,7 @@ pub fn batch_digest(batch: &Batch) -> Result<String> {
     // (vehicle file, whether its tyre's .tir is read: only by the Magic Formula providers)
     let mut files = std::collections::BTreeSet::new();
     for cfg in batch.runs.iter().filter_map(|r| r.config.as_ref().ok()) {
-        use crate::tyre::TyreModelKind as K;
+        use vehsim_core::tyre::TyreModelKind as K;
         files.insert((cfg.vehicle_file.clone(), matches!(cfg.tyre_model, K::Pacejka | K::AtiimPacejka)));
     }
     let mut text = format!("vehsim {}\nspec\n{}\n", env!("CARGO_PKG_VERSION"), batch.source).into_bytes();
@@ -639,12 +642,12 @@ pub fn batch_digest(batch: &Batch) -> Result<String> {
     };
     for (v, reads_tir) in &files {
         add("vehicle", v)?;
-        let vf = crate::spec::VehicleFile::load(v)?;
-        let tyre_path = crate::files::resolve(v, &vf.tyre);
+        let vf = vehsim_spec::VehicleFile::load(v)?;
+        let tyre_path = vehsim_spec::files::resolve(v, &vf.tyre);
         add("tyre", &tyre_path)?;
-        let tf = crate::tyre::TyreFileSpec::load(&tyre_path)?;
+        let tf = vehsim_spec::tyre::TyreFileSpec::load(&tyre_path)?;
         if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()).filter(|_| *reads_tir) {
-            add("tir", &crate::files::resolve(&tyre_path, rel))?;
+            add("tir", &vehsim_spec::files::resolve(&tyre_path, rel))?;
         }
     }
     Ok(sha256_hex(&text))
@@ -720,7 +723,7 @@ fn read_shard(d: &Path) -> Result<ShardPart> {
     let (Some(name), Some(k), Some(n), Some(runs)) = (nm.as_str().map(str::to_string), k, n, runs) else {
         return Err(Error::input(&meta_path, "expected name, k, n and runs"));
     };
-    if !crate::spec::maneuver::valid_name(&name) {
+    if !vehsim_spec::maneuver::valid_name(&name) {
         return Err(Error::key(
             &meta_path,
             "name",
@@ -1005,7 +1008,7 @@ pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::proces
         let b = match load(f) {
             Ok(b) => b,
             Err(e) => {
-                code = crate::cli::report(&e);
+                code = crate::output::signals::report(&e);
                 continue;
             }
         };
@@ -1029,8 +1032,8 @@ pub(crate) fn cli_validate(files: &[PathBuf], quiet: bool) -> Result<std::proces
                             "warning: {}{which}: {} integration steps (step {} s): minutes of work; `vehsim run` \
                              refuses it without --force",
                             f.display(),
-                            crate::error::short_num(steps),
-                            crate::error::short_num(cfg.settings.step_s)
+                            vehsim_core::error::short_num(steps),
+                            vehsim_core::error::short_num(cfg.settings.step_s)
                         );
                     }
                 }
@@ -1133,7 +1136,7 @@ pub(crate) fn cli_run(files: &[PathBuf], flags: &RunFlags) -> Result<std::proces
             println!("{}: {} runs -> {}", b.name, result.records.len(), result.dir.display());
             print!("{}", table(&b.keys, &result.records, 40));
         } else if let Some(s) = result.records.first().and_then(|r| r.summary.as_ref()) {
-            println!("{}", crate::run_files::summary_line(&b.name, s, &result.dir));
+            println!("{}", crate::run::summary_line(&b.name, s, &result.dir));
             for r in &s.implausible {
                 println!("  implausible: {r}");
             }

@@ -25,12 +25,12 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::contact::spec::ContactModelKind;
-use crate::error::Result;
-use crate::run;
-use crate::spec::ManeuverFile;
-use crate::tyre::TyreModelKind;
-use crate::vehicle::VehicleModelKind;
+use vehsim_core::error::Result;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::vehicle::VehicleModelKind;
+use vehsim_spec::contact::ContactModelKind;
+use vehsim_spec::run;
+use vehsim_spec::ManeuverFile;
 
 pub mod yardstick;
 

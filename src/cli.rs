@@ -7,15 +7,15 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::builder::PossibleValue;
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Parser, Subcommand};
 
 use crate::batch;
-use crate::contact::spec::ContactModelKind;
-use crate::error::{Error, Result};
 use crate::output::signals;
-use crate::tyre::TyreModelKind;
-use crate::vehicle::VehicleModelKind;
+use vehsim_core::error::Result;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::vehicle::VehicleModelKind;
+use vehsim_spec::contact::ContactModelKind;
 
 /// The exit codes, as `--help` shows them (README "Exit codes" says the same).
 pub(crate) const EXIT_CODES: &str =
@@ -124,13 +124,13 @@ pub enum Command {
         #[arg(long, default_value_t = 200)]
         runs: usize,
         /// Vehicle model instead of the spec's.
-        #[arg(long)]
+        #[arg(long, value_parser = choice(VehicleModelKind::ALL, VehicleModelKind::as_str))]
         model: Option<VehicleModelKind>,
         /// Tyre provider instead of the spec's.
-        #[arg(long)]
+        #[arg(long, value_parser = choice(TyreModelKind::ALL, TyreModelKind::as_str))]
         tyre_model: Option<TyreModelKind>,
         /// Contact-temperature model instead of the spec's.
-        #[arg(long)]
+        #[arg(long, value_parser = choice(ContactModelKind::ALL, ContactModelKind::as_str))]
         contact: Option<ContactModelKind>,
         /// One tab-separated line (columns: see src/bench.rs) instead of the sentence.
         #[arg(long)]
@@ -171,10 +171,10 @@ pub enum Command {
         #[arg(long)]
         tyre: Option<PathBuf>,
         /// Tyre provider.
-        #[arg(long, default_value = "pacejka")]
+        #[arg(long, value_parser = choice(TyreModelKind::ALL, TyreModelKind::as_str), default_value = "pacejka")]
         tyre_model: TyreModelKind,
         /// Baseline vehicle model.
-        #[arg(long, default_value = "bicycle")]
+        #[arg(long, value_parser = choice(VehicleModelKind::ALL, VehicleModelKind::as_str), default_value = "bicycle")]
         model: VehicleModelKind,
         /// Output folder.
         #[arg(long)]
@@ -209,7 +209,7 @@ pub enum Command {
         #[arg(long, default_value = "vehicles/sedan.toml")]
         vehicle: PathBuf,
         /// Tyre provider.
-        #[arg(long, default_value = "pacejka")]
+        #[arg(long, value_parser = choice(TyreModelKind::ALL, TyreModelKind::as_str), default_value = "pacejka")]
         tyre_model: TyreModelKind,
         /// Noise seed.
         #[arg(long, default_value_t = 1)]
@@ -238,36 +238,21 @@ pub enum Command {
     },
 }
 
-/// Spec choices as flag values, spelled as in spec files (their `ALL` and `as_str`).
-macro_rules! flag_values {
-    ($($t:ty),*) => {$(
-        impl ValueEnum for $t {
-            fn value_variants<'a>() -> &'a [Self] {
-                <$t>::ALL
-            }
-            fn to_possible_value(&self) -> Option<PossibleValue> {
-                Some(PossibleValue::new(self.as_str()))
-            }
-        }
-    )*};
-}
-flag_values!(VehicleModelKind, TyreModelKind, ContactModelKind);
-
-/// The one place an error becomes a message and an exit code; an interruption ends the process
-/// with its one line (130 / 143).
-pub(crate) fn report(e: &Error) -> ExitCode {
-    if let Error::Interrupted { kept, .. } = e {
-        signals::exit_with(e.exit_code(), &signals::interrupted_line(kept));
-    }
-    eprintln!("error: {e}");
-    ExitCode::from(e.exit_code())
+/// A flag value parser for a spec choice, spelled as in spec files (`all` in declaration order,
+/// `name` its spelling): `--help` lists the values and a wrong one is refused by name.
+fn choice<T: Copy + Send + Sync + 'static>(
+    all: &'static [T],
+    name: fn(T) -> &'static str,
+) -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(all.iter().map(|&k| PossibleValue::new(name(k))))
+        .map(move |s| all.iter().copied().find(|&k| name(k) == s).unwrap_or(all[0]))
 }
 
 /// Entry point used by the binary: parse, dispatch to the command's function (next to the module it
 /// drives), and turn an error into its message and exit code (`report`).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    let code = |done: Result<ExitCode>| done.unwrap_or_else(|e| report(&e));
+    let code = |done: Result<ExitCode>| done.unwrap_or_else(|e| signals::report(&e));
     match cli.command {
         Command::Validate { files, quiet } => code(batch::cli_validate(&files, quiet)),
         Command::Run { files, out, jobs, shard, quiet, force } => {
@@ -278,8 +263,8 @@ pub fn main() -> ExitCode {
         Command::Compare { a, b, tol, default_tol, ignore } => {
             code(crate::compare::cli_compare(&a, &b, &tol, default_tol, &ignore))
         }
-        Command::Tyre { file, out } => code(crate::tyre::sweep::cli_tyre(&file, &out)),
-        Command::Atiim { file, out } => code(crate::contact::command::cli_atiim(&file, &out)),
+        Command::Tyre { file, out } => code(crate::tyre_sweep::cli_tyre(&file, &out)),
+        Command::Atiim { file, out } => code(crate::atiim::cli_atiim(&file, &out)),
         Command::Bench { file, runs, model, tyre_model, contact, tsv } => {
             code(crate::bench::cli_bench(&file, &crate::bench::Options { runs, model, tyre_model, contact }, tsv))
         }

@@ -10,9 +10,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::error::{Error, Result};
 use crate::output::num::{sig, Sig};
 use crate::output::table::Table;
+use vehsim_core::error::{Error, Result};
 
 /// Worst disagreement of one channel.
 #[derive(Debug, Clone, PartialEq)]

@@ -26,15 +26,16 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::contact::patch_file::{parse_csv, read_png_map, ImageLayout};
-use crate::contact::spec::{ContactSpec, ScenarioSpec};
 use crate::discover::measured::{apply_sidecar, parse_run_csv, MeasuredRun};
-use crate::files::parse_toml;
-use crate::sim::Method;
-use crate::spec::VehicleFile;
-use crate::tyre::spec::PacejkaSection;
-use crate::tyre::tir::parse_tir;
-use crate::tyre::{TyreFileSpec, TyreInput, TyreModelKind};
+use vehsim_core::sim::Method;
+use vehsim_core::tyre::{TyreInput, TyreModelKind};
+use vehsim_spec::contact::{ContactSpec, ScenarioSpec};
+use vehsim_spec::files::parse_toml;
+use vehsim_spec::patch_file::{parse_csv, read_png_map, ImageLayout};
+use vehsim_spec::tir::parse_tir;
+use vehsim_spec::tyre::PacejkaSection;
+use vehsim_spec::tyre::TyreFileSpec;
+use vehsim_spec::VehicleFile;
 
 /// Largest number of sweep combinations a fuzzed manoeuvre may expand into.
 pub const MAX_SWEEP_RUNS: usize = 64;
@@ -117,7 +118,7 @@ fn tyre_inputs(fz_nominal: f64) -> Vec<TyreInput> {
 }
 
 /// Evaluate every method of a built tyre provider on [`tyre_inputs`].
-fn exercise_tyre(model: &dyn crate::tyre::TyreModel, fz_nominal: f64) {
+fn exercise_tyre(model: &dyn vehsim_core::tyre::TyreModel, fz_nominal: f64) {
     for i in tyre_inputs(fz_nominal) {
         std::hint::black_box(model.forces(&i));
         std::hint::black_box(model.peak_friction(&i));
@@ -193,7 +194,7 @@ pub fn maneuver_toml(data: &[u8]) {
     };
     if s.step_s >= SIM_MIN_STEP_S && adaptive_ok {
         s.duration_s = s.duration_s.min(SIM_SECONDS);
-        std::hint::black_box(crate::run::execute(&cfg));
+        std::hint::black_box(vehsim_spec::run::execute(&cfg));
     }
 }
 
@@ -219,7 +220,7 @@ pub fn tir(data: &[u8]) {
     let Some(text) = text(data) else { return };
     let path = pretend("vehicles/tyres", "tir");
     let Ok(f) = parse_tir(&path, text) else { return };
-    let coefficients = crate::tyre::pacejka::MfCoefficients::NAMES
+    let coefficients = vehsim_core::tyre::pacejka::MfCoefficients::NAMES
         .iter()
         .filter_map(|n| f.num(n).map(|v| (n.to_string(), v)))
         .collect();

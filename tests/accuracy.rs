@@ -28,8 +28,8 @@
 
 mod common;
 
-use vehsim::run::{execute, RunOutput};
-use vehsim::spec::{ManeuverFile, RunConfig};
+use vehsim_spec::run::{execute, RunOutput};
+use vehsim_spec::{ManeuverFile, RunConfig};
 
 /// A spec for the shipped sedan with the given tyre provider, vehicle model, friction and
 /// `[maneuver]` body, validated with the default integrator settings.
@@ -90,7 +90,7 @@ fn diff(a: &RunOutput, b: &RunOutput) -> (f64, f64, usize) {
 #[test]
 fn defaults_match_the_fine_reference_for_every_model_and_provider() {
     for model in ["bicycle", "roll4dof"] {
-        for tyre in vehsim::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
+        for tyre in vehsim_core::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
             let base = dlc(&format!("{model}-{tyre}"), tyre, model, 10.0, 0.15);
             let (h, tc) = (base.settings.step_s, base.settings.control_period_s);
             let d = run(&base, None, None);
@@ -110,7 +110,7 @@ fn defaults_match_the_fine_reference_for_every_model_and_provider() {
 /// The sampled loop converges to the continuous-time one: at a fixed 0.25 ms step, the yaw-rate
 /// error of the lane change (bicycle, linear tyre: smooth, so the order is clean; measured 2.09
 /// and 1.93) against the step = period = 0.25 ms reference falls at second order as the control
-/// period halves from 10 ms to 2.5 ms (predicted first-order hold, `vehsim::sim::engine`). With
+/// period halves from 10 ms to 2.5 ms (predicted first-order hold, `vehsim_core::sim::engine`). With
 /// saturating tyres the observed order varies (Pacejka: 2.5e-4, 4.8e-5, 1.9e-5 rad/s) but the
 /// error stays below 1e-4 rad/s.
 #[test]
@@ -238,7 +238,7 @@ fn open_loop_sine_converges_at_fourth_order() {
 }
 
 /// The exponential RK4 (the wheel-spin / transient-slip pairs carried exactly,
-/// `vehsim::sim::Method::Rk4Exp`) on dry asphalt (mu 1.0, 15 m/s) with the step equal to the
+/// `vehsim_core::sim::Method::Rk4Exp`) on dry asphalt (mu 1.0, 15 m/s) with the step equal to the
 /// control period: 20 ms for the bicycle, 10 ms for the 4-DOF model (its load-transfer lag, a
 /// mode the exponential step leaves explicit, costs 3.9e-3 rad/s at 20 ms with the Magic Formula).
 /// A spec asking for that step gets the exponential RK4 (h |lambda| of the pair is beyond 2), the
@@ -252,11 +252,11 @@ fn exponential_rk4_runs_long_steps_on_dry() {
             let tag = format!("dry-{model}-{tyre}");
             let integrator = format!("[integrator]\nstep_s = {h}\ncontrol_period_s = {h}\n");
             let base = config(&tag, tyre, model, 1.0, dry, &integrator);
-            assert_eq!(base.settings.method, vehsim::sim::Method::Rk4Exp, "{tag}");
+            assert_eq!(base.settings.method, vehsim_core::sim::Method::Rk4Exp, "{tag}");
             assert_eq!((base.settings.step_s, base.settings.control_period_s), (h, h), "{tag}");
             let d = run(&base, None, None);
             let mut fine = base.clone();
-            fine.settings.method = vehsim::sim::Method::Rk4;
+            fine.settings.method = vehsim_core::sim::Method::Rk4;
             let r = run(&fine, Some(0.00025), None);
             let (er, ey, n) = diff(&d, &r);
             let plain = run(&fine, None, None);
@@ -305,18 +305,18 @@ fn exponential_rk4_bound_is_honest() {
     };
     // 0.95 of the bound, rounded down to whole 2.5 ms (rows at common times with the reference).
     let h = (0.95 * bound / 0.0025).floor() * 0.0025;
-    let d = run(&with(h, vehsim::sim::Method::Rk4Exp), None, None);
-    let r = run(&with(h, vehsim::sim::Method::Rk4), Some(0.00025), Some(h));
+    let d = run(&with(h, vehsim_core::sim::Method::Rk4Exp), None, None);
+    let r = run(&with(h, vehsim_core::sim::Method::Rk4), Some(0.00025), Some(h));
     let (er, _, n) = diff(&d, &r);
     println!("bound {bound} s; at {h:.4} s: {:?}, yaw rate {er:.2e} rad/s over {n} rows", d.summary.end_reason);
-    assert_eq!(d.summary.end_reason, vehsim::sim::EndReason::Completed, "{:?}", d.summary.events);
+    assert_eq!(d.summary.end_reason, vehsim_core::event::EndReason::Completed, "{:?}", d.summary.events);
     assert!(n > 100 && er < 5e-3, "at {h} s: {er:.2e} rad/s over {n} rows");
-    let bad = run(&with(0.025, vehsim::sim::Method::Rk4Exp), None, None);
-    let r = run(&with(0.025, vehsim::sim::Method::Rk4), Some(0.00025), Some(0.025));
+    let bad = run(&with(0.025, vehsim_core::sim::Method::Rk4Exp), None, None);
+    let r = run(&with(0.025, vehsim_core::sim::Method::Rk4), Some(0.00025), Some(0.025));
     let (eb, _, _) = diff(&bad, &r);
     println!("at 0.025 s: {:?}, yaw rate {eb:.2e} rad/s", bad.summary.end_reason);
     assert!(
-        bad.summary.end_reason != vehsim::sim::EndReason::Completed || !(eb <= 0.1),
+        bad.summary.end_reason != vehsim_core::event::EndReason::Completed || !(eb <= 0.1),
         "{:?} {eb:.2e}",
         bad.summary.end_reason
     );
@@ -337,12 +337,12 @@ fn explore() {
         .collect();
     let models = std::env::var("VEHSIM_EXPLORE_MODELS").unwrap_or("bicycle".into());
     for model in models.split(',') {
-        for tyre in vehsim::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
+        for tyre in vehsim_core::tyre::TyreModelKind::ALL.iter().map(|k| k.as_str()) {
             let base = dlc(&format!("explore-{model}-{tyre}"), tyre, model, 10.0, 0.15);
             let reference = reference(&base);
             for &(h, tc) in &pairs {
                 let mut c = base.clone();
-                c.settings.method = vehsim::sim::Method::Rk4Exp;
+                c.settings.method = vehsim_core::sim::Method::Rk4Exp;
                 let o = run(&c, Some(h), Some(tc));
                 let (r, y, _) = diff(&o, &reference);
                 println!(
@@ -403,7 +403,7 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
         o.summary
             .events
             .iter()
-            .filter(|e| e.kind == vehsim::maneuver::EventKind::ConeStrike)
+            .filter(|e| e.kind == vehsim_core::event::EventKind::ConeStrike)
             .map(|e| (e.t_s, e.detail.clone()))
             .collect()
     };
@@ -417,7 +417,7 @@ fn cone_strikes_and_end_time_do_not_move_with_the_step() {
             assert!((t - tf).abs() < 1e-3, "{d} at {t} s vs {df} at {tf} s");
             assert_eq!(d.split(" corner").next(), df.split(" corner").next());
         }
-        assert_eq!(o.summary.end_reason, vehsim::sim::EndReason::Completed);
+        assert_eq!(o.summary.end_reason, vehsim_core::event::EndReason::Completed);
         assert!(
             (o.summary.end_time_s - runs[2].summary.end_time_s).abs() < 1e-4,
             "{} vs {}",

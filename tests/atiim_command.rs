@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use vehsim::contact::command::run_atiim_command;
+use vehsim::atiim::run_atiim_command;
 
 fn check_dir(dir: &Path, rows: usize, cols: usize) {
     for stem in ["pressure", "rise", "wet", "film", "friction", "mu_visc", "drawbar"] {
@@ -60,7 +60,7 @@ fn every_shipped_scenario_loads() {
     for e in std::fs::read_dir(&root).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "toml") {
-            vehsim::contact::spec::ScenarioSpec::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            vehsim_spec::contact::ScenarioSpec::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             n += 1;
         }
     }

@@ -6,10 +6,10 @@ mod common;
 use std::path::Path;
 use std::time::Instant;
 
-use vehsim::contact::estimator::{node_ice_temp_c, roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild};
-use vehsim::contact::model::PatchParams;
-use vehsim::contact::spec::ContactSpec;
-use vehsim::contact::TyreContact;
+use vehsim_core::contact::estimator::{node_ice_temp_c, roll_speed_for, FlashTable, Statistic, TableRanges, TyreBuild};
+use vehsim_core::contact::model::PatchParams;
+use vehsim_core::contact::TyreContact;
+use vehsim_spec::contact::ContactSpec;
 
 use common::atiim::{full_rise, reference_grid, srtt_build};
 
@@ -45,7 +45,7 @@ fn table_agrees(stat: Statistic, node_tol: f64, mid_tol: f64) {
     let table = FlashTable::build(Path::new("t"), &tb, &rg).unwrap();
     eprintln!("table build {:?} ({} nodes)", t0.elapsed(), table.ln_g.len() + table.ln_r0.len());
     let (la, sa, ra) = (table.load.clone(), table.slide.clone(), table.roll.clone());
-    let val = |a: &vehsim::contact::estimator::Axis, u: f64| {
+    let val = |a: &vehsim_core::contact::estimator::Axis, u: f64| {
         let k = (u.floor() as usize).min(a.n() - 1);
         let f = u - k as f64;
         if f > 0.0 {

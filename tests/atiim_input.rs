@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use vehsim::contact::patch_file::{parse_csv, read_png_map, ImageLayout};
-use vehsim::contact::spec::ScenarioSpec;
-use vehsim::Error;
+use vehsim_core::Error;
+use vehsim_spec::contact::ScenarioSpec;
+use vehsim_spec::patch_file::{parse_csv, read_png_map, ImageLayout};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/atiim").join(name)

@@ -4,10 +4,10 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
-use vehsim::contact::film::{advance, implicit_step, FilmCoeffs, FilmParams};
-use vehsim::contact::model::{solve_patch, Operating, PatchParams};
-use vehsim::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
-use vehsim::contact::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
+use vehsim_core::contact::film::{advance, implicit_step, FilmCoeffs, FilmParams};
+use vehsim_core::contact::model::{solve_patch, Operating, PatchParams};
+use vehsim_core::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
+use vehsim_core::contact::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};
 
 /// Constant friction 0.15, no rolling heat, the whole patch sliding: the closed-form setting.
 fn params() -> PatchParams {
@@ -183,7 +183,7 @@ fn film_growth_from_zero_matches_sqrt_law_and_never_nans() {
 /// The film and rise trends of the film and heat models, under a constant friction of 0.15 with
 /// the whole patch sliding (the friction law's and the brush's own trends are tested in
 /// `atiim_rig.rs`; with the carcass in series, 1 % slip leaves most of the patch adhering).
-fn run(load: f64, vs: f64, ice: f64) -> vehsim::contact::model::PatchSummary {
+fn run(load: f64, vs: f64, ice: f64) -> vehsim_core::contact::model::PatchSummary {
     let mut pp = PatchParams::srtt(ice).with_constant_friction(0.15);
     pp.brush = false;
     let g = srtt_grid(load, 48, 32, 0.3, 5, 0.03);

@@ -9,13 +9,13 @@ mod common;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use vehsim::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges};
-use vehsim::contact::model::{
+use vehsim_core::contact::estimator::{roll_speed_for, FlashTable, Statistic, TableRanges};
+use vehsim_core::contact::model::{
     drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchParams, PatchResult, PatchSummary,
 };
-use vehsim::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
-use vehsim::contact::spec::{Scenario, ScenarioSpec};
-use vehsim::contact::thermal::ICE;
+use vehsim_core::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
+use vehsim_core::contact::thermal::ICE;
+use vehsim_spec::contact::{Scenario, ScenarioSpec};
 
 use common::atiim::{full_rise, reference_grid, srtt_build};
 

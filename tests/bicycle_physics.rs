@@ -2,12 +2,12 @@
 
 mod common;
 
-use vehsim::maneuver::open_loop::{SpeedSchedule, SteerProfile};
-use vehsim::run::execute;
-use vehsim::spec::maneuver::ManeuverConfig;
-use vehsim::tyre::TyreFileSpec;
-use vehsim::vehicle::DriveLayout;
-use vehsim::vehicle::GRAVITY;
+use vehsim_core::maneuver::open_loop::{SpeedSchedule, SteerProfile};
+use vehsim_core::vehicle::DriveLayout;
+use vehsim_core::vehicle::GRAVITY;
+use vehsim_spec::maneuver::ManeuverConfig;
+use vehsim_spec::run::execute;
+use vehsim_spec::tyre::TyreFileSpec;
 
 /// Steady-state cornering at small steer matches r = v delta / (L + K_us v^2) within 0.5 % for the
 /// understeering sedan at two speeds.
@@ -44,7 +44,7 @@ fn steady_state_yaw_rate_matches_linear_theory_at_two_speeds() {
         };
         cfg.settings.duration_s = 25.0;
         let out = execute(&cfg);
-        assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration);
+        assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Duration);
         let last = out.rows.last().unwrap();
         let vx = last.obs.kin.vx_mps;
         let r = last.obs.kin.yaw_rate_radps;
@@ -112,7 +112,7 @@ fn standstill_start_and_brake_to_standstill() {
         cfg.settings.step_s = 0.005;
         let out = execute(&cfg);
         let s = &out.summary;
-        assert_eq!(s.end_reason, vehsim::sim::EndReason::Duration, "{steer:?}: {:?}", s.events);
+        assert_eq!(s.end_reason, vehsim_core::event::EndReason::Duration, "{steer:?}: {:?}", s.events);
         assert!(out.rows.iter().all(|r| r.obs.kin.vx_mps.is_finite() && r.obs.kappa.iter().all(|k| k.is_finite())));
         assert!(s.max_speed_mps > 9.5, "{steer:?}: never reached speed ({})", s.max_speed_mps);
         let end = out.rows.last().unwrap();

@@ -36,10 +36,10 @@
 
 mod common;
 
-use vehsim::run::{execute, RunOutput};
-use vehsim::sim::Method;
-use vehsim::spec::{ManeuverFile, RunConfig};
-use vehsim::tyre::TyreModelKind;
+use vehsim_core::sim::Method;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_spec::run::{execute, RunOutput};
+use vehsim_spec::{ManeuverFile, RunConfig};
 
 /// Simulated time per run, s.
 const DURATION_S: f64 = 4.0;
@@ -97,8 +97,8 @@ fn dop853(base: &RunConfig, tol: f64) -> RunOutput {
 
 /// Largest |yaw-rate difference| over the common output rows (all 201 rows of a 4 s run).
 fn err(a: &RunOutput, b: &RunOutput) -> f64 {
-    assert_eq!(a.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", a.summary.events);
-    assert_eq!(b.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", b.summary.events);
+    assert_eq!(a.summary.end_reason, vehsim_core::event::EndReason::Duration, "{:?}", a.summary.events);
+    assert_eq!(b.summary.end_reason, vehsim_core::event::EndReason::Duration, "{:?}", b.summary.events);
     let mut worst = 0.0_f64;
     let mut n = 0;
     for (p, q) in a.rows.iter().zip(&b.rows) {

@@ -12,9 +12,9 @@ mod common;
 use std::path::PathBuf;
 
 use nalgebra::SVector;
-use vehsim::spec::vehicle::VehicleFile;
-use vehsim::tyre::TyreModelKind;
-use vehsim::vehicle::{Bicycle, Environment, Inputs, Roll4Dof, VehicleModel};
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::vehicle::{Bicycle, Environment, Inputs, Roll4Dof, VehicleModel};
+use vehsim_spec::vehicle::VehicleFile;
 
 const TOL: f64 = 1e-12;
 

@@ -11,7 +11,7 @@ mod common;
 use vehsim::discover::model::{EffectParams, ReplayModel};
 use vehsim::discover::select::Verdict;
 use vehsim::discover::{discover, load_vehicle, synth, tyre_kind, Dataset, Discovery, Effect};
-use vehsim::tyre::TyreInput;
+use vehsim_core::tyre::TyreInput;
 
 fn model() -> ReplayModel {
     let v = load_vehicle(&common::root().join("vehicles/sedan.toml"), None, tyre_kind("pacejka").unwrap()).unwrap();

@@ -23,8 +23,8 @@ fn improved_vehicle_spec_from_discover_runs_with_vehsim_run() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let vf = vehsim::spec::vehicle::VehicleFile::load(&out.join("vehicle.toml")).unwrap();
-    let v = vf.build(&out.join("vehicle.toml"), vehsim::tyre::TyreModelKind::Pacejka).unwrap();
+    let vf = vehsim_spec::vehicle::VehicleFile::load(&out.join("vehicle.toml")).unwrap();
+    let v = vf.build(&out.join("vehicle.toml"), vehsim_core::tyre::TyreModelKind::Pacejka).unwrap();
     assert!((v.lateral.mu_scale - 0.6).abs() < 0.25 * 0.6, "mu_scale {}", v.lateral.mu_scale);
     assert_eq!(v.lateral.steer_compliance_rad_per_kn, 0.0);
     let spec = "name = \"improved\"\nvehicle = \"out/vehicle.toml\"\ntyre_model = \"pacejka\"\nduration_s = 4.0\n\
@@ -48,23 +48,24 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
     scaled.vehicle.lateral.mu_scale = 0.5;
     let mut lowered = base.clone();
     lowered.env.mu = base.env.mu * 0.5;
-    let a = vehsim::run::execute(&scaled);
-    let b = vehsim::run::execute(&lowered);
+    let a = vehsim_spec::run::execute(&scaled);
+    let b = vehsim_spec::run::execute(&lowered);
     assert_eq!(a.rows.len(), b.rows.len());
     for (ra, rb) in a.rows.iter().zip(&b.rows) {
         assert!((ra.obs.kin.yaw_rate_radps - rb.obs.kin.yaw_rate_radps).abs() < 1e-9);
     }
     let mut compliant = base.clone();
     compliant.vehicle.lateral.steer_compliance_rad_per_kn = 0.01;
-    let c = vehsim::run::execute(&compliant);
-    let o = vehsim::run::execute(&base);
-    let peak =
-        |rows: &[vehsim::sim::observer::Row]| rows.iter().map(|r| r.obs.kin.yaw_rate_radps.abs()).fold(0.0, f64::max);
+    let c = vehsim_spec::run::execute(&compliant);
+    let o = vehsim_spec::run::execute(&base);
+    let peak = |rows: &[vehsim_core::sim::observer::Row]| {
+        rows.iter().map(|r| r.obs.kin.yaw_rate_radps.abs()).fold(0.0, f64::max)
+    };
     assert!(peak(&c.rows) < 0.98 * peak(&o.rows), "{} vs {}", peak(&c.rows), peak(&o.rows));
 }
 
 /// The engine's bicycle model and the discovery's replay model write the same lateral equations
-/// (shared through `vehsim::vehicle::single_track` and `vehsim::vehicle::lateral`): for every
+/// (shared through `vehsim_core::vehicle::single_track` and `vehsim_core::vehicle::lateral`): for every
 /// effect both have (steer compliance, steering lag, lateral relaxation, load transfer, friction
 /// scale, thermal friction at a given contact temperature), alone and together, at fixed states
 /// (vy, r, the relaxed axle forces, the lagged steer, the steer and vx; the bicycle's wheels free
@@ -76,12 +77,12 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
 #[test]
 fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
     use vehsim::discover::model::{EffectParams, ReplayModel};
-    use vehsim::spec::VehicleFile;
-    use vehsim::tyre::TyreInput;
-    use vehsim::tyre::TyreModelKind;
-    use vehsim::vehicle::bicycle::{ix, Bicycle};
-    use vehsim::vehicle::{Environment, Inputs, VehicleModel};
-    use vehsim::vehicle::{Lateral, Vehicle};
+    use vehsim_core::tyre::TyreInput;
+    use vehsim_core::tyre::TyreModelKind;
+    use vehsim_core::vehicle::bicycle::{ix, Bicycle};
+    use vehsim_core::vehicle::{Environment, Inputs, VehicleModel};
+    use vehsim_core::vehicle::{Lateral, Vehicle};
+    use vehsim_spec::VehicleFile;
 
     // The sedan with an edited copy of its tyre: longitudinal shifts and the aligning moment on.
     let case = common::Case::new("engine-replay-derivatives", "unused.toml", "");

@@ -93,14 +93,14 @@ fn speed_envelope_brackets_the_limit_and_is_deterministic() {
             text.replace("mu = 0.15", &format!("mu = {mu}")).replace("speed_mps = 7.0", &format!("speed_mps = {v:?}"));
         let p = c.dir.join("check.toml");
         std::fs::write(&p, text).unwrap();
-        vehsim::run::load(&p).unwrap()
+        vehsim_spec::run::load(&p).unwrap()
     };
     let mut limits = Vec::new();
     for r in &rows {
         let l = &r.limit;
         let pass = |v| {
-            let s = vehsim::run::execute(&cfg_at(&r.params[0], v)).summary;
-            s.passed == Some(true) && s.end_reason == vehsim::sim::EndReason::Completed
+            let s = vehsim_spec::run::execute(&cfg_at(&r.params[0], v)).summary;
+            s.passed == Some(true) && s.end_reason == vehsim_core::event::EndReason::Completed
         };
         let (v, hi) = (l.value.expect("a passing speed"), l.fail_above.expect("a failing speed"));
         assert!(hi > v && hi - v <= 0.1 + 1e-12 && (5.0..=12.0).contains(&v), "{l:?}");
@@ -151,7 +151,7 @@ preview_time_s = 0.5
     let f: Vec<&str> = lines.next().unwrap().split(',').collect();
     // The same run through `vehsim run`: the envelope is its highest steady a_y, and the bracket's
     // upper end is the nominal a_y of the first step that was not steady.
-    let out = vehsim::run::execute(&vehsim::run::load(&c.dir.join("cr.toml")).unwrap());
+    let out = vehsim_spec::run::execute(&vehsim_spec::run::load(&c.dir.join("cr.toml")).unwrap());
     let best = out.steady_states.iter().filter(|s| s.steady).map(|s| s.ay_mps2.abs()).fold(f64::NAN, f64::max);
     assert_eq!(f[1].parse::<f64>().unwrap(), best);
     let next = out.steady_states.iter().find(|s| !s.steady).map(|s| s.nominal_ay_mps2);
@@ -161,6 +161,6 @@ preview_time_s = 0.5
     assert!(best > 0.9 && best < 0.19 * 9.81, "{best}");
     assert_eq!(f[4], "1");
     // The run ends by leaving the circle, yet no tyre force passed its bound: plausible.
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::LeftPath);
     assert_eq!(f[5], "true");
 }

@@ -6,9 +6,9 @@
 
 mod common;
 
-use vehsim::maneuver::{Event, EventKind};
-use vehsim::run::{execute, RunOutput};
-use vehsim::spec::RunConfig;
+use vehsim_core::event::{Event, EventKind};
+use vehsim_spec::run::{execute, RunOutput};
+use vehsim_spec::RunConfig;
 
 const WHEELS: [&str; 4] = ["front-left wheel", "front-right wheel", "rear-left wheel", "rear-right wheel"];
 
@@ -22,7 +22,7 @@ fn case(tag: &str, vehicle_edits: &[(&str, &str)], model: &str, mu: f64, maneuve
     for (from, to) in vehicle_edits {
         c.edit("sedan.toml", from, to);
     }
-    let mut cfg = vehsim::run::load(&c.dir.join("spec.toml")).unwrap_or_else(|e| panic!("{tag}: {e}"));
+    let mut cfg = vehsim_spec::run::load(&c.dir.join("spec.toml")).unwrap_or_else(|e| panic!("{tag}: {e}"));
     cfg.settings.output_interval_s = cfg.settings.step_s;
     cfg
 }
@@ -34,7 +34,7 @@ fn of_kind<'a>(out: &'a RunOutput, kinds: &[EventKind]) -> Vec<&'a Event> {
 }
 
 /// The recorded row at time `t` (every step is recorded).
-fn row_at(out: &RunOutput, t: f64) -> &vehsim::sim::Row {
+fn row_at(out: &RunOutput, t: f64) -> &vehsim_core::sim::Row {
     out.rows.iter().find(|r| (r.t_s - t).abs() < 1e-9).unwrap_or_else(|| panic!("no row at {t}"))
 }
 

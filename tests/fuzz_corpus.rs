@@ -88,8 +88,8 @@ fn spec_seeds_are_accepted_inputs() {
     let files = |d: &Path| files(d).into_iter().filter(|p| is_seed(p)).collect::<Vec<_>>();
     for f in files(&corpus.join("vehicle_toml")) {
         let path = root.join("vehicles/fuzz_input.toml");
-        let v: vehsim::spec::VehicleFile = vehsim::files::parse_toml(&path, &text(&f)).unwrap();
-        v.build(&path, vehsim::tyre::TyreModelKind::Linear).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let v: vehsim_spec::VehicleFile = vehsim_spec::files::parse_toml(&path, &text(&f)).unwrap();
+        v.build(&path, vehsim_core::tyre::TyreModelKind::Linear).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
     }
     for f in files(&corpus.join("maneuver_toml")) {
         let b = vehsim::batch::from_text(&root.join("maneuvers/fuzz_input.toml"), &text(&f));
@@ -98,16 +98,16 @@ fn spec_seeds_are_accepted_inputs() {
     }
     for f in files(&corpus.join("tyre_toml")) {
         let path = root.join("vehicles/tyres/fuzz_input.toml");
-        let t: vehsim::tyre::TyreFileSpec = vehsim::files::parse_toml(&path, &text(&f)).unwrap();
+        let t: vehsim_spec::tyre::TyreFileSpec = vehsim_spec::files::parse_toml(&path, &text(&f)).unwrap();
         assert!(
-            vehsim::tyre::TyreModelKind::ALL.iter().any(|k| t.build(&path, *k).is_ok()),
+            vehsim_core::tyre::TyreModelKind::ALL.iter().any(|k| t.build(&path, *k).is_ok()),
             "{}: no provider builds",
             f.display()
         );
     }
     for f in files(&corpus.join("atiim_scenario_toml")) {
         let path = root.join("tests/data/atiim/fuzz_input.toml");
-        let s: vehsim::contact::spec::ScenarioSpec = vehsim::files::parse_toml(&path, &text(&f)).unwrap();
+        let s: vehsim_spec::contact::ScenarioSpec = vehsim_spec::files::parse_toml(&path, &text(&f)).unwrap();
         s.validate(&path).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
     }
 }
@@ -119,7 +119,7 @@ fn spec_seeds_are_accepted_inputs() {
 fn png_claiming_a_huge_image_is_an_input_error_before_any_allocation() {
     let f = fuzz_dir().join("regressions/pressure_png/huge_dimensions.png");
     let bytes = std::fs::read(&f).unwrap();
-    let lay = vehsim::contact::patch_file::ImageLayout {
+    let lay = vehsim_spec::patch_file::ImageLayout {
         footprint: [0, 0, 10, 8],
         colour_bar: [20, 0, 24, 64],
         bar_min_pa: 0.0,
@@ -128,8 +128,8 @@ fn png_claiming_a_huge_image_is_an_input_error_before_any_allocation() {
         dx_m: 0.005,
         dy_m: 0.005,
     };
-    match vehsim::contact::patch_file::read_png_map(Path::new("map.png"), &bytes, &lay) {
-        Err(e @ vehsim::Error::Input { .. }) => {
+    match vehsim_spec::patch_file::read_png_map(Path::new("map.png"), &bytes, &lay) {
+        Err(e @ vehsim_core::Error::Input { .. }) => {
             let msg = e.to_string();
             assert!(msg.contains("map.png") && msg.contains("too large") && msg.contains("MiB"), "{msg}");
         }

@@ -13,8 +13,8 @@ use std::path::PathBuf;
 
 use vehsim::compare::compare;
 use vehsim::output::table::Table;
-use vehsim::run::execute;
-use vehsim::run_files::timeseries_csv;
+use vehsim::run::timeseries_csv;
+use vehsim_spec::run::execute;
 
 /// Absolute tolerances per channel. They allow for last-bit differences of libm between machines
 /// amplified through the closed loop, and are far below any physically meaningful change.
@@ -54,7 +54,7 @@ fn golden_path(stem: &str) -> PathBuf {
 
 fn simulate(spec: &str, tyre_model: &str, vehicle_model: &str, contact: &str) -> String {
     let path = common::root().join(spec);
-    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut file = vehsim_spec::ManeuverFile::load(&path).unwrap();
     file.tyre_model = tyre_model.to_string();
     file.vehicle_model = Some(vehicle_model.to_string());
     file.contact.model = contact.to_string();

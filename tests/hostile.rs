@@ -143,7 +143,7 @@ fn the_most_extreme_accepted_vehicle_validates_quickly() {
 #[test]
 fn the_step_search_bisects_in_bounded_time() {
     use std::cell::Cell;
-    use vehsim::spec::maneuver::fewest_stable_division;
+    use vehsim_spec::maneuver::fewest_stable_division;
     for first_stable in [1usize, 2, 7, 16, 17, 18, 100, 12_345, 999_998] {
         let asked = Cell::new(0);
         let stable = |h: f64| {

@@ -5,12 +5,12 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use vehsim::contact::friction::IceFriction;
-use vehsim::contact::model::drawbar_curve;
-use vehsim::contact::spec::{Scenario, ScenarioSpec};
-use vehsim::tyre::ice::SurfaceFriction;
-use vehsim::tyre::spec::TyreFileSpec;
-use vehsim::tyre::{TyreInput, TyreModelKind};
+use vehsim_core::contact::model::drawbar_curve;
+use vehsim_core::tyre::friction::IceFriction;
+use vehsim_core::tyre::ice::SurfaceFriction;
+use vehsim_core::tyre::{TyreInput, TyreModelKind};
+use vehsim_spec::contact::{Scenario, ScenarioSpec};
+use vehsim_spec::tyre::TyreFileSpec;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -171,7 +171,7 @@ fn fixed_law_and_bad_keys() {
 /// -3 degC).
 #[test]
 fn wet_friction_falls_with_sliding_speed() {
-    use vehsim::contact::model::{solve_patch_at, Kinematics};
+    use vehsim_core::contact::model::{solve_patch_at, Kinematics};
     let sc = scenario("srtt_7kN_locked");
     for t_ice in [-1.0, -3.0] {
         let mut last = f64::INFINITY;

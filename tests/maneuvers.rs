@@ -2,9 +2,9 @@
 
 mod common;
 
-use vehsim::run::execute;
+use vehsim_spec::run::execute;
 
-use vehsim::run_files::timeseries_csv;
+use vehsim::run::timeseries_csv;
 
 /// The PID holds 10 m/s within 1 % through the DLC on mu 0.15 (dissertation Fig. 6.6).
 #[test]
@@ -12,7 +12,7 @@ fn pid_holds_10_mps_within_one_percent_through_the_ice_dlc() {
     let cfg = common::load("maneuvers/dlc.toml");
     assert_eq!(cfg.env.mu, 0.15);
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Completed);
     let worst = out.rows.iter().map(|r| (r.obs.kin.vx_mps - 10.0).abs()).fold(0.0, f64::max);
     assert!(worst < 0.1, "speed left the 1 % band: max |vx - 10| = {worst}");
     assert!(out.summary.max_speed_error_mps.unwrap() < 0.1);
@@ -32,7 +32,7 @@ fn sedan_passes_iso3888_2_at_60_kmh_on_dry_asphalt() {
     let s = &out.summary;
     assert_eq!(s.passed, Some(true), "events: {:?}", s.events);
     assert_eq!(s.cones_hit, 0);
-    assert!(s.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::CourseComplete));
+    assert!(s.events.iter().any(|e| e.kind == vehsim_core::event::EventKind::CourseComplete));
     assert!(s.peak_ay_mps2 > 5.0, "not a severe lane change: peak ay {}", s.peak_ay_mps2);
 }
 
@@ -49,7 +49,7 @@ fn cone_strikes_are_detected_and_fail_the_run() {
         .summary
         .events
         .iter()
-        .find(|e| e.kind == vehsim::maneuver::EventKind::ConeStrike)
+        .find(|e| e.kind == vehsim_core::event::EventKind::ConeStrike)
         .expect("a cone_strike event");
     assert!(strike.detail.contains("lane") && strike.detail.contains("corner"), "{}", strike.detail);
 }
@@ -69,9 +69,9 @@ fn repeated_runs_give_identical_bytes() {
 fn friction_limited_tyres_bound_lateral_acceleration_by_mu_g() {
     let mut cfg = common::load("maneuvers/dlc.toml");
     let sat = common::root().join("tests/data/vehicles/sedan_saturating.toml");
-    cfg.vehicle = vehsim::spec::VehicleFile::load(&sat).unwrap().build(&sat, cfg.tyre_model).unwrap();
+    cfg.vehicle = vehsim_spec::VehicleFile::load(&sat).unwrap().build(&sat, cfg.tyre_model).unwrap();
     let out = execute(&cfg);
-    let mu_g = cfg.env.mu * vehsim::vehicle::GRAVITY;
+    let mu_g = cfg.env.mu * vehsim_core::vehicle::GRAVITY;
     assert!(out.summary.peak_ay_mps2 <= mu_g * (1.0 + 1e-9), "peak ay {} > mu g {mu_g}", out.summary.peak_ay_mps2);
     assert!(out.summary.peak_ay_mps2 > 0.95 * mu_g, "the tyres never reached the friction limit");
     assert_eq!(out.summary.passed, Some(false));
@@ -81,9 +81,9 @@ fn friction_limited_tyres_bound_lateral_acceleration_by_mu_g() {
 #[test]
 fn spec_round_trip_gives_the_same_bytes() {
     let path = common::root().join("maneuvers/dlc.toml");
-    let file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let file = vehsim_spec::ManeuverFile::load(&path).unwrap();
     let text = toml::to_string(&file).unwrap();
-    let again: vehsim::spec::ManeuverFile = toml::from_str(&text).unwrap();
+    let again: vehsim_spec::ManeuverFile = toml::from_str(&text).unwrap();
     assert_eq!(file, again);
     let (a, b) = (file.build(&path).unwrap(), again.build(&path).unwrap());
     assert_eq!(timeseries_csv(&execute(&a).rows), timeseries_csv(&execute(&b).rows));

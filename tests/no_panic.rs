@@ -11,7 +11,9 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
+use vehsim_spec::tyre::TyreFileSpec;
+
+use vehsim_core::tyre::TyreModelKind;
 
 /// xorshift64*: small, deterministic, good enough to pick mutations.
 struct Rng(u64);
@@ -142,8 +144,11 @@ fn mutated_manoeuvre_specs_never_panic_and_short_runs_of_valid_ones_finish() {
                 if let Some(Ok(cfg)) = b.runs.first().map(|r| r.config.clone()) {
                     let mut cfg = cfg;
                     cfg.settings.duration_s = cfg.settings.duration_s.min(0.5);
-                    let out = check("run::execute", &m, || vehsim::run::execute(&cfg));
-                    assert!(out.summary.steps > 0 || out.summary.end_reason != vehsim::sim::EndReason::Duration, "{m}");
+                    let out = check("run::execute", &m, || vehsim_spec::run::execute(&cfg));
+                    assert!(
+                        out.summary.steps > 0 || out.summary.end_reason != vehsim_core::event::EndReason::Duration,
+                        "{m}"
+                    );
                     simulated += 1;
                 }
             }
@@ -164,7 +169,7 @@ fn mutated_vehicle_and_tyre_files_never_panic() {
         let p = dir.join("v.toml");
         std::fs::write(&p, &m).unwrap();
         check("VehicleFile", &m, || {
-            vehsim::spec::VehicleFile::load(&p).and_then(|v| v.build(&p, TyreModelKind::Linear)).map(|_| ())
+            vehsim_spec::VehicleFile::load(&p).and_then(|v| v.build(&p, TyreModelKind::Linear)).map(|_| ())
         })
         .ok();
     }
@@ -189,7 +194,7 @@ fn mutated_tir_files_never_panic() {
     for seed in &seeds {
         for _ in 0..400 {
             let m = mutate(seed, &mut rng);
-            check("parse_tir", &m, || vehsim::tyre::tir::parse_tir(p, &m).map(|_| ())).ok();
+            check("parse_tir", &m, || vehsim_spec::tir::parse_tir(p, &m).map(|_| ())).ok();
         }
     }
 }
@@ -202,7 +207,7 @@ fn mutated_pressure_grids_and_atiim_scenarios_never_panic() {
     let p = Path::new("grid.csv");
     for _ in 0..400 {
         let m = mutate(&csv, &mut rng);
-        check("parse_csv", &m, || vehsim::contact::patch_file::parse_csv(p, &m, 0.01, 0.01).map(|_| ())).ok();
+        check("parse_csv", &m, || vehsim_spec::patch_file::parse_csv(p, &m, 0.01, 0.01).map(|_| ())).ok();
     }
     let dir = common::temp_dir("nopanic-atiim");
     for f in ["valid.csv", "negative.csv"] {
@@ -213,6 +218,6 @@ fn mutated_pressure_grids_and_atiim_scenarios_never_panic() {
         let m = mutate(&scenario, &mut rng);
         let sp = dir.join("s.toml");
         std::fs::write(&sp, &m).unwrap();
-        check("ScenarioSpec::load", &m, || vehsim::contact::spec::ScenarioSpec::load(&sp).map(|_| ())).ok();
+        check("ScenarioSpec::load", &m, || vehsim_spec::contact::ScenarioSpec::load(&sp).map(|_| ())).ok();
     }
 }

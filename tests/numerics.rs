@@ -3,9 +3,9 @@
 
 mod common;
 
-use vehsim::run::execute;
-use vehsim::sim::Method;
-use vehsim::spec::RunConfig;
+use vehsim_core::sim::Method;
+use vehsim_spec::run::execute;
+use vehsim_spec::RunConfig;
 
 fn with(cfg: &RunConfig, method: Method, step: f64, control: f64) -> RunConfig {
     let mut c = cfg.clone();
@@ -23,7 +23,7 @@ fn rk4_default_step_agrees_with_tight_dopri5_over_the_dlc() {
     let base = common::load("maneuvers/dlc.toml");
     let rk4 = execute(&with(&base, Method::Rk4, 0.001, 0.001));
     let dp = execute(&with(&base, Method::Dopri5 { rtol: 1e-10, atol: 1e-12 }, 0.001, 0.001));
-    assert_eq!(rk4.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(rk4.summary.end_reason, vehsim_core::event::EndReason::Completed);
     let d = common::max_yaw_rate_diff(&rk4, &dp);
     eprintln!("max |r_rk4 - r_dopri5| over the DLC = {d:.3e} rad/s");
     assert!(d < 1e-4, "max |r_rk4 - r_dopri5| = {d} rad/s");

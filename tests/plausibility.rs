@@ -6,12 +6,13 @@
 
 mod common;
 
-use vehsim::maneuver::constant_radius::ConstantRadiusParams;
-use vehsim::run::execute;
-use vehsim::spec::maneuver::ManeuverConfig;
-use vehsim::spec::RunConfig;
-use vehsim::tyre::{TyreFileSpec, TyreInput, TyreModelKind};
-use vehsim::vehicle::VehicleModelKind;
+use vehsim_core::maneuver::constant_radius::ConstantRadiusParams;
+use vehsim_core::tyre::{TyreInput, TyreModelKind};
+use vehsim_core::vehicle::VehicleModelKind;
+use vehsim_spec::maneuver::ManeuverConfig;
+use vehsim_spec::run::execute;
+use vehsim_spec::tyre::TyreFileSpec;
+use vehsim_spec::RunConfig;
 
 #[test]
 fn shipped_physical_examples_are_plausible() {
@@ -26,7 +27,7 @@ fn shipped_physical_examples_are_plausible() {
             !out.summary
                 .events
                 .iter()
-                .any(|e| e.kind.beyond_friction() || e.kind == vehsim::maneuver::EventKind::PathExit),
+                .any(|e| e.kind.beyond_friction() || e.kind == vehsim_core::event::EventKind::PathExit),
             "{spec}"
         );
     }
@@ -66,7 +67,7 @@ fn linear_tyre_lane_change_is_flagged_at_the_right_row() {
         })
         .expect("a row beyond the bound");
     let ev =
-        out.summary.events.iter().find(|e| e.kind == vehsim::maneuver::EventKind::TyreForceBeyondFriction).unwrap();
+        out.summary.events.iter().find(|e| e.kind == vehsim_core::event::EventKind::TyreForceBeyondFriction).unwrap();
     assert_eq!(ev.t_s, first.t_s);
     // The same manoeuvre with a friction-limited tyre never exceeds its bound.
     for kind in [TyreModelKind::Pacejka, TyreModelKind::Polynomial, TyreModelKind::Dugoff] {
@@ -103,9 +104,9 @@ fn constant_radius_guard_ends_the_run_and_drops_steps() {
         c
     };
     let out = execute(&circle(20.0, 5.0));
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath, "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::LeftPath, "{:?}", out.summary.events);
     assert!(!out.summary.plausible);
-    assert_eq!(out.summary.events.last().unwrap().kind, vehsim::maneuver::EventKind::LeftPath);
+    assert_eq!(out.summary.events.last().unwrap().kind, vehsim_core::event::EventKind::LeftPath);
     let end = out.summary.end_time_s;
     assert!(end < 20.0 * 13.0, "ended at {end}");
     // A window the run did not reach to its end is not steady; a steady one is within friction.
@@ -124,7 +125,7 @@ fn constant_radius_guard_ends_the_run_and_drops_steps() {
     }
 
     let out = execute(&circle(0.5, 1.0));
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::LeftPath);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::LeftPath);
     assert!(out.understeer_gradient.is_none());
     assert!(
         out.understeer_gradient_note.as_deref().unwrap().contains("at least 3"),

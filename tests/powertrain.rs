@@ -7,19 +7,19 @@
 
 mod common;
 
-use vehsim::run::{execute, RunOutput};
-use vehsim::sim::Row;
-use vehsim::spec::RunConfig;
-use vehsim::tyre::{TyreInput, TyreModelKind};
-use vehsim::vehicle::wheel::V_LOW;
-use vehsim::vehicle::GRAVITY;
+use vehsim_core::sim::Row;
+use vehsim_core::tyre::{TyreInput, TyreModelKind};
+use vehsim_core::vehicle::wheel::V_LOW;
+use vehsim_core::vehicle::GRAVITY;
+use vehsim_spec::run::{execute, RunOutput};
+use vehsim_spec::RunConfig;
 
 const LAUNCH: &str = "maneuvers/traction/launch_ice_tcs.toml";
 const BRAKING: &str = "maneuvers/traction/braking_50kmh_ice_abs.toml";
 
-fn load_with(spec: &str, tyre: TyreModelKind, edit: impl FnOnce(&mut vehsim::spec::ManeuverFile)) -> RunConfig {
+fn load_with(spec: &str, tyre: TyreModelKind, edit: impl FnOnce(&mut vehsim_spec::ManeuverFile)) -> RunConfig {
     let path = common::root().join(spec);
-    let mut f = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut f = vehsim_spec::ManeuverFile::load(&path).unwrap();
     f.tyre_model = tyre.as_str().to_string();
     edit(&mut f);
     f.build(&path).unwrap()
@@ -177,7 +177,7 @@ fn abs_stop_on_ice_against_the_friction_limit() {
 /// gives the run without a powertrain (the same equations up to rounding).
 #[test]
 fn single_torque_limit_is_the_special_case() {
-    use vehsim::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
+    use vehsim_core::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
     let base = common::load("maneuvers/quickstart_dlc_ice.toml");
     let mut cfg = base.clone();
     cfg.vehicle.powertrain = Some(Powertrain::new(
@@ -245,7 +245,7 @@ fn single_torque_limit_is_the_special_case() {
 #[test]
 fn four_wheel_launch_through_the_limited_slip_differential() {
     let path = common::root().join(LAUNCH);
-    let mut f = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut f = vehsim_spec::ManeuverFile::load(&path).unwrap();
     f.vehicle = "../../vehicles/sedan_rwd_powertrain.toml".into();
     f.vehicle_model = Some("roll4dof".into());
     f.tcs = None;

@@ -13,15 +13,15 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use vehsim::maneuver::constant_radius::{ConstantRadiusParams, Direction};
-use vehsim::maneuver::open_loop::{SpeedSchedule, SteerProfile};
-use vehsim::run::{execute, RunOutput};
-use vehsim::sim::Method;
-use vehsim::spec::maneuver::ManeuverConfig;
-use vehsim::spec::{RunConfig, VehicleFile};
-use vehsim::tyre::TyreFileSpec;
-use vehsim::vehicle::VehicleModelKind;
-use vehsim::vehicle::GRAVITY;
+use vehsim_core::maneuver::constant_radius::{ConstantRadiusParams, Direction};
+use vehsim_core::maneuver::open_loop::{SpeedSchedule, SteerProfile};
+use vehsim_core::sim::Method;
+use vehsim_core::vehicle::VehicleModelKind;
+use vehsim_core::vehicle::GRAVITY;
+use vehsim_spec::maneuver::ManeuverConfig;
+use vehsim_spec::run::{execute, RunOutput};
+use vehsim_spec::tyre::TyreFileSpec;
+use vehsim_spec::{RunConfig, VehicleFile};
 
 /// A scratch copy of the sedan and its tyre with edits, plus a spec written next to them.
 fn scratch(tag: &str, vehicle_edits: &[(&str, &str)], tyre_edits: &[(&str, &str)], spec: &str) -> RunConfig {
@@ -42,7 +42,7 @@ fn scratch(tag: &str, vehicle_edits: &[(&str, &str)], tyre_edits: &[(&str, &str)
     std::fs::write(dir.join("tyres/srtt_p225_60r16.toml"), t).unwrap();
     let p = dir.join("spec.toml");
     std::fs::write(&p, spec).unwrap();
-    match vehsim::run::load(&p) {
+    match vehsim_spec::run::load(&p) {
         Ok(c) => c,
         Err(e) => panic!("{tag}: {e}"),
     }
@@ -130,7 +130,7 @@ fn dissertation_run() -> (RunConfig, RunOutput) {
     let cfg = common::load("maneuvers/dissertation/constant_radius_8mps_linear.toml");
     assert_eq!(cfg.vehicle_model, VehicleModelKind::Roll4Dof);
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed, "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Completed, "{:?}", out.summary.events);
     (cfg, out)
 }
 
@@ -172,7 +172,7 @@ fn normal_loads_sum_to_the_weight_at_every_step_of_the_dlc() {
     let mut cfg = common::load("maneuvers/dlc_roll4dof.toml");
     cfg.settings.output_interval_s = cfg.settings.step_s;
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Completed);
     assert_eq!(out.summary.passed, Some(true), "{:?}", out.summary.events);
     let w = cfg.vehicle.mass_kg * GRAVITY;
     assert!(out.rows.len() as u64 >= out.summary.steps);
@@ -207,8 +207,8 @@ fn degenerate_4dof_reproduces_the_bicycle_through_the_dlc() {
     let four = scratch("degenerate4", &edits, &[], &spec("roll4dof", 0.15, man, ""));
     let two = scratch("degenerate2", &edits, &[], &spec("bicycle", 0.15, man, ""));
     let (a, b) = (execute(&four), execute(&two));
-    assert_eq!(a.summary.end_reason, vehsim::sim::EndReason::Completed);
-    assert_eq!(b.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(a.summary.end_reason, vehsim_core::event::EndReason::Completed);
+    assert_eq!(b.summary.end_reason, vehsim_core::event::EndReason::Completed);
     let mut worst = 0.0_f64;
     for (p, q) in a.rows.iter().zip(&b.rows) {
         assert!((p.t_s - q.t_s).abs() < 1e-12);
@@ -247,7 +247,7 @@ fn left_and_right_turns_mirror_each_other() {
     let base = common::load("maneuvers/dissertation/constant_radius_8mps_linear.toml");
     let l = execute(&with_maneuver(&base, stepped(40.0, Direction::Left, 1.0, 4.0, 1.0)));
     let r = execute(&with_maneuver(&base, stepped(40.0, Direction::Right, 1.0, 4.0, 1.0)));
-    assert_eq!(l.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(l.summary.end_reason, vehsim_core::event::EndReason::Completed);
     assert_eq!(l.rows.len(), r.rows.len());
     let mut max_roll = 0.0_f64;
     for (p, q) in l.rows.iter().zip(&r.rows) {
@@ -306,7 +306,7 @@ fn understeer_gradient_matches_linear_theory_with_load_transfer() {
         edits.push(("roll_stiffness_front_nm_per_rad = 46000.0", &k_edit));
         let cfg = scratch(tag, &edits, &[], &spec("roll4dof", 1.0, circle, ""));
         let out = execute(&cfg);
-        assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Completed, "{tag}: {:?}", out.summary.events);
+        assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Completed, "{tag}: {:?}", out.summary.events);
         let g = out.understeer_gradient.expect("an understeer gradient");
         assert_eq!(g.steps, 6);
         let raw = Raw::of(&cfg.vehicle_file);
@@ -340,7 +340,7 @@ fn understeer_gradient_matches_linear_theory_with_load_transfer() {
             theory.push(alpha_f - alpha_r);
             assert!((s.vx_mps - s.speed_target_mps).abs() < 0.01 * s.speed_target_mps, "{tag}: speed not held");
         }
-        let fit = vehsim::maneuver::steady_state::linear_fit(&ays, &theory).unwrap();
+        let fit = vehsim_core::sim::steady_state::linear_fit(&ays, &theory).unwrap();
         let k0 = raw.m / l * (raw.b / (2.0 * c_tyre(0.5 * f0)) - raw.a / (2.0 * c_tyre(0.5 * r0)));
         eprintln!(
             "{tag}: K_us measured {:.4e} (slip-angle {:.4e}, 95 % CI {:.4e}..{:.4e}), theory {:.4e}, \
@@ -372,7 +372,7 @@ fn standstill_start_and_stop_with_the_4dof_model() {
         "kind = \"straight\"\nspeed_schedule = [[0.0, 0.0], [1.0, 0.0], [5.0, 10.0], [8.0, 10.0], [11.0, 0.0]]";
     let cfg = scratch("standstill", &[], &[], &spec("roll4dof", 0.15, straight, "duration_s = 16.0"));
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Duration, "{:?}", out.summary.events);
     assert!(out.summary.max_speed_mps > 9.5);
     let end = out.rows.last().unwrap();
     assert!(end.obs.kin.speed_mps() < 0.05);
@@ -384,7 +384,7 @@ fn standstill_start_and_stop_with_the_4dof_model() {
         speed: SpeedSchedule { points: vec![(0.0, 0.0), (1.0, 0.0), (5.0, 10.0), (8.0, 10.0), (11.0, 0.0)] },
     };
     let out = execute(&steered);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Duration, "{:?}", out.summary.events);
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Duration, "{:?}", out.summary.events);
     assert!(out.summary.max_speed_mps > 9.5);
     assert!(out.rows.last().unwrap().obs.kin.speed_mps() < 0.05);
     assert!(out.rows.iter().all(|r| r.obs.fz_n.iter().chain(&r.obs.kappa).all(|v| v.is_finite())));
@@ -406,8 +406,8 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
         &spec("roll4dof", 0.15, sine, "duration_s = 20.0"),
     );
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::SpinOut, "{:?}", out.summary.events);
-    assert!(out.summary.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::SpinOut));
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::SpinOut, "{:?}", out.summary.events);
+    assert!(out.summary.events.iter().any(|e| e.kind == vehsim_core::event::EventKind::SpinOut));
 
     // RK4 at 10 ms on a 1 ms load-transfer lag is unstable (h / tau = 10 > 2.8): the lag state
     // grows by a factor ~290 per step until it overflows, while the clamped load transfer and the
@@ -424,7 +424,7 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
         &spec("roll4dof", 0.15, straight, "duration_s = 10.0"),
     );
     std::fs::write(cfg.spec_file.with_file_name("refused.toml"), &spec_text).unwrap();
-    let err = vehsim::run::load(&cfg.spec_file.with_file_name("refused.toml")).unwrap_err().to_string();
+    let err = vehsim_spec::run::load(&cfg.spec_file.with_file_name("refused.toml")).unwrap_err().to_string();
     assert!(
         err.contains("integrator.step_s") && err.contains("stability bound") && err.contains("expected step_s <="),
         "{err}"
@@ -432,8 +432,8 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     cfg.settings.step_s = 0.01;
     cfg.settings.control_period_s = 0.01;
     let out = execute(&cfg);
-    assert_eq!(out.summary.end_reason, vehsim::sim::EndReason::Diverged, "{:?}", out.summary.events);
-    let e = out.summary.events.iter().find(|e| e.kind == vehsim::maneuver::EventKind::Diverged).unwrap();
+    assert_eq!(out.summary.end_reason, vehsim_core::event::EndReason::Diverged, "{:?}", out.summary.events);
+    let e = out.summary.events.iter().find(|e| e.kind == vehsim_core::event::EventKind::Diverged).unwrap();
     assert!(e.detail.contains("non-finite") && e.detail.contains("ax_lagged"), "{}", e.detail);
     assert!(out.summary.end_time_s < 5.0);
 
@@ -442,7 +442,7 @@ fn spin_out_divergence_and_wheel_lift_are_events() {
     let cfg = scratch("lift", &high, &[], &spec("roll4dof", 1.0, circle, ""));
     let out = execute(&cfg);
     assert!(
-        out.summary.events.iter().any(|e| e.kind == vehsim::maneuver::EventKind::WheelLift),
+        out.summary.events.iter().any(|e| e.kind == vehsim_core::event::EventKind::WheelLift),
         "{:?}",
         out.summary.events
     );
@@ -470,7 +470,7 @@ fn rk4_on_the_4dof_model_converges_at_fourth_order() {
     };
     let runs: Vec<RunOutput> = [0.004, 0.002, 0.001].iter().map(|&h| with(Method::Rk4, h)).collect();
     let reference = with(Method::Dop853 { rtol: 1e-13, atol: 1e-14 }, 0.004);
-    assert_eq!(reference.summary.end_reason, vehsim::sim::EndReason::Completed);
+    assert_eq!(reference.summary.end_reason, vehsim_core::event::EndReason::Completed);
     let errs: Vec<f64> = runs.iter().map(|r| common::max_yaw_rate_diff(r, &reference)).collect();
     let diffs: Vec<f64> = runs.windows(2).map(|w| common::max_yaw_rate_diff(&w[0], &w[1])).collect();
     eprintln!("4-DOF RK4 max yaw-rate error vs Dop853 at h = 4, 2, 1 ms: {errs:?}; change per halving {diffs:?}");

@@ -5,8 +5,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use vehsim::spec::VehicleFile;
-use vehsim::tyre::TyreModelKind;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_spec::VehicleFile;
 
 fn toml_files(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();
@@ -40,7 +40,7 @@ fn every_shipped_vehicle_builds() {
 
 #[test]
 fn every_shipped_maneuver_spec_validates() {
-    use vehsim::spec::kind::{detect, SpecKind};
+    use vehsim_spec::kind::{detect, SpecKind};
     let mut n = 0;
     for f in toml_files(&common::root().join("maneuvers")) {
         let text = std::fs::read_to_string(&f).unwrap();

@@ -4,9 +4,9 @@
 
 mod common;
 
-use vehsim::error::Bound;
-use vehsim::spec::maneuver::bounds;
-use vehsim::vehicle::lateral_bounds;
+use vehsim_core::error::Bound;
+use vehsim_core::vehicle::lateral_bounds;
+use vehsim_spec::maneuver::bounds;
 
 fn readme() -> String {
     std::fs::read_to_string(common::root().join("README.md")).unwrap().replace('\u{2212}', "-")
@@ -56,8 +56,8 @@ fn bound_messages_keep_their_wording() {
         assert_eq!(b.allowed(), msg, "{}", b.key);
         // Both ends: inside, at and just beyond.
         assert!(b.contains(0.5 * (b.lo + b.hi)), "{}", b.key);
-        assert!(b.contains(b.hi) == (b.ends != vehsim::error::Ends::Open), "{}", b.key);
-        assert!(b.contains(b.lo) == (b.ends == vehsim::error::Ends::Closed), "{}", b.key);
+        assert!(b.contains(b.hi) == (b.ends != vehsim_core::error::Ends::Open), "{}", b.key);
+        assert!(b.contains(b.lo) == (b.ends == vehsim_core::error::Ends::Closed), "{}", b.key);
         assert!(!b.contains(b.hi + 1e-9 * b.hi.abs().max(1.0)) && !b.contains(f64::NAN), "{}", b.key);
     }
 }
@@ -115,11 +115,11 @@ fn bad_flags_are_usage_errors() {
 /// its value, and `allowed` lists them in order.
 #[test]
 fn choice_names_are_the_file_format() {
-    use vehsim::contact::estimator::Statistic;
-    use vehsim::contact::spec::{ContactModelKind, PressureSource};
-    use vehsim::spec::maneuver::ManeuverKind;
-    use vehsim::tyre::TyreModelKind;
-    use vehsim::vehicle::VehicleModelKind;
+    use vehsim_core::contact::estimator::Statistic;
+    use vehsim_core::tyre::TyreModelKind;
+    use vehsim_core::vehicle::VehicleModelKind;
+    use vehsim_spec::contact::{ContactModelKind, PressureSource};
+    use vehsim_spec::maneuver::ManeuverKind;
     macro_rules! names {
         ($t:ty, $expected:expr) => {{
             let names: Vec<&str> = <$t>::ALL.iter().map(|k| k.as_str()).collect();

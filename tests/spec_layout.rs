@@ -14,8 +14,8 @@ fn every_top_level_maneuvers_file_is_a_run_spec() {
         if p.extension().is_some_and(|x| x == "toml") {
             let table: toml::Table = toml::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
             assert_eq!(
-                vehsim::spec::kind::detect(&table),
-                Some(vehsim::spec::kind::SpecKind::Run),
+                vehsim_spec::kind::detect(&table),
+                Some(vehsim_spec::kind::SpecKind::Run),
                 "{} is not a run spec",
                 p.display()
             );

@@ -6,9 +6,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use vehsim::tyre::atiim::{AxisLaw, KShift, MeltLaw};
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
-use vehsim::tyre::{TyreInput, TyreModel};
+use vehsim_core::tyre::atiim::{AxisLaw, KShift, MeltLaw};
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::tyre::{TyreInput, TyreModel};
+use vehsim_spec::tyre::TyreFileSpec;
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");
 
@@ -245,7 +246,7 @@ fn build_error(tag: &str, text: &str) -> String {
     std::fs::write(&p, text).unwrap();
     let e = TyreFileSpec::load(&p).and_then(|s| s.build(&p, TyreModelKind::AtiimPacejka)).unwrap_err();
     std::fs::remove_dir_all(&dir).unwrap();
-    assert!(matches!(e, vehsim::Error::Input { .. }), "{e}");
+    assert!(matches!(e, vehsim_core::Error::Input { .. }), "{e}");
     let msg = e.to_string();
     assert!(msg.contains("t.toml"), "names the file: {msg}");
     msg
@@ -289,12 +290,12 @@ fn bad_atiim_sections_are_input_errors() {
 
 fn simulate(spec: &str, tyre_model: &str, vehicle_model: &str, contact: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(spec);
-    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut file = vehsim_spec::ManeuverFile::load(&path).unwrap();
     file.tyre_model = tyre_model.to_string();
     file.vehicle_model = Some(vehicle_model.to_string());
     file.contact.model = contact.to_string();
     let cfg = file.build(&path).unwrap();
-    vehsim::run_files::timeseries_csv(&vehsim::run::execute(&cfg).rows)
+    vehsim::run::timeseries_csv(&vehsim_spec::run::execute(&cfg).rows)
 }
 
 /// A whole run with `atiim_pacejka` and isothermal contact gives the same time series as
@@ -315,12 +316,12 @@ fn isothermal_atiim_run_equals_the_pacejka_run() {
 
 fn peak_ay(spec: &str, tyre_model: &str, ice_c: f64) -> f64 {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(spec);
-    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut file = vehsim_spec::ManeuverFile::load(&path).unwrap();
     file.tyre_model = tyre_model.to_string();
     file.surface.temperature_c = ice_c;
     let mut cfg = file.build(&path).unwrap();
     cfg.output.timeseries = false;
-    vehsim::run::execute(&cfg).summary.peak_ay_mps2
+    vehsim_spec::run::execute(&cfg).summary.peak_ay_mps2
 }
 
 /// No collapse on cold ice (the criterion): in the shipped ice-temperature lane change

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use vehsim::tyre::run_tyre_command;
+use vehsim::tyre_sweep::run_tyre_command;
 
 #[test]
 fn tyre_curves_spec_writes_pngs_svgs_and_csvs() {
@@ -62,7 +62,7 @@ fn bad_sweep_specs_are_input_errors() {
         let p = dir.join("spec.toml");
         std::fs::write(&p, text).unwrap();
         let e = run_tyre_command(&p, &dir).unwrap_err();
-        assert!(matches!(e, vehsim::Error::Input { .. }), "{e}");
+        assert!(matches!(e, vehsim_core::Error::Input { .. }), "{e}");
         assert!(e.to_string().contains(needle), "{e}");
     }
     std::fs::remove_dir_all(&dir).unwrap();

@@ -5,9 +5,11 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
 
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
-use vehsim::tyre::{TyreInput, TyreModel};
-use vehsim::Error;
+use vehsim_spec::tyre::TyreFileSpec;
+
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::tyre::{TyreInput, TyreModel};
+use vehsim_core::Error;
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");
 /// The public PAC2002 file shipped with the tests (tests/data/tir/README.md: source and licence).
@@ -27,7 +29,7 @@ fn build_text(
     toml: &str,
     tir: Option<&str>,
     kind: TyreModelKind,
-) -> vehsim::Result<(std::sync::Arc<dyn TyreModel>, Vec<String>)> {
+) -> vehsim_core::Result<(std::sync::Arc<dyn TyreModel>, Vec<String>)> {
     let dir = tmp_dir(tag);
     if let Some(t) = tir {
         std::fs::write(dir.join("t.tir"), t).unwrap();
@@ -335,7 +337,7 @@ fn heated(fz: f64, kappa: f64, alpha: f64, dt: f64) -> TyreInput {
 /// The shift-factor families are the published quadratics (eq. 5.14-5.17); 5.17 is their average.
 #[test]
 fn k_shift_families_are_the_published_quadratics() {
-    use vehsim::tyre::KShift;
+    use vehsim_core::tyre::KShift;
     let d: f64 = 2.0;
     assert!((KShift::Srtt.value(d) - (25.0 / 3.0 * 4.0 + 5.0 / 3.0)).abs() < 1e-12);
     assert!((KShift::AllSeason.value(d) - (7.0 / 3.0 * 4.0 + 1.0 / 3.0)).abs() < 1e-12);
@@ -370,7 +372,7 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
         let note = th.departure(&i);
         if published < 0.0 {
             let (kind, detail) = note.expect("a negative published H is a departure");
-            assert_eq!(kind, vehsim::maneuver::EventKind::ThermalFactorClamped);
+            assert_eq!(kind, vehsim_core::event::EventKind::ThermalFactorClamped);
             assert!(detail.contains("reverse"), "{detail}");
             assert_eq!(th.departure(&i).map(|n| n.0), Some(kind), "pure: the same answer again");
         } else {
@@ -396,7 +398,7 @@ fn dugoff_thermal_factor_is_the_published_h_clamped_to_0_1() {
 #[test]
 fn thermal_clamp_event_is_stamped_at_its_first_step() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/dissertation/bicycle_sine_steer_ice.toml");
-    let mut file = vehsim::spec::ManeuverFile::load(&path).unwrap();
+    let mut file = vehsim_spec::ManeuverFile::load(&path).unwrap();
     file.tyre_model = "dugoff_thermal".into();
     file.surface.temperature_c = -20.0;
     file.surface.mu = 0.5;
@@ -404,9 +406,9 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     file.sweep = None;
     let mut cfg = file.build(&path).unwrap();
     cfg.settings.output_interval_s = cfg.settings.step_s;
-    let out = vehsim::run::execute(&cfg);
+    let out = vehsim_spec::run::execute(&cfg);
     let ev: Vec<_> =
-        out.summary.events.iter().filter(|e| e.kind == vehsim::maneuver::EventKind::ThermalFactorClamped).collect();
+        out.summary.events.iter().filter(|e| e.kind == vehsim_core::event::EventKind::ThermalFactorClamped).collect();
     assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
     let (mu, ice) = (cfg.env.mu, cfg.env.surface_temp_c); // mu_scale 1 in the SRTT file
     let h = |kappa: f64, dt: f64| {
@@ -429,9 +431,9 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
     // The 4-DOF model names the wheel; its rows hold axle means, so only the stamp's place in the
     // run and its uniqueness are checked there.
     file.vehicle_model = Some("roll4dof".into());
-    let out = vehsim::run::execute(&file.build(&path).unwrap());
+    let out = vehsim_spec::run::execute(&file.build(&path).unwrap());
     let ev: Vec<_> =
-        out.summary.events.iter().filter(|e| e.kind == vehsim::maneuver::EventKind::ThermalFactorClamped).collect();
+        out.summary.events.iter().filter(|e| e.kind == vehsim_core::event::EventKind::ThermalFactorClamped).collect();
     assert_eq!(ev.len(), 1, "{:?}", out.summary.events);
     assert!(ev[0].t_s > 0.0 && ev[0].t_s < out.summary.end_time_s - 1.0, "{}", ev[0].t_s);
     assert!(["front-left", "front-right"].iter().any(|w| ev[0].detail.starts_with(w)), "{}", ev[0].detail);
@@ -439,7 +441,7 @@ fn thermal_clamp_event_is_stamped_at_its_first_step() {
 
 // --------------------------------------------------------------------------------------- bad input
 
-fn input_error(r: vehsim::Result<impl std::fmt::Debug>) -> String {
+fn input_error(r: vehsim_core::Result<impl std::fmt::Debug>) -> String {
     match r {
         Err(e @ Error::Input { .. }) => e.to_string(),
         other => panic!("expected Error::Input, got {other:?}"),

@@ -5,8 +5,10 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
-use vehsim::tyre::{TyreInput, TyreModel};
+use vehsim_spec::tyre::TyreFileSpec;
+
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::tyre::{TyreInput, TyreModel};
 
 const SRTT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/vehicles/tyres/srtt_p225_60r16.toml");
 const FZN: f64 = 4000.0;

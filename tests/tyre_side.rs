@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use vehsim::tyre::pacejka::{PacejkaTyre, TyreSide};
-use vehsim::tyre::spec::TyreFileSpec;
-use vehsim::tyre::{TyreInput, TyreModel};
+use vehsim_core::tyre::pacejka::{PacejkaTyre, TyreSide};
+use vehsim_core::tyre::{TyreInput, TyreModel};
+use vehsim_spec::tyre::TyreFileSpec;
 
 const TIR: &str = "[UNITS]\nLENGTH = 'meter'\nFORCE = 'newton'\n[MODEL]\nPROPERTY_FILE_FORMAT = 'PAC2002'\n\
 SIDE_LINE\n[DIMENSION]\nUNLOADED_RADIUS = 0.338\n[VERTICAL]\nFNOMIN = 4000\n[LONGITUDINAL_COEFFICIENTS]\n\
@@ -34,7 +34,7 @@ fn tyre_files(tag: &str, tir: &str) -> (PathBuf, PathBuf) {
     (d, p)
 }
 
-fn build(tag: &str, side_line: &str) -> vehsim::Result<PacejkaTyre> {
+fn build(tag: &str, side_line: &str) -> vehsim_core::Result<PacejkaTyre> {
     let (d, p) = tyre_files(tag, &TIR.replace("SIDE_LINE", side_line));
     let r = TyreFileSpec::load(&p).and_then(|s| s.build_pacejka(&p)).map(|(t, _)| t);
     std::fs::remove_dir_all(&d).unwrap();
@@ -92,7 +92,7 @@ fn tyreside_defaults_to_left_and_bad_values_are_input_errors() {
     assert_eq!(build("l", "TYRESIDE = 'left'").unwrap().measured_side, TyreSide::Left);
     for (tag, line) in [("mid", "TYRESIDE = 'MIDDLE'"), ("sym", "TYRESIDE = 'SYMMETRIC'"), ("num", "TYRESIDE = 1")] {
         let e = build(tag, line).unwrap_err();
-        assert!(matches!(e, vehsim::Error::Input { .. }), "{e}");
+        assert!(matches!(e, vehsim_core::Error::Input { .. }), "{e}");
         let m = e.to_string();
         assert!(m.contains("t.tir") && m.contains("TYRESIDE") && m.contains("'LEFT'") && m.contains("'RIGHT'"), "{m}");
     }
@@ -100,7 +100,7 @@ fn tyreside_defaults_to_left_and_bad_values_are_input_errors() {
 
 // ------------------------------------------------------------------ which coefficients are sided
 
-use vehsim::tyre::pacejka::{Combination, MfCoefficients};
+use vehsim_core::tyre::pacejka::{Combination, MfCoefficients};
 
 /// A coefficient set with every coefficient that is not side-dependent set (most to 0.05, scale
 /// factors to 1.05), plus `extra`.
@@ -173,12 +173,12 @@ fn side_dependent_coefficients_are_exactly_the_asymmetric_ones() {
 
 // ------------------------------------------------------------------------- the whole car, mounted
 
-use vehsim::spec::ManeuverFile;
-use vehsim::tyre::TyreModelKind;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_spec::ManeuverFile;
 
 /// The SRTT-like test tyre of `TIR` with only the lateral offset PVY1 = `pvy1` (conicity /
 /// ply-steer: Fy = PVY1 mu_y Fz at zero slip), measured on `side`.
-fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::Tyre {
+fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim_core::tyre::Tyre {
     let tir = TIR
         .replace("SIDE_LINE", &format!("TYRESIDE = '{side}'"))
         .replace("PHX1 = 0.001\n", "")
@@ -192,7 +192,7 @@ fn offset_tyre(tag: &str, side: &str, pvy1: f64) -> vehsim::tyre::Tyre {
 
 /// A sine steer of amplitude `steer_deg` (0: straight running) at 10 m/s on mu 0.3 with `tyre`,
 /// model `vm`; the rows of the time series.
-fn run(vm: &str, tyre: &vehsim::tyre::Tyre, steer_deg: f64) -> Vec<vehsim::sim::Row> {
+fn run(vm: &str, tyre: &vehsim_core::tyre::Tyre, steer_deg: f64) -> Vec<vehsim_core::sim::Row> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("maneuvers/sine_steer.toml");
     let mut file = ManeuverFile::load(&path).unwrap();
     file.tyre_model = "pacejka".into();
@@ -203,7 +203,7 @@ fn run(vm: &str, tyre: &vehsim::tyre::Tyre, steer_deg: f64) -> Vec<vehsim::sim::
     file.maneuver.insert("period_s".into(), toml::Value::Float(4.0));
     let mut cfg = file.build(&path).unwrap();
     cfg.vehicle.tyre = tyre.clone();
-    vehsim::run::execute(&cfg).rows
+    vehsim_spec::run::execute(&cfg).rows
 }
 
 /// A tyre without side-dependent coefficients is the same on both sides: whatever its TYRESIDE,
@@ -215,7 +215,7 @@ fn a_symmetric_tyre_runs_the_same_whatever_its_side() {
     for vm in ["bicycle", "roll4dof"] {
         let (a, b) = (run(vm, &l, 10.0), run(vm, &r, 10.0));
         assert!(a.len() > 100);
-        assert!(vehsim::run_files::timeseries_csv(&a) == vehsim::run_files::timeseries_csv(&b), "{vm}");
+        assert!(vehsim::run::timeseries_csv(&a) == vehsim::run::timeseries_csv(&b), "{vm}");
     }
 }
 
@@ -230,7 +230,7 @@ fn a_symmetric_tyre_runs_the_same_whatever_its_side() {
 fn conicity_cancels_on_an_axle_and_the_car_is_mirror_symmetric() {
     let tyre = offset_tyre("c", "LEFT", 0.03);
     assert!(!tyre.same_on_both_sides());
-    let y_end = |rows: &[vehsim::sim::Row]| rows.last().unwrap().obs.kin.y_m;
+    let y_end = |rows: &[vehsim_core::sim::Row]| rows.last().unwrap().obs.kin.y_m;
     for vm in ["roll4dof", "bicycle"] {
         // Straight running: no pull.
         let s = run(vm, &tyre, 0.0);

@@ -1,5 +1,5 @@
 //! vehsim as an FMI 2.0 co-simulation FMU: the `fmi2*` C functions over the library's steppable
-//! run ([`vehsim::sim::StepRun`]), the same engine `vehsim run` steps.
+//! run ([`vehsim_spec::step::StepRun`]), the same engine `vehsim run` steps.
 //!
 //! Life cycle: `fmi2Instantiate` (checks the GUID and the co-simulation type, keeps the
 //! resources folder) -> `fmi2Set*` of parameters -> `fmi2SetupExperiment` ->
@@ -20,10 +20,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use vehsim::files::{parse_toml, read_input};
-use vehsim::sim::{ExternalInputs, StepRun, Torque};
-use vehsim::spec::RunConfig;
-use vehsim::Error;
+use vehsim_spec::files::{parse_toml, read_input};
+use vehsim_spec::step::{ExternalInputs, StepRun, Torque};
+use vehsim_spec::RunConfig;
+use vehsim_core::Error;
 
 mod variables;
 use variables::{BOOL_IN, OUTPUT_VR0, REAL_IN, STRING_IN};

@@ -8,7 +8,7 @@
 
 use std::fmt::Write as _;
 
-use vehsim::sim::external::OBSERVATION;
+use vehsim_spec::step::OBSERVATION;
 
 /// Model identifier: the shared library is `binaries/<platform>/vehsim.so`.
 pub const MODEL_IDENTIFIER: &str = "vehsim";

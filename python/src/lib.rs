@@ -26,16 +26,17 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use rayon::prelude::*;
 use vehsim::batch::{self, BatchRun};
-use vehsim::contact::command::operating;
-use vehsim::contact::model::{drawbar_curve, solve_patch_at};
-use vehsim::contact::spec::ScenarioSpec;
-use vehsim::files::{parse_toml, read_input};
-use vehsim::error::Checker;
-use vehsim::run::{self, RunOutput};
-use vehsim::spec::RunConfig;
-use vehsim::tyre::{TyreFileSpec, TyreModelKind};
-use vehsim::tyre::{TyreInput, TyreModel};
-use vehsim::Error;
+use vehsim::atiim::operating;
+use vehsim_core::contact::model::{drawbar_curve, solve_patch_at};
+use vehsim_spec::contact::ScenarioSpec;
+use vehsim_spec::files::{parse_toml, read_input};
+use vehsim_core::error::Checker;
+use vehsim_spec::run::{self, RunOutput};
+use vehsim_spec::RunConfig;
+use vehsim_spec::tyre::TyreFileSpec;
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::tyre::{TyreInput, TyreModel};
+use vehsim_core::Error;
 
 mod simulation;
 use simulation::NativeSimulation;
@@ -699,7 +700,7 @@ fn atiim_scenario(
     maps.set_item("q_melt_w_m2", grid(res.q_melt)?)?;
     d.set_item("maps", maps)?;
     let dp = PyDict::new(py);
-    let col = |f: &dyn Fn(&(f64, vehsim::contact::model::PatchSummary)) -> f64| {
+    let col = |f: &dyn Fn(&(f64, vehsim_core::contact::model::PatchSummary)) -> f64| {
         curve.iter().map(f).collect::<Vec<f64>>().into_pyarray(py)
     };
     dp.set_item("slip_ratio", col(&|c| c.0))?;

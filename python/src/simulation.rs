@@ -13,10 +13,10 @@ use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use vehsim::sim::external::OBSERVATION;
-use vehsim::sim::{ExternalInputs, SteerRate, StepRun, Torque};
-use vehsim::spec::RunConfig;
-use vehsim::Error;
+use vehsim_spec::step::OBSERVATION;
+use vehsim_spec::step::{ExternalInputs, SteerRate, StepRun, Torque};
+use vehsim_spec::RunConfig;
+use vehsim_core::Error;
 
 use crate::{load_batch, py_err};
 

@@ -4,8 +4,8 @@
 //! integrates, not a curve fitted to the residual.
 
 use super::model::EffectParams;
-use crate::error::Bound;
-use crate::vehicle::lateral_bounds as lb;
+use vehsim_core::error::Bound;
+use vehsim_core::vehicle::lateral_bounds as lb;
 
 /// One parameter of an effect.
 #[derive(Debug, Clone, Copy)]

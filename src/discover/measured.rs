@@ -21,9 +21,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::files::{parse_toml, read_input};
+use vehsim_spec::files::{parse_toml, read_input};
 
-use crate::error::{Checker, Error, Result};
+use vehsim_core::error::{Checker, Error, Result};
 
 /// Required columns, in the order of the format.
 pub const REQUIRED: [&str; 5] = ["t", "steer", "vx", "yaw_rate", "ay"];
@@ -218,7 +218,7 @@ fn read_columns(path: &Path, rdr: &mut csv::Reader<&[u8]>, used: &[(usize, Strin
             let v: f64 = cell.parse().map_err(|_| {
                 Error::input(
                     path,
-                    format!("line {line}, column '{name}': {} is not a number", crate::error::shown(cell)),
+                    format!("line {line}, column '{name}': {} is not a number", vehsim_core::error::shown(cell)),
                 )
             })?;
             if !v.is_finite() {
@@ -271,7 +271,7 @@ fn check_time(path: &Path, t: &[f64]) -> Result<()> {
             format!(
                 "column 't': the samples are {} s apart (median); vehicle data is sampled every {} to {} s: {hint} \
                  (t must be in seconds)",
-                crate::error::short_num(median_dt),
+                vehsim_core::error::short_num(median_dt),
                 SAMPLE_INTERVAL_S.0,
                 SAMPLE_INTERVAL_S.1
             ),
@@ -282,7 +282,7 @@ fn check_time(path: &Path, t: &[f64]) -> Result<()> {
             path,
             format!(
                 "the run lasts {} s; at most {MAX_DURATION_S} s is replayed (is t in seconds?)",
-                crate::error::short_num(dur)
+                vehsim_core::error::short_num(dur)
             ),
         ));
     }
@@ -307,7 +307,7 @@ fn check_channels(path: &Path, steer: &[f64], vx: &[f64], yaw_rate: &[f64]) -> R
                 "line {}, column 'vx': {} m/s; the models drive forwards, so vx must be >= 0 (a reversed sign \
                  convention, or a run in reverse, which is not supported)",
                 k + 2,
-                crate::error::short_num(vx[k])
+                vehsim_core::error::short_num(vx[k])
             ),
         ));
     }
@@ -345,9 +345,9 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
 /// `surface.mu`; the ice temperature spans the manoeuvre's surface temperatures up to melting;
 /// the initial speed either way up to the manoeuvre's largest speed.
 pub mod sidecar_bounds {
-    use crate::contact::thermal::MELT_C;
-    use crate::error::Bound;
-    use crate::spec::maneuver::bounds as m;
+    use vehsim_core::contact::thermal::MELT_C;
+    use vehsim_core::error::Bound;
+    use vehsim_spec::maneuver::bounds as m;
 
     pub const MU: Bound = m::MU;
     pub const ICE_TEMP_C: Bound = Bound::closed("surface.ice_temp_c", m::TEMPERATURE_C.lo, MELT_C, "degC");

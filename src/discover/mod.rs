@@ -29,11 +29,11 @@ pub mod uncertainty;
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{Error, Result};
-use crate::spec::VehicleFile;
-use crate::tyre::TyreModelKind;
-use crate::vehicle::Vehicle;
-use crate::vehicle::VehicleModelKind;
+use vehsim_core::error::{Error, Result};
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::vehicle::Vehicle;
+use vehsim_core::vehicle::VehicleModelKind;
+use vehsim_spec::VehicleFile;
 
 pub use effects::Effect;
 pub use search::discover;

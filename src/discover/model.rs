@@ -3,7 +3,7 @@
 //!
 //! The forward speed is prescribed exactly (interpolated measured vx), not tracked by a PID: the
 //! discrepancy workflow must compare lateral dynamics, and a speed-tracking error would show up as a
-//! spurious residual. Tyre forces come from the vehicle's tyre provider (`crate::tyre`), each axle
+//! spurious residual. Tyre forces come from the vehicle's tyre provider (`vehsim_core::tyre`), each axle
 //! carrying two tyres mounted left and right as on the engine's bicycle, free rolling (zero slip
 //! ratio). State (12): vy (m/s), r (rad/s), the front and rear axle lateral
 //! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
@@ -17,7 +17,7 @@
 //! the run's sampling: this module has the equations, not a time loop.
 //!
 //! Equations (body frame, ISO 8855): the engine's bicycle's lateral pair, from
-//! [`crate::vehicle::single_track`],
+//! [`vehsim_core::vehicle::single_track`],
 //!
 //!   m (dvy/dt + r vx) = Fx_f sin(delta_e) + Fy_f cos(delta_e) + Fy_r
 //!   I_z dr/dt         = a (Fx_f sin(delta_e) + Fy_f cos(delta_e)) - b Fy_r + Mz_f + Mz_r
@@ -26,16 +26,16 @@
 //! with the axle forces of the free-rolling tyres: Fx_f is the tyre's longitudinal force at zero
 //! slip ratio (0 for a tyre without longitudinal shifts) and Mz its aligning moment (0 unless the
 //! provider models it), so these terms are the engine's own for wheels that neither drive nor
-//! brake. The slip angles are the wheel-axis ones of the engine ([`crate::vehicle::wheel`])
+//! brake. The slip angles are the wheel-axis ones of the engine ([`vehsim_core::vehicle::wheel`])
 //! written with the body velocities (the same angles while vx >= 1 m/s and the wheels roll forward
 //! at >= 0.5 m/s, above both models' speed floors).
 //!
 //! Effects (all off by default; each default gives the baseline exactly; the relaxation rate, load
-//! transfer and thermal factor are the engine's own, from [`crate::vehicle::lateral`]):
+//! transfer and thermal factor are the engine's own, from [`vehsim_core::vehicle::lateral`]):
 //! - `tyre_relaxation`: dFy/dt = (|vx| / sigma_y) (Fy_ss(alpha) - Fy), relaxation length sigma_y (m);
 //!   sigma_y = 0 uses the steady-state force directly.
 //! - `steer_compliance`, force form: delta_e = delta - c_s Fy_f, c_s in rad/kN of front axle lateral
-//!   force (the damped fixed point of [`crate::vehicle::lateral::compliant_steer`] when relaxation
+//!   force (the damped fixed point of [`vehsim_core::vehicle::lateral::compliant_steer`] when relaxation
 //!   is off, the force acting being the one at the converged delta_e; from the lagged force
 //!   otherwise); lag form: d(delta_e)/dt = (delta - delta_e) / tau_s, a first-order steering lag
 //!   with time constant tau_s (s).
@@ -50,7 +50,7 @@
 //!   Band form: the same with w_i a band across the ground, 1 over [X0, X0 + L] of axle i's own
 //!   abscissa X + l_i cos psi (any Y), 1 m logistic edges.
 //! - `thermal_friction`: on runs on ice (sidecar `ice_temp_c`), the ATIIM per-step estimator
-//!   ([`crate::contact::estimator::AtiimEstimator`], default `[contact]` tyre) tracks each axle's
+//!   ([`vehsim_core::contact::estimator::AtiimEstimator`], default `[contact]` tyre) tracks each axle's
 //!   contact temperature from its load, rolling speed, sliding speed vx |tan alpha| and lateral
 //!   force, and the friction falls with the rise above the ice temperature:
 //!   mu_e = mu max(1 + k_T (T_contact - T_ice), 0.1), k_T in 1/K (negative). The contact
@@ -83,16 +83,16 @@ use std::path::Path;
 use nalgebra::SVector;
 
 use super::measured::MeasuredRun;
-use crate::contact::estimator::AtiimEstimator;
-use crate::contact::spec::ContactSpec;
-use crate::contact::thermal::MELT_C;
-use crate::contact::TyreContact;
-use crate::control::driver::Driver;
-use crate::maneuver::path::RefPath;
-use crate::tyre::{TyreForces, TyreInput, TyreModel};
-use crate::vehicle::wheel::slide_speed;
-use crate::vehicle::Vehicle;
-use crate::vehicle::{lateral, single_track};
+use vehsim_core::contact::estimator::AtiimEstimator;
+use vehsim_core::contact::thermal::MELT_C;
+use vehsim_core::contact::TyreContact;
+use vehsim_core::control::driver::Driver;
+use vehsim_core::path::RefPath;
+use vehsim_core::tyre::{TyreForces, TyreInput, TyreModel};
+use vehsim_core::vehicle::wheel::slide_speed;
+use vehsim_core::vehicle::Vehicle;
+use vehsim_core::vehicle::{lateral, single_track};
+use vehsim_spec::contact::ContactSpec;
 
 /// Parameters of every candidate effect; the default is the baseline.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -265,7 +265,7 @@ pub(super) const V_FLOOR: f64 = 1.0;
 /// modes decay at 5-30 1/s, so lambda h <= 0.3 and the RK4 error per step is ~(lambda h)^5 / 120
 /// < 2e-5 relative, far below sensor noise. The first-order lags (force relaxation, steering lag,
 /// transient slip) are integrated exactly over the step
-/// ([`crate::sim::integrator::rk4_lag_step`]), so however fast they are they do not shorten it.
+/// ([`vehsim_core::sim::integrator::rk4_lag_step`]), so however fast they are they do not shorten it.
 pub(super) const H_MAX: f64 = 0.01;
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.

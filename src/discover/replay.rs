@@ -50,13 +50,14 @@ use nalgebra::SVector;
 
 use super::measured::MeasuredRun;
 use super::model::{Drive, EffectParams, ReplayModel, Simulated, State, H_MAX, LAGS, NS, SLIP_SLOPE_FLOOR};
-use crate::contact::{ContactTemperature, Isothermal, TyreContact};
-use crate::control::driver::Driver;
-use crate::control::PidParams;
-use crate::maneuver::path::RefPath;
-use crate::maneuver::{Command, Event, Maneuver, Outcome, Start};
-use crate::sim::{Controls, Method, Observer, Row, SimSettings, Simulation};
-use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
+use vehsim_core::contact::{ContactTemperature, Isothermal, TyreContact};
+use vehsim_core::control::driver::Driver;
+use vehsim_core::control::PidParams;
+use vehsim_core::event::Event;
+use vehsim_core::maneuver::{Command, Maneuver, Outcome, Start};
+use vehsim_core::path::RefPath;
+use vehsim_core::sim::{Controls, Method, Observer, Row, SimSettings, Simulation};
+use vehsim_core::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Largest |vy| (m/s) and |r| (rad/s) of a replay that has not diverged.
 const VY_LIMIT: f64 = 1e3;
@@ -555,7 +556,7 @@ fn reference_step(run: &MeasuredRun, p: &EffectParams, h_ref: f64, tread: bool) 
 mod tests {
     use super::*;
     use crate::discover::{load_vehicle, synth, tyre_kind};
-    use crate::sim::integrator::rk4_step_t;
+    use vehsim_core::sim::integrator::rk4_step_t;
 
     fn model() -> ReplayModel {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -14,8 +14,8 @@ use super::model::{ReplayModel, Simulated};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
 use super::uncertainty::Interval;
 use super::DiscoverOptions;
-use crate::error::{Error, Result};
 use crate::plot::{xy_chart, Series, XyChart};
+use vehsim_core::error::{Error, Result};
 
 fn rmse_json(r: &Rmse) -> serde_json::Value {
     json!({ "yaw_rate_radps": r.yaw_rate_radps, "ay_mps2": r.ay_mps2 })
@@ -85,11 +85,11 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
 /// road, sensor offsets) are listed in the header comment and kept in effects.toml.
 pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
     let path = &opts.vehicle;
-    let text = crate::files::read_input(path)?;
+    let text = vehsim_spec::files::read_input(path)?;
     let mut table: toml::Table = toml::from_str(&text).map_err(|e| Error::input(path, e.to_string()))?;
     let tyre = match &opts.tyre {
         Some(t) => t.clone(),
-        None => crate::files::resolve(path, table.get("tyre").and_then(|t| t.as_str()).unwrap_or("")),
+        None => vehsim_spec::files::resolve(path, table.get("tyre").and_then(|t| t.as_str()).unwrap_or("")),
     };
     let tyre_abs = std::fs::canonicalize(&tyre).unwrap_or(tyre);
     table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
@@ -158,7 +158,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let md = markdown(opts, data, d, &windows, &windows_after, &regions);
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
-    crate::run_files::write_dir_atomic(out, |tmp| {
+    crate::run::write_dir_atomic(out, |tmp| {
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
         write(&tmp.join("report.json"), &text)?;
         write(&tmp.join("report.md"), &md)?;

@@ -374,7 +374,7 @@ impl Verdict {
     }
 }
 
-named_by_as_str!(Verdict);
+vehsim_core::named_by_as_str!(Verdict);
 
 /// Result of the greedy search.
 #[derive(Debug, Clone)]

@@ -9,9 +9,9 @@
 
 use std::path::Path;
 
-use crate::files::read_input;
+use vehsim_spec::files::read_input;
 
-use crate::error::{Error, Result};
+use vehsim_core::error::{Error, Result};
 
 fn column(dir: &Path, name: &str) -> Result<Vec<f64>> {
     let p = dir.join(name);

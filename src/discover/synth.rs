@@ -5,7 +5,7 @@
 //! (mu 1.0, 20 m/s): open-loop sine steer (period 3 s; also a gentle one, in the tyres' linear
 //! range), step steer (0.3 s ramp) and slow steer ramp (to the amplitude over 10 s), and a
 //! closed-loop double lane change: the path-following driver
-//! ([`crate::control::driver`], preview 0.6 s) steers the replay model (with the hidden effect)
+//! ([`vehsim_core::control::driver`], preview 0.6 s) steers the replay model (with the hidden effect)
 //! along a 2.5 m lane offset and back, each transition a quintic over 4.5 s of travel (peak path
 //! a_y about 0.7 m/s^2, half the grip on ice), so the steer in the run is what the driver did in
 //! response to the vehicle's behaviour. Speed drifts slowly (+-5 %) so that vx is not constant.
@@ -19,8 +19,8 @@ use std::path::Path;
 use super::effects::Effect;
 use super::measured::{run_csv, sidecar_toml, MeasuredRun};
 use super::model::{EffectParams, ReplayModel};
-use crate::control::driver::{Driver, DriverParams};
-use crate::error::{Error, Result};
+use vehsim_core::control::driver::{Driver, DriverParams};
+use vehsim_core::error::{Error, Result};
 
 /// Largest surface friction taken as ice for engine-generated runs.
 pub const ICE_MU_MAX: f64 = 0.3;
@@ -159,14 +159,14 @@ const LANE_OFFSET_M: f64 = 2.5;
 
 /// The double-lane-change path for nominal speed `v0` (m/s): straight for 1 s of travel, a
 /// quintic transition of 4.5 s to the offset lane, 1 s in it, 4.5 s back, then straight.
-fn lane_change_path(v0: f64) -> crate::maneuver::path::RefPath {
+fn lane_change_path(v0: f64) -> vehsim_core::path::RefPath {
     let smooth = |u: f64| {
         let u = u.clamp(0.0, 1.0);
         u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
     };
     let (x1, l, hold) = (v0, 4.5 * v0, v0);
     let y = move |x: f64| LANE_OFFSET_M * (smooth((x - x1) / l) - smooth((x - x1 - l - hold) / l));
-    crate::maneuver::path::RefPath::from_fn(-10.0, 20.0 * v0, 0.25, y)
+    vehsim_core::path::RefPath::from_fn(-10.0, 20.0 * v0, 0.25, y)
 }
 
 /// Generate the runs of the default plan (noise-free truth from the replay model with `p`, then
@@ -283,8 +283,8 @@ pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
 /// A noise-free measured run from an engine run of `cfg` (any vehicle model): the recorded rows
 /// (every output interval) become samples; steer is the applied road-wheel angle. Runs at ice
 /// friction ([`ICE_MU_MAX`]) are on ice. `spec` names the run's file.
-pub fn engine_run(cfg: &crate::spec::maneuver::RunConfig, spec: &Path) -> Result<MeasuredRun> {
-    let o = crate::run::execute(cfg);
+pub fn engine_run(cfg: &vehsim_spec::maneuver::RunConfig, spec: &Path) -> Result<MeasuredRun> {
+    let o = vehsim_spec::run::execute(cfg);
     if o.summary.failed() || o.rows.len() < 101 {
         return Err(Error::Run(format!("{}: the engine run ended with {}", spec.display(), o.summary.end_reason)));
     }
@@ -297,7 +297,8 @@ pub fn engine_run(cfg: &crate::spec::maneuver::RunConfig, spec: &Path) -> Result
         }
     }
     let n = t.len();
-    let pick = |f: &dyn Fn(&crate::sim::observer::Row) -> f64| -> Vec<f64> { rows.iter().take(n).map(f).collect() };
+    let pick =
+        |f: &dyn Fn(&vehsim_core::sim::observer::Row) -> f64| -> Vec<f64> { rows.iter().take(n).map(f).collect() };
     let vx = pick(&|r| r.obs.kin.vx_mps);
     Ok(MeasuredRun {
         path: spec.with_extension("csv"),
@@ -322,7 +323,7 @@ pub fn engine_runs(specs: &[std::path::PathBuf], seed: u64) -> Result<Vec<(Measu
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
     for spec in specs {
-        let cfg = crate::run::load(spec)?;
+        let cfg = vehsim_spec::run::load(spec)?;
         let mut run = engine_run(&cfg, spec)?;
         add_noise(&mut run, &mut rng);
         out.push((run, cfg.name.clone()));

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 pub use replace::{write_dir_atomic, Staged};
 
-use crate::error::{Error, Result};
+use vehsim_core::error::{Error, Result};
 
 thread_local! {
     /// Fault injection for tests: when non-zero, this thread's file writes fail with "no space

@@ -15,7 +15,7 @@
 use std::path::{Path, PathBuf};
 
 use super::signals::{self, Temp};
-use crate::error::{Error, Result};
+use vehsim_core::error::{Error, Result};
 
 fn io(path: &Path, e: std::io::Error) -> Error {
     Error::Io { path: path.to_path_buf(), source: e }

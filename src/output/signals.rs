@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
 
-use crate::error::{Error, Result};
+use vehsim_core::error::{Error, Result};
 
 /// How long the work has to stop by itself after a signal before the handler ends the process.
 pub const GRACE: Duration = Duration::from_millis(900);
@@ -180,4 +180,14 @@ pub fn quiet_broken_pipe() {
         }
         default(info);
     }));
+}
+
+/// The one place an error becomes a message and an exit code; an interruption ends the process
+/// with its one line (130 / 143).
+pub(crate) fn report(e: &Error) -> std::process::ExitCode {
+    if let Error::Interrupted { kept, .. } = e {
+        exit_with(e.exit_code(), &interrupted_line(kept));
+    }
+    eprintln!("error: {e}");
+    std::process::ExitCode::from(e.exit_code())
 }

@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use crate::files::read_input;
+use vehsim_spec::files::read_input;
 
-use crate::error::{Error, Result};
+use vehsim_core::error::{Error, Result};
 
 /// A numeric table, column-major.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,7 +35,7 @@ impl Table {
                     f64::NAN
                 } else {
                     f.parse::<f64>().map_err(|_| {
-                        let (col, val) = (crate::error::shown(&columns[c]), crate::error::shown(f));
+                        let (col, val) = (vehsim_core::error::shown(&columns[c]), vehsim_core::error::shown(f));
                         Error::input(path, format!("line {}, column {} {col}: {val} is not a number", n + 1, c + 1))
                     })?
                 };

@@ -12,7 +12,6 @@
 //! (see [`crate::output`]).
 
 pub mod bitmap;
-pub mod envelope;
 pub mod runs;
 
 use std::path::Path;
@@ -22,9 +21,9 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use crate::error::{Error, Result};
 use crate::output::{rename, temp_path, write_atomic};
 use bitmap::PngBackend;
+use vehsim_core::error::{Error, Result};
 
 static FONT: Once = Once::new();
 

@@ -21,12 +21,12 @@ use std::path::{Path, PathBuf};
 use super::{
     coincidence_note, figure, xy_chart, Band, Figure, LineStyle, RefLine, Series, XyChart, PALETTE_LEN, STYLES,
 };
-use crate::error::{Error, Result};
-use crate::files::read_input;
 use crate::output::num::sig;
 use crate::output::table::Table;
 use crate::output::write_atomic;
 use crate::output::Staged;
+use vehsim_core::error::{Error, Result};
+use vehsim_spec::files::read_input;
 
 /// Above this many runs a batch gets no charts automatically (a note in plots/NOTE.txt says how
 /// to draw them; `vehsim plot` draws them at any size).

@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use vehsim::contact::estimator::{Statistic, TyreBuild, REFERENCE_GRID};
-use vehsim::contact::model::{solve_patch, Operating, PatchParams};
-use vehsim::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
+use vehsim_core::contact::estimator::{Statistic, TyreBuild, REFERENCE_GRID};
+use vehsim_core::contact::model::{solve_patch, Operating, PatchParams};
+use vehsim_core::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
 
 /// The SRTT as the flash table sees it: 241.3 kPa (35 psi), 180 mm tread, 7 kN rated load, five
 /// ribs with 30 % void and a 30 mm block pitch; `params` for the friction and heat laws.

@@ -6,8 +6,8 @@ pub mod atiim;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use vehsim::run::RunOutput;
-use vehsim::spec::RunConfig;
+use vehsim_spec::run::RunOutput;
+use vehsim_spec::RunConfig;
 
 /// The vehsim binary built for the tests.
 pub const BIN: &str = env!("CARGO_BIN_EXE_vehsim");
@@ -68,7 +68,7 @@ pub fn root() -> PathBuf {
 
 /// Load and validate a shipped manoeuvre spec (path relative to the repository root).
 pub fn load(spec: &str) -> RunConfig {
-    match vehsim::run::load(&root().join(spec)) {
+    match vehsim_spec::run::load(&root().join(spec)) {
         Ok(c) => c,
         Err(e) => panic!("{spec}: {e}"),
     }

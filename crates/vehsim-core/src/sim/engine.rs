@@ -1,0 +1,812 @@
+//! The engine: owns time and advances a run one integration step at a time.
+//!
+//! [`Simulation`] is the steppable engine: [`Simulation::new`] sets up the initial state,
+//! [`Simulation::step`] advances one step and says whether the run has ended, the state, time and
+//! inputs can be read between steps, and [`Simulation::finish`] records the final state and
+//! returns the [`Summary`]. [`simulate`] is the loop over it. Each step has three named phases:
+//!
+//! 1. `Simulation::sample_controls`, at every controller sample (every `control_period_s`, a
+//!    whole number of steps, on its own clock: the period does not follow the step): the
+//!    manoeuvre (steer and speed commands) and the PID see the state *predicted at the end of the
+//!    coming control period*, t + T_c, along the tangent at t (x_k + T_c f(x_k); the slope is the
+//!    coming step's first RK4 stage, so the prediction costs no model evaluation; under
+//!    [`Method::Rk4Lag`] the lag states follow their exact relaxation instead). Their outputs
+//!    ramp linearly across the period from their values at t to the new ones at t + T_c (a
+//!    predicted first-order hold: the inputs are continuous, the sampled loop converges to the
+//!    continuous-time one at second order in T_c, and the sharply saturating tyres no longer
+//!    see a staircase steer; errors per provider: `super::stability`). The steer at the ramp's
+//!    end is that of a continuous rate limiter following the driver's command interpolated
+//!    linearly across the period (from the last sample's command to the new one) and clamped to
+//!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
+//!    period early); the PID integrates its error by the trapezoidal rule. The
+//!    contact-temperature estimate comes first: it is advanced over the period behind (none at
+//!    the first sample) to the tyres' operating conditions at t, taken at the contact
+//!    temperatures it returns (the friction force depends on them:
+//!    [`ContactTemperature::update_coupled`] solves for the consistent estimate). Each trial
+//!    evaluates the whole model ([`VehicleModel::derivatives_contacts`]); the last one, at the
+//!    accepted temperatures, is the coming step's first stage, so an estimate that converges at
+//!    its first trial costs no model evaluation of its own. Its ramp runs from the estimate at t
+//!    to the estimate carried on by its change over the period behind (second order in T_c like
+//!    the other ramps; held at the first sample, never past melting), and the next sample
+//!    replaces that end by the estimate at the state reached.
+//! 2. `Simulation::advance`: one step of the chosen integrator (RK4, or RK4 with the
+//!    wheel-spin / transient-slip pairs integrated exponentially, linearised by one forward
+//!    difference at the step's start, or RK4 with the model's first-order lag states relaxed
+//!    exactly, [`Method::Rk4Lag`]). Inputs that are known functions of time (an open-loop steer
+//!    profile, [`Maneuver::steer_at`]) are evaluated at every stage, and every stage's inputs carry
+//!    its time ([`Inputs::t_s`]: a model with prescribed channels reads them by it). An output
+//!    row, when one is due, is recorded from the first stage's model evaluation (no evaluation of
+//!    its own; under [`Method::Rk4Lag`] the observation is the model's own call).
+//! 3. `Simulation::check_end`: the model's projection of the new state
+//!    ([`VehicleModel::project`]: bounds, prescribed components), divergence (non-finite state),
+//!    the onset and recovery of the model's unphysical conditions (wheel lift, negative normal
+//!    load; [`super::watch`]), spin-out (|sideslip| > 60 deg above 1 m/s, for models that keep
+//!    the rule, [`VehicleModel::SPIN_OUT`]; its event carries the crossing time interpolated
+//!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
+//!
+//! Slip controllers (ABS, traction control; [`super::slip_control`], switched on by
+//! [`Simulation::with_slip_control`]) sample the wheels at the start of every step that is due on
+//! their own periods, before phase 1, and their caps ramp across their periods; a manoeuvre that
+//! asks for the pedal itself ([`Maneuver::pedal`]: launch, braking) sets the torque ramp's end to
+//! full drive or full brake instead of the PID's output. Without them nothing of this runs.
+//!
+//! Divergence and spin-out end the run with an event; they are results, not errors. The model's
+//! conditions are also checked once for the initial state, at t = 0. Time is t_k = k h, from the
+//! step index, never accumulated.
+
+use crate::event::EndReason;
+use nalgebra::SVector;
+
+use super::external::ExternalInputs;
+use super::integrator::{relax, rk4_exp_step_t, rk4_lag_step_k1, rk4_step_k1, step_t, ExpPair, Method};
+use super::observer::{Observer, Row};
+use super::watch::Watch;
+use crate::contact::thermal::MELT_C;
+use crate::contact::{ContactTemperature, TyreContact};
+use crate::control::driver::rate_limited_steer;
+use crate::control::{Pid, PidParams};
+use crate::event::{Event, EventKind};
+use crate::maneuver::Maneuver;
+use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
+
+/// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
+pub const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
+/// Speed below which sideslip is not judged, m/s.
+pub const SPIN_OUT_MIN_SPEED_MPS: f64 = 1.0;
+
+/// Time-stepping settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimSettings {
+    pub method: Method,
+    /// Integration step, s.
+    pub step_s: f64,
+    /// Controller sample period, s, on its own clock: a whole number of steps (rounded, at least
+    /// one; the spec layer refuses any other value).
+    pub control_period_s: f64,
+    /// Longest simulated time, s.
+    pub duration_s: f64,
+    /// Interval between recorded rows, s (rounded to a whole number of steps, at least one).
+    pub output_interval_s: f64,
+}
+
+/// Controller settings and actuator limits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Controls {
+    pub pid: PidParams,
+    /// Largest total drive and brake torque, N m.
+    pub drive_max_nm: f64,
+    pub brake_max_nm: f64,
+    /// Torque that holds the start speed (drag and rolling resistance), N m; preloads the PID.
+    pub preload_nm: f64,
+    /// Steering lock, rad, and rate limit, rad/s.
+    pub steer_max_rad: f64,
+    pub steer_rate_max_radps: f64,
+}
+
+/// Figures of one run (the engine's part of `summary.json`).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Summary {
+    /// Pass/fail where the manoeuvre has a rule, else null.
+    pub passed: Option<bool>,
+    pub cones_hit: usize,
+    pub peak_yaw_rate_radps: f64,
+    pub peak_sideslip_rad: f64,
+    pub peak_ay_mps2: f64,
+    /// Largest |lateral deviation| of the CG from the reference path, m (null when open loop).
+    pub max_path_deviation_m: Option<f64>,
+    pub min_speed_mps: f64,
+    pub max_speed_mps: f64,
+    /// Largest |speed target - vx| while the PID was active, m/s (null if never active).
+    pub max_speed_error_mps: Option<f64>,
+    pub steps: u64,
+    /// When the run ended, s: for a completed manoeuvre or a spin-out the instant of the end
+    /// condition, interpolated within the last step; otherwise the end of the last step.
+    pub end_time_s: f64,
+    /// Why the run ended (serialised as `completed`, `duration`, `spin_out`, `diverged`, `left_path`).
+    pub end_reason: EndReason,
+    pub events: Vec<Event>,
+    /// False when a plausibility check failed ([`super::plausibility`]); the reasons follow.
+    pub plausible: bool,
+    pub implausible: Vec<String>,
+}
+
+impl Summary {
+    /// True when the run ended in divergence or spin-out.
+    pub fn failed(&self) -> bool {
+        self.end_reason.failed()
+    }
+}
+
+/// Is the angle of (vx, |vy|) from the x axis, in [0, pi], larger than that of (cx, sy) (a unit
+/// vector in the same half plane)? Cross-product test: no trigonometry per step.
+fn wider(vx: f64, vy_abs: f64, cx: f64, sy: f64) -> bool {
+    cx * vy_abs - sy * vx > 0.0
+}
+
+struct Stats {
+    peak_r: f64,
+    /// Velocity direction (vx, |vy|) with the largest sideslip so far.
+    peak_beta_dir: (f64, f64),
+    peak_ay: f64,
+    max_dev: Option<f64>,
+    vmin: f64,
+    vmax: f64,
+    max_verr: Option<f64>,
+}
+
+fn max_opt(a: Option<f64>, v: f64) -> Option<f64> {
+    Some(a.map_or(v, |a| a.max(v)))
+}
+
+/// The controller outputs that ramp across a control period (first-order hold).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ramped {
+    steer_rad: f64,
+    /// Drive (positive) or brake (negative) torque, N m.
+    torque_nm: f64,
+    contact_temp_c: [f64; 4],
+}
+
+impl Ramped {
+    /// The inputs at fraction `w` (0 at `from`, 1 at `to`) of the ramp.
+    fn lerp(from: &Ramped, to: &Ramped, w: f64) -> Inputs {
+        let l = |a: f64, b: f64| a + w * (b - a);
+        let tq = l(from.torque_nm, to.torque_nm);
+        let mut c = from.contact_temp_c;
+        for (c, b) in c.iter_mut().zip(to.contact_temp_c) {
+            *c = l(*c, b);
+        }
+        Inputs {
+            steer_rad: l(from.steer_rad, to.steer_rad),
+            drive_torque_nm: tq.max(0.0),
+            brake_torque_nm: (-tq).max(0.0),
+            contact_temp_c: c,
+            ..Inputs::default()
+        }
+    }
+}
+
+/// The first stage of a [`Method::Rk4Lag`] step: the model's derivative without its lag
+/// components, the lags' inputs and their rates ([`VehicleModel::lag_split`]).
+type LagParts<const N: usize> = (SVector<f64, N>, [f64; MAX_LAGS], [f64; MAX_LAGS]);
+
+/// One run in progress: the steppable engine (see the module docs).
+pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
+    model: &'a M,
+    env: Environment,
+    maneuver: &'a mut dyn Maneuver,
+    contact: &'a mut dyn ContactTemperature,
+    controls: &'a Controls,
+    observer: &'a mut dyn Observer,
+    method: Method,
+    /// Step and control period, s.
+    h: f64,
+    hc: f64,
+    n_steps: u64,
+    out_every: u64,
+    ctrl_every: u64,
+    x: SVector<f64, N>,
+    /// Inputs at the current instant (the ramps' values at the last step's start).
+    u: Inputs,
+    /// The control period's ramps: time of its start, s, and the inputs at its start and end
+    /// (steer, signed wheel torque: drive positive, and the contact temperatures).
+    ramp_t0: f64,
+    ramp_from: Ramped,
+    ramp_to: Ramped,
+    /// The first stage's derivative (and observation, when a row is due) of the coming step,
+    /// computed by the controller sample for its prediction.
+    pending_k1: Option<(SVector<f64, N>, Option<Observation>)>,
+    /// Under [`Method::Rk4Lag`], the same first stage in parts ([`LagParts`]).
+    pending_lag: Option<LagParts<N>>,
+    pid: Pid,
+    pid_active: bool,
+    contacts: [TyreContact; 4],
+    temps: [f64; 4],
+    events: Vec<Event>,
+    watch: Watch,
+    st: Stats,
+    spin_dir: (f64, f64),
+    k: u64,
+    /// Time and speed target of the last row recorded, s and m/s.
+    last_row: Option<(f64, f64)>,
+    speed_target: f64,
+    /// The driver's steer command at the last sample (for the end of the period ahead), rad.
+    steer_cmd: Option<f64>,
+    path_error: Option<f64>,
+    end: Option<EndReason>,
+    /// Inputs set from outside the engine ([`Self::set_external`]); none by default.
+    external: ExternalInputs,
+    /// ABS and traction control, when the run has them ([`super::slip_control`]).
+    slip: Option<super::slip_control::SlipControl>,
+}
+
+impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
+    /// Set up a run of `model` through `maneuver` from the manoeuvre's start (no step taken yet).
+    pub fn new(
+        model: &'a M,
+        env: Environment,
+        maneuver: &'a mut dyn Maneuver,
+        contact: &'a mut dyn ContactTemperature,
+        controls: &'a Controls,
+        settings: &SimSettings,
+        observer: &'a mut dyn Observer,
+    ) -> Self {
+        let h = settings.step_s;
+        let n_steps = ((settings.duration_s / h) - 1e-9).ceil().max(0.0) as u64;
+        let out_every = ((settings.output_interval_s / h).round() as u64).max(1);
+        let ctrl_every = ((settings.control_period_s / h).round() as u64).max(1);
+        let start = maneuver.start();
+        let x = model.initial_state(start.x_m, start.y_m, start.yaw_rad, start.speed_mps);
+        let mut pid = Pid::new(controls.pid, -controls.brake_max_nm, controls.drive_max_nm);
+        pid.preload(controls.preload_nm);
+        let u = Inputs { contact_temp_c: [env.surface_temp_c; 4], ..Inputs::default() };
+        let mut events = Vec::new();
+        let mut watch = Watch::default();
+        watch.check(model, &x, &u, &env, 0.0, &mut events);
+        let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
+        // The PID starts preloaded: its output at zero error is the preload torque.
+        let preload = controls.preload_nm.clamp(-controls.brake_max_nm, controls.drive_max_nm);
+        let start_inputs = Ramped { steer_rad: 0.0, torque_nm: preload, contact_temp_c: [env.surface_temp_c; 4] };
+        Self {
+            model,
+            env,
+            maneuver,
+            contact,
+            controls,
+            observer,
+            method: settings.method,
+            h,
+            hc: ctrl_every as f64 * h,
+            n_steps,
+            out_every,
+            ctrl_every,
+            x,
+            u,
+            ramp_t0: 0.0,
+            ramp_from: start_inputs,
+            ramp_to: start_inputs,
+            pending_k1: None,
+            pending_lag: None,
+            pid,
+            pid_active: true,
+            contacts: [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4],
+            temps: [env.surface_temp_c; 4],
+            events,
+            watch,
+            st: Stats {
+                peak_r: 0.0,
+                peak_beta_dir: (1.0, 0.0),
+                peak_ay: 0.0,
+                max_dev: None,
+                vmin: f64::INFINITY,
+                vmax: 0.0,
+                max_verr: None,
+            },
+            spin_dir: (spin_cos, spin_sin),
+            k: 0,
+            last_row: None,
+            speed_target: f64::NAN,
+            steer_cmd: None,
+            path_error: None,
+            end: None,
+            external: ExternalInputs::default(),
+            slip: None,
+        }
+    }
+
+    /// Give the run ABS and/or traction control ([`super::slip_control`]), before the first step.
+    pub fn with_slip_control(mut self, params: &super::slip_control::SlipControlParams) -> Self {
+        if !params.is_off() {
+            self.slip = Some(super::slip_control::SlipControl::new(params, self.h, self.controls.drive_max_nm));
+        }
+        self
+    }
+
+    /// Current time, s.
+    pub fn time_s(&self) -> f64 {
+        self.k as f64 * self.h
+    }
+
+    /// Current state.
+    pub fn state(&self) -> &SVector<f64, N> {
+        &self.x
+    }
+
+    /// Inputs at the start of the last step taken (the controller ramps' values then; the steer
+    /// of an open-loop profile is the profile's value then).
+    pub fn inputs(&self) -> &Inputs {
+        &self.u
+    }
+
+    /// Events so far.
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Why the run ended, once it has.
+    pub fn end_reason(&self) -> Option<EndReason> {
+        self.end
+    }
+
+    /// Replace the manoeuvre's steer and the speed controller's torque, from the next step on,
+    /// by the values set in `e` (held over every step until set again; see
+    /// the spec layer's step API). The controllers keep sampling; their outputs are not applied.
+    pub fn set_external(&mut self, e: ExternalInputs) {
+        self.external = e;
+    }
+
+    /// The inputs the next step starts from (the ramps' values now, with the external inputs).
+    pub fn inputs_now(&self) -> Inputs {
+        self.inputs_at(self.time_s())
+    }
+
+    /// The manoeuvre being driven (its verdict so far, its path error).
+    pub fn maneuver(&self) -> &dyn Maneuver {
+        &*self.maneuver
+    }
+
+    /// The speed controller's target at its last sample, m/s (NaN while it is off).
+    pub fn speed_target_mps(&self) -> f64 {
+        self.speed_target
+    }
+
+    /// Advance one step; returns why the run ended if it did (then further calls do nothing and
+    /// return the same reason).
+    pub fn step(&mut self) -> Option<EndReason> {
+        if self.end.is_some() {
+            return self.end;
+        }
+        if self.k >= self.n_steps {
+            self.end = Some(EndReason::Duration);
+            return self.end;
+        }
+        let t = self.time_s();
+        let kin = self.model.kinematics(&self.x);
+        let record = self.k % self.out_every == 0;
+        if self.slip.is_some() {
+            self.sample_slip_control(t);
+        }
+        if self.k % self.ctrl_every == 0 {
+            self.sample_controls(t, record);
+        }
+        let next = self.advance(t, &kin, record);
+        self.k += 1;
+        self.end = self.check_end(next, &kin);
+        self.end
+    }
+
+    /// The inputs at time `ts` within the current control period: the ramps, and an open-loop
+    /// steer profile's value at `ts` where the manoeuvre prescribes one, and the slip
+    /// controllers' caps.
+    #[inline]
+    fn inputs_at(&self, ts: f64) -> Inputs {
+        let mut u = Ramped::lerp(&self.ramp_from, &self.ramp_to, (ts - self.ramp_t0) / self.hc);
+        u.t_s = ts;
+        if let Some(d) = self.maneuver.steer_at(ts) {
+            let lock = self.controls.steer_max_rad;
+            u.steer_rad = d.clamp(-lock, lock);
+        }
+        self.external.apply(&mut u);
+        if let Some(s) = &self.slip {
+            s.apply(ts, &mut u);
+        }
+        u
+    }
+
+    /// The slip controllers due at this step sample the wheels at time `t`.
+    fn sample_slip_control(&mut self, t: f64) {
+        let u = self.inputs_at(t);
+        let mut wheels = [crate::vehicle::WheelSensor::default(); 4];
+        let n = self.model.wheel_sensors(&self.x, u.steer_rad, &mut wheels);
+        if let Some(s) = &mut self.slip {
+            s.sample(self.k, t, &wheels[..n], &u);
+        }
+    }
+
+    /// Phase 1: the contact-temperature estimate at time `t`, then the manoeuvre and the PID
+    /// from the state predicted one control period ahead; ramp their outputs across the period
+    /// (see the module docs). The derivative at `t` the prediction needs is the coming step's
+    /// first stage: it is kept for [`Self::advance`] (with the observation when `record`).
+    fn sample_controls(&mut self, t: f64, record: bool) {
+        let c = self.controls;
+        let hc = self.hc;
+        // The inputs at t: the end of the previous ramps (the start's values at the first sample).
+        let u0 = Inputs { t_s: t, ..Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0) };
+        let mut u0 = match self.maneuver.steer_at(t) {
+            Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
+            None => u0,
+        };
+        self.external.apply(&mut u0);
+        if let Some(s) = &self.slip {
+            s.apply(t, &mut u0);
+        }
+        // The contact-temperature estimate at t, advanced over the period behind (none at the
+        // first sample) from the tyres' conditions at t, taken at the contact temperatures it
+        // returns (the friction force depends on them: `update_coupled` solves for the consistent
+        // estimate). Each evaluation of the conditions is a full evaluation of the model; the
+        // last one, at the accepted temperatures, is the coming step's first stage.
+        let previous = self.temps;
+        let (model, env, x) = (self.model, &self.env, &self.x);
+        let lag = self.method == Method::Rk4Lag;
+        // the temperatures of the last evaluation, whose result is left in `pending_k1`
+        let mut evaluated: Option<[f64; 4]> = None;
+        let pending = &mut self.pending_k1;
+        let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
+            let mut u = u0;
+            u.contact_temp_c[..temps.len()].copy_from_slice(temps);
+            if lag {
+                model.tyre_contacts(x, &u, env, out);
+            } else {
+                *pending = Some(model.derivatives_contacts(x, &u, env, record, out));
+                evaluated = Some(u.contact_temp_c);
+            }
+        };
+        let n = M::TYRES;
+        let h_behind = if self.k == 0 { 0.0 } else { hc };
+        self.contact.update_coupled(
+            h_behind,
+            &previous[..n],
+            &mut conditions,
+            &mut self.contacts[..n],
+            &mut self.temps[..n],
+        );
+        u0.contact_temp_c = self.temps;
+        // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
+        // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
+        // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
+        // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs. Under
+        // [`Method::Rk4Lag`] the lag components follow their exact relaxation towards their
+        // inputs at t instead (a tangent would overshoot a lag faster than 1 / T_c).
+        let x_end = if lag {
+            let parts = self.lag_parts(&self.x, &u0);
+            let k1 = self.lag_derivative(&parts);
+            let mut x_end = self.x + parts.0 * hc;
+            for (j, &i) in self.model.lag_states().iter().enumerate() {
+                if parts.2[j] > 0.0 {
+                    x_end[i] = relax(self.x[i], parts.1[j], parts.1[j], parts.2[j] * hc);
+                }
+            }
+            self.pending_lag = Some(parts);
+            self.pending_k1 = Some((k1, record.then(|| self.model.observe(&self.x, &u0, &self.env))));
+            x_end
+        } else {
+            // the last evaluation is the first stage when it was at the estimate (bit for bit)
+            let at_estimate =
+                evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
+            if !at_estimate {
+                self.pending_k1 = Some(if record {
+                    let (d, o) = self.model.derivatives_observed(&self.x, &u0, &self.env);
+                    (d, Some(o))
+                } else {
+                    (self.model.derivatives(&self.x, &u0, &self.env), None)
+                });
+            }
+            self.pending_k1.as_ref().map_or(self.x, |(k1, _)| self.x + k1 * hc)
+        };
+        let kin = self.model.kinematics(&x_end);
+        let cmd = self.maneuver.command(t + hc, &kin);
+        let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
+        let steer = match self.maneuver.steer_at(t + hc) {
+            Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
+            None => {
+                let c0 = self.steer_cmd.unwrap_or(cmd.steer_rad);
+                rate_limited_steer(from.steer_rad, c0, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc)
+            }
+        };
+        self.steer_cmd = Some(cmd.steer_rad);
+        let torque = match (self.maneuver.pedal(t + hc), cmd.speed_target_mps) {
+            // full throttle or full brake, asked for by the manoeuvre (launch, braking)
+            (Some(p), target) => {
+                self.pid_active = false;
+                self.speed_target = target.unwrap_or(f64::NAN);
+                if p >= 0.0 {
+                    p.min(1.0) * c.drive_max_nm
+                } else {
+                    p.max(-1.0) * c.brake_max_nm
+                }
+            }
+            (None, Some(v)) => {
+                if !self.pid_active {
+                    self.pid.reset();
+                    self.pid_active = true;
+                }
+                self.st.max_verr = max_opt(self.st.max_verr, (v - kin.vx_mps).abs());
+                self.speed_target = v;
+                self.pid.update(v, kin.vx_mps, hc)
+            }
+            (None, None) => {
+                self.pid_active = false;
+                self.speed_target = f64::NAN;
+                0.0
+            }
+        };
+        // The contact temperatures at t + T_c: the estimate carried on by its change over the
+        // period behind (held at the first sample), not past melting (second order in T_c, like
+        // the ramp; the next sample replaces it by the estimate at the state reached).
+        let mut ahead = from.contact_temp_c;
+        if self.k > 0 {
+            for (a, p) in ahead.iter_mut().zip(previous) {
+                let e = *a + (*a - p);
+                if e.is_finite() {
+                    *a = e.min(MELT_C.max(*a));
+                }
+            }
+        }
+        let to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: ahead };
+        (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
+        self.path_error = self.maneuver.path_error_m();
+        if let Some(e) = self.path_error {
+            self.st.max_dev = max_opt(self.st.max_dev, e.abs());
+        }
+    }
+
+    /// The first stage of [`Method::Rk4Lag`] at state `x` under inputs `u`.
+    fn lag_parts(&self, x: &SVector<f64, N>, u: &Inputs) -> LagParts<N> {
+        let (b, ul) = self.model.lag_split(x, u, &self.env);
+        (b, ul, self.model.lag_rates(x, u, &self.env))
+    }
+
+    /// The model's derivative assembled from its lag parts (see [`VehicleModel::lag_split`]) at
+    /// the current state.
+    fn lag_derivative(&self, (b, ul, kl): &LagParts<N>) -> SVector<f64, N> {
+        let mut d = *b;
+        for (j, &i) in self.model.lag_states().iter().enumerate() {
+            if kl[j] > 0.0 {
+                d[i] = kl[j] * (ul[j] - self.x[i]);
+            }
+        }
+        d
+    }
+
+    /// Phase 2: one integration step from time `t` (the state's kinematics `kin`), recording the
+    /// step's start as an output row first when `record` (the row's observation comes from the
+    /// same model evaluation as the first stage, k1, computed by the controller sample when there
+    /// was one); the inputs at every stage are the ramps' values at the stage time; updates the running figures of the step's
+    /// start. Returns the new state or why the solver gave up.
+    fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
+        let (model, env, h) = (self.model, self.env, self.h);
+        let inputs = self.inputs_at(t);
+        let lag_first = match self.method {
+            Method::Rk4Lag => Some(self.pending_lag.take().unwrap_or_else(|| self.lag_parts(&self.x, &inputs))),
+            _ => None,
+        };
+        let (k1, obs) = match (self.pending_k1.take(), &lag_first) {
+            (Some((k1, obs)), _) if obs.is_some() || !record => (k1, obs),
+            (_, Some(parts)) => (self.lag_derivative(parts), record.then(|| model.observe(&self.x, &inputs, &env))),
+            _ if record => {
+                let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
+                (k1, Some(obs))
+            }
+            _ => (model.derivatives(&self.x, &inputs, &env), None),
+        };
+        if let Some(obs) = obs {
+            let row = Row {
+                t_s: t,
+                obs,
+                inputs,
+                speed_target_mps: self.speed_target,
+                path_error_m: self.path_error.unwrap_or(f64::NAN),
+            };
+            self.observer.record(&row);
+            self.last_row = Some((row.t_s, row.speed_target_mps));
+        }
+        self.u = inputs;
+        let this = &*self;
+        // The inputs at the step's middle once for its two stages there (RK4's k2 and k3).
+        let mid = (t + 0.5 * h, self.inputs_at(t + 0.5 * h));
+        let f = |ts: f64, s: &SVector<f64, N>| {
+            model.derivatives(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
+        };
+        let next = match self.method {
+            Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
+            Method::Rk4Exp => {
+                let mut pairs = [ExpPair::new(0, 0, [[0.0; 2]; 2], h); 4];
+                let n = spin_slip_linearisation(model.spin_slip_pairs(), &f, t, &self.x, &k1, h, &mut pairs);
+                Ok(rk4_exp_step_t(f, t, &self.x, h, k1, &pairs[..n]))
+            }
+            Method::Rk4Lag => {
+                let body = |s: &SVector<f64, N>, c: f64| {
+                    let ts = t + c * h;
+                    model.lag_split(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
+                };
+                let (b, ul, kl) = lag_first.unwrap_or_else(|| this.lag_parts(&this.x, &inputs));
+                Ok(rk4_lag_step_k1(body, &self.x, h, model.lag_states(), &kl, (b, ul)))
+            }
+            m => step_t(m, f, t, &self.x, h),
+        };
+        let st = &mut self.st;
+        let (_, ay) = model.body_acceleration(&self.x, &k1);
+        if ay.is_finite() {
+            st.peak_ay = st.peak_ay.max(ay.abs());
+        }
+        let speed = kin.speed_mps();
+        st.vmin = st.vmin.min(speed);
+        st.vmax = st.vmax.max(speed);
+        st.peak_r = st.peak_r.max(kin.yaw_rate_radps.abs());
+        if wider(kin.vx_mps, kin.vy_mps.abs(), st.peak_beta_dir.0, st.peak_beta_dir.1) {
+            st.peak_beta_dir = (kin.vx_mps, kin.vy_mps.abs());
+        }
+        next
+    }
+
+    /// Phase 3: accept the new state (or end the run on divergence) and apply the end rules; `kin0`
+    /// is the kinematics at the start of the step.
+    fn check_end(&mut self, next: Result<SVector<f64, N>, String>, kin0: &Kinematics) -> Option<EndReason> {
+        let t_next = self.time_s();
+        let next = next.map(|mut n| {
+            self.model.project(t_next, &mut n);
+            n
+        });
+        let next = match next {
+            Ok(n) if n.iter().all(|v| v.is_finite()) => n,
+            Ok(n) => {
+                let names = self.model.state_names();
+                let bad: Vec<&str> =
+                    n.iter().zip(names.iter()).filter(|(v, _)| !v.is_finite()).map(|(_, s)| *s).collect();
+                self.events.push(Event {
+                    t_s: t_next,
+                    kind: EventKind::Diverged,
+                    detail: format!("non-finite state: {}", bad.join(", ")),
+                });
+                return Some(EndReason::Diverged);
+            }
+            Err(msg) => {
+                self.events.push(Event { t_s: t_next, kind: EventKind::Diverged, detail: msg });
+                return Some(EndReason::Diverged);
+            }
+        };
+        self.x = next;
+        self.watch.check(self.model, &self.x, &self.u, &self.env, t_next, &mut self.events);
+        let kin = self.model.kinematics(&self.x);
+        let (cx, sy) = self.spin_dir;
+        if M::SPIN_OUT && kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
+            // The crossing of 60 degrees, interpolated linearly in the cross product within the step.
+            let g = |k: &Kinematics| cx * k.vy_mps.abs() - sy * k.vx_mps;
+            let (g0, g1) = (g(kin0), g(&kin));
+            let frac = if g0 < 0.0 && g1 > g0 { g0 / (g0 - g1) } else { 1.0 };
+            self.events.push(Event {
+                t_s: t_next - (1.0 - frac) * self.h,
+                kind: EventKind::SpinOut,
+                detail: format!("sideslip {:.1} deg exceeds 60 deg", kin.sideslip_rad().to_degrees()),
+            });
+            return Some(EndReason::SpinOut);
+        }
+        if self.maneuver.after_step(t_next, &kin, &mut self.events) {
+            return Some(EndReason::Completed);
+        }
+        None
+    }
+
+    /// Record the final state (the inputs of the last step are kept for reference) and return the
+    /// run's summary.
+    pub fn finish(mut self) -> Summary {
+        let end_reason = self.end.unwrap_or(EndReason::Duration);
+        let t_end = self.time_s();
+        // A completed manoeuvre's end time is interpolated within the last step; a spin-out's is
+        // its event's (the state recorded is the one at the end of that step).
+        let end_time_s = match end_reason {
+            EndReason::Completed => self.maneuver.end_time_s().unwrap_or(t_end),
+            EndReason::SpinOut => self.events.last().map_or(t_end, |e| e.t_s),
+            _ => t_end,
+        };
+        let kin = self.model.kinematics(&self.x);
+        if self.x.iter().all(|v| v.is_finite()) && self.last_row.is_none_or(|(t, _)| t < t_end) {
+            let row = Row {
+                t_s: t_end,
+                obs: self.model.observe(&self.x, &self.u, &self.env),
+                inputs: self.u,
+                speed_target_mps: self.last_row.map_or(f64::NAN, |(_, v)| v),
+                path_error_m: self.maneuver.path_error_m().unwrap_or(f64::NAN),
+            };
+            self.observer.record(&row);
+            self.st.vmin = self.st.vmin.min(kin.speed_mps());
+            self.st.vmax = self.st.vmax.max(kin.speed_mps());
+        }
+        let outcome = self.maneuver.outcome();
+        let st = &self.st;
+        Summary {
+            passed: if end_reason.failed() { outcome.passed.map(|_| false) } else { outcome.passed },
+            cones_hit: outcome.cones_hit,
+            peak_yaw_rate_radps: st.peak_r,
+            peak_sideslip_rad: st.peak_beta_dir.1.atan2(st.peak_beta_dir.0),
+            peak_ay_mps2: st.peak_ay,
+            max_path_deviation_m: st.max_dev,
+            min_speed_mps: if st.vmin.is_finite() { st.vmin } else { 0.0 },
+            max_speed_mps: st.vmax,
+            max_speed_error_mps: st.max_verr,
+            steps: self.k,
+            end_time_s,
+            end_reason,
+            events: self.events,
+            plausible: true,
+            implausible: Vec::new(),
+        }
+    }
+}
+
+/// Relative-slip perturbation of the finite difference in [`spin_slip_linearisation`].
+const SLIP_DIFF: f64 = 1e-6;
+
+/// The linear parts of the wheel-spin / transient-slip pairs at state `x` (derivative `k1`) and
+/// their propagators over a step `h`, into `out`; returns how many. `pairs` = (omega index,
+/// kappa index) per wheel and d(dkappa/dt)/d(omega) = R_e / sigma (exact: the slip equation is
+/// linear in omega). The kappa column, d(domega/dt)/d(kappa) (the tyre's slip stiffness through
+/// R_e / I_w) and d(dkappa/dt)/d(kappa) = -max(|V_x|, V_low) / sigma, comes from one forward
+/// difference with every wheel's kappa moved at once (a wheel's spin and slip depend on no other
+/// wheel's slip). d(domega/dt)/d(omega) (the regularised brake and rolling-resistance torque,
+/// non-zero only near standstill and at most `TORQUE_RATE_MAX`) is left to the explicit part.
+fn spin_slip_linearisation<const N: usize>(
+    (pairs, kappa_per_omega): (&[(usize, usize)], f64),
+    f: &impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
+    t: f64,
+    x: &SVector<f64, N>,
+    k1: &SVector<f64, N>,
+    h: f64,
+    out: &mut [ExpPair; 4],
+) -> usize {
+    if pairs.is_empty() {
+        return 0;
+    }
+    let mut xp = *x;
+    for &(_, k) in pairs {
+        xp[k] += SLIP_DIFF;
+    }
+    let dp = f(t, &xp);
+    let n = pairs.len().min(out.len());
+    for (o, &(w, k)) in out.iter_mut().zip(pairs) {
+        let l = [[0.0, (dp[w] - k1[w]) / SLIP_DIFF], [kappa_per_omega, (dp[k] - k1[k]) / SLIP_DIFF]];
+        *o = ExpPair::new(w, k, l, h);
+    }
+    n
+}
+
+/// Run one simulation of `model` through `maneuver`: step until the run ends, then finish.
+pub fn simulate<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: Environment,
+    maneuver: &mut dyn Maneuver,
+    contact: &mut dyn ContactTemperature,
+    controls: &Controls,
+    settings: &SimSettings,
+    observer: &mut dyn Observer,
+) -> Summary {
+    simulate_with_slip_control(model, env, maneuver, contact, controls, settings, observer, &Default::default())
+}
+
+/// [`simulate`] with the slip controllers `slip` (ABS, traction control).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_with_slip_control<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: Environment,
+    maneuver: &mut dyn Maneuver,
+    contact: &mut dyn ContactTemperature,
+    controls: &Controls,
+    settings: &SimSettings,
+    observer: &mut dyn Observer,
+    slip: &super::slip_control::SlipControlParams,
+) -> Summary {
+    let mut sim = Simulation::new(model, env, maneuver, contact, controls, settings, observer).with_slip_control(slip);
+    while sim.step().is_none() {}
+    sim.finish()
+}

@@ -1,0 +1,520 @@
+//! Nonlinear bicycle (single-track) model with wheel spin and transient longitudinal slip.
+//!
+//! State (13): X, Y (m, ground frame), yaw psi (rad), body-frame vx, vy (m/s), yaw rate r (rad/s),
+//! front and rear wheel spin omega_f, omega_r (rad/s), front and rear relaxed slip ratios, front
+//! and rear relaxed axle lateral forces (N; used only with a lateral relaxation length) and the
+//! lagged road-wheel angle (rad; used only with a steering lag).
+//! Each axle carries two tyres at half the axle load, one mounted on the left and one on the
+//! right ([`crate::tyre::Tyre::on`]), both at the axle's slip: the axle force is their sum,
+//! twice the tyre force for a tyre that is its own mirror image; for a `.tir` tyre with
+//! side-dependent coefficients the mirrored pair cancels conicity and ply steer (docs/tyres.md). Normal loads are static (the classic bicycle model has no load transfer; the 4-DOF model
+//! adds it). Equations, body frame, ISO 8855 (Newton–Euler, equivalent to the dissertation's
+//! Lagrange form eq. 6.1–6.78 written in the inertial frame):
+//!
+//!   m (dvx/dt - r vy) = Fx_f cos(delta) - Fy_f sin(delta) + Fx_r - F_drag
+//!   m (dvy/dt + r vx) = Fx_f sin(delta) + Fy_f cos(delta) + Fy_r
+//!   I_z dr/dt         = a (Fx_f sin(delta) + Fy_f cos(delta)) - b Fy_r + Mz_f + Mz_r
+//!   dX/dt = vx cos(psi) - vy sin(psi),  dY/dt = vx sin(psi) + vy cos(psi),  dpsi/dt = r
+//!   2 I_w domega/dt   = T_drive - T_brake - T_roll - R_e Fx        (per axle)
+//!
+//! with the slips from [`super::wheel`]; the lateral pair is [`super::single_track`]'s, shared
+//! with `vehsim discover`'s replay model. Optional `[lateral]` extensions of the vehicle spec
+//! (the effects `vehsim discover` names; the same equations as its replay model, shared through
+//! [`super::lateral`]); every default leaves the model exactly as above:
+//! - steering lag: d(delta_l)/dt = (delta - delta_l) / tau, and delta_l replaces delta;
+//! - steer compliance: delta_e = delta_l - c Fy_f (c in rad/kN; Fy_f the acting front force: the
+//!   relaxed state, else the steady-state force at delta_e, [`lateral::compliant_steer`]);
+//! - lateral relaxation: dFy/dt = (max(|vx|, 1 m/s) / sigma_y) (Fy_ss - Fy) per axle, and the
+//!   relaxed Fy acts on the body (the longitudinal force is relaxed through the slip ratio);
+//! - lateral load transfer: each axle's tyres carry Fz/2 +- m vx r h / track x (axle share of the
+//!   weight), so the tyre's load sensitivity lowers the axle force;
+//! - friction: mu_e = mu s_mu max(1 + k_T (T_contact - T_surface), 0.1), where T_contact comes
+//!   from the contact-temperature estimator (isothermal unless the manoeuvre sets
+//!   `[contact] model = "atiim"`).
+
+use nalgebra::SVector;
+
+use super::wheel::{
+    kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
+    V_LOW,
+};
+use super::{lateral, single_track, Environment, Inputs, Kinematics, Observation, VehicleModel};
+use crate::contact::TyreContact;
+use crate::tyre::{Prepared, TyreForces, TyreInput};
+use crate::vehicle::{Vehicle, AIR_DENSITY};
+
+/// State dimension of the bicycle model.
+pub const N: usize = 13;
+/// State indices.
+pub mod ix {
+    pub const X: usize = 0;
+    pub const Y: usize = 1;
+    pub const YAW: usize = 2;
+    pub const VX: usize = 3;
+    pub const VY: usize = 4;
+    pub const R: usize = 5;
+    pub const OMEGA_F: usize = 6;
+    pub const OMEGA_R: usize = 7;
+    pub const KAPPA_F: usize = 8;
+    pub const KAPPA_R: usize = 9;
+    pub const FY_F: usize = 10;
+    pub const FY_R: usize = 11;
+    pub const DELTA_L: usize = 12;
+}
+
+/// The bicycle model: a validated vehicle plus precomputed constants.
+#[derive(Debug, Clone)]
+pub struct Bicycle {
+    pub vehicle: Vehicle,
+    /// Static load per tyre (front, rear), N.
+    fz_tyre: [f64; 2],
+    /// Spin inertia per axle (two wheels), kg m^2.
+    axle_inertia: f64,
+    /// Rolling-resistance torque per axle at the static loads, N m, and the regularisation
+    /// speed of the axle's resisting torque ([`resisting_omega1`]), rad/s (vehicle constants).
+    roll_torque: [f64; 2],
+    resist_omega1: [f64; 2],
+    /// Tyre coefficients prepared for each axle's static load on a surface
+    /// ([`Bicycle::prepared_for`]); used for the inputs they match, `None` until prepared.
+    prepared: [Option<Prepared>; 2],
+}
+
+/// Per-axle intermediate quantities of one evaluation.
+struct Axles {
+    vxw: [f64; 2],
+    alpha: [f64; 2],
+    /// Force per axle (two tyres).
+    f: [TyreForces; 2],
+    /// Wheel torque balance per axle: drive - brake - rolling resistance, N m.
+    torque: [f64; 2],
+    cos_d: f64,
+    sin_d: f64,
+}
+
+impl Bicycle {
+    pub fn new(vehicle: Vehicle) -> Self {
+        let (ff, fr) = vehicle.static_axle_loads_n();
+        let fz_tyre = [ff / 2.0, fr / 2.0];
+        let axle_inertia = 2.0 * vehicle.wheel_inertia_kgm2;
+        let bmax = vehicle.brake_torque_max_nm;
+        let brake_max = [bmax * vehicle.brake_front_share, bmax * (1.0 - vehicle.brake_front_share)];
+        let radius = vehicle.tyre.rolling_radius_m;
+        let roll_torque = fz_tyre.map(|fz| vehicle.rolling_resistance * 2.0 * fz * radius);
+        let resist_omega1 = [0, 1].map(|i| resisting_omega1((brake_max[i] + roll_torque[i]).max(1.0), axle_inertia));
+        Self { vehicle, fz_tyre, axle_inertia, roll_torque, resist_omega1, prepared: [None; 2] }
+    }
+
+    /// Whether both axles hold a prepared Magic Formula curve (the fast path of
+    /// [`Self::prepared_for`] is taken); for tests across crates.
+    #[doc(hidden)]
+    pub fn has_prepared_curves(&self) -> bool {
+        self.prepared.iter().all(|p| p.is_some_and(|p| p.pacejka.is_some()))
+    }
+
+    /// The model with its tyres' coefficients prepared for the static loads on `env` at the
+    /// surface temperature (the explicit prepare step of [`crate::tyre::TyreModel::prepare`]):
+    /// evaluations at those conditions skip the load-dependent part; any other (a contact-heated
+    /// tyre, load transfer) is evaluated in full. The forces are the same bit for bit.
+    pub fn prepared_for(mut self, env: &Environment) -> Self {
+        for i in 0..2 {
+            let input = TyreInput {
+                fz_n: self.fz_tyre[i],
+                kappa: 0.0,
+                alpha_rad: 0.0,
+                camber_rad: 0.0,
+                vx_mps: 0.0,
+                mu_surface: env.mu * self.vehicle.lateral.mu_scale,
+                surface_temp_c: env.surface_temp_c,
+                contact_temp_c: env.surface_temp_c,
+            };
+            self.prepared[i] = Some(self.vehicle.tyre.mounted[0].prepare(&input));
+        }
+        self
+    }
+
+    fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
+        let lat = &self.vehicle.lateral;
+        let c = lat.steer_compliance_rad_per_kn * 1e-3;
+        let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
+        if c == 0.0 {
+            // (the common case, kept out of the fixed point's closures: they cost the hot path
+            // its inlining)
+            return self.axles_at(x, u, env, steer);
+        }
+        if lat.relaxation_length_y_m > 0.0 {
+            // With relaxation the acting front force is a state: no iteration needed.
+            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]));
+        }
+        // Steer compliance: effective steer delta - c Fy_f with the steady-state front force, a
+        // fixed point (none without compliance).
+        lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d), |ax| ax.f[0].fy_n).1
+    }
+
+    /// Lateral load transfer per axle (added to one tyre, taken from the other), N.
+    fn load_transfer(&self, x: &SVector<f64, N>, axle: usize) -> f64 {
+        let v = &self.vehicle;
+        let h = v.lateral.load_transfer_height_m;
+        if h == 0.0 {
+            return 0.0;
+        }
+        let share = self.fz_tyre[axle] / (self.fz_tyre[0] + self.fz_tyre[1]);
+        lateral::load_transfer_n(v.mass_kg, x[ix::VX], x[ix::R], h, v.track_m, share)
+    }
+
+    /// Axle forces acting on the body: the steady-state tyre forces, with the lateral ones
+    /// replaced by the relaxed states when a relaxation length is set.
+    fn acting(&self, x: &SVector<f64, N>, ax: &Axles) -> [TyreForces; 2] {
+        let mut f = ax.f;
+        if self.vehicle.lateral.relaxation_length_y_m > 0.0 {
+            f[0].fy_n = x[ix::FY_F];
+            f[1].fy_n = x[ix::FY_R];
+        }
+        f
+    }
+
+    /// Each tyre's operating conditions (one tyre of each axle, the axle's quantities halved) for
+    /// axle quantities `ax` and the forces acting `acting`.
+    fn contacts_of(
+        &self,
+        x: &SVector<f64, N>,
+        env: &Environment,
+        ax: &Axles,
+        acting: &[TyreForces; 2],
+        out: &mut [TyreContact],
+    ) {
+        let radius = self.vehicle.tyre.rolling_radius_m;
+        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
+        let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
+        for (i, o) in out.iter_mut().take(2).enumerate() {
+            *o = TyreContact {
+                fz_n: self.fz_tyre[i],
+                roll_speed_mps: (omega[i] * radius).abs(),
+                slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
+                friction_force_n: 0.5 * (acting[i].fx_n * acting[i].fx_n + acting[i].fy_n * acting[i].fy_n).sqrt(),
+                surface_temp_c: env.surface_temp_c,
+            };
+        }
+    }
+
+    /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
+    fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64) -> Axles {
+        let v = &self.vehicle;
+        let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+        let (sin_d, cos_d) = crate::tyre::fastmath::sin_cos(steer);
+        let radius = v.tyre.rolling_radius_m;
+        // Wheel-centre velocities in wheel axes.
+        let vf = (vx * cos_d + (vy + v.a_m * r) * sin_d, -vx * sin_d + (vy + v.a_m * r) * cos_d);
+        let vr = (vx, vy - v.b_m * r);
+        let vxw = [vf.0, vr.0];
+        let alpha = [slip_angle(vf.0, vf.1), slip_angle(vr.0, vr.1)];
+        let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
+        let front_share = v.drive_front_share();
+        let drive = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
+        let brake_cmd = u.brake_torque_nm.min(v.brake_torque_max_nm);
+        // ABS caps each axle's brake torque (infinite without ABS: the value is left as it is)
+        let brake = [
+            (brake_cmd * v.brake_front_share).min(u.brake_cap_nm[0]),
+            (brake_cmd * (1.0 - v.brake_front_share)).min(u.brake_cap_nm[1]),
+        ];
+        let mut f = [TyreForces::default(); 2];
+        let mut torque = [0.0; 2];
+        let mut load = [0.0; 2];
+        for i in 0..2 {
+            let input = self.tyre_input(x, u, env, i, alpha[i], vxw[i]);
+            let dfz = self.load_transfer(x, i);
+            f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
+                let left = &v.tyre.mounted[0];
+                let t = match &self.prepared[i] {
+                    Some(p) => left.forces_prepared(p, &input),
+                    None => left.forces(&input),
+                };
+                TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
+            } else {
+                // Each tyre at its own load (a lifted tyre carries nothing); the right one
+                // (outer in a left turn) gains the transfer.
+                lateral::axle_forces(self.fz_tyre[i], dfz, |side, fz| {
+                    v.tyre.on(side).forces(&TyreInput { fz_n: fz, ..input })
+                })
+            };
+            let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
+            torque[i] = drive[i] - resist - radius * f[i].fx_n;
+            load[i] = resist + radius * f[i].fx_n;
+        }
+        if let Some(pt) = &v.powertrain {
+            // The driveline (src/vehicle/powertrain.rs): the request, capped by traction control
+            // and by the full-load torque at the carrier speed, drives the axles through the
+            // reflected engine inertia. The torque balance is expressed as the equivalent axle
+            // torque I d(omega)/dt.
+            let shares = [front_share, 1.0 - front_share];
+            let omega_c = shares[0] * omega[0] + shares[1] * omega[1];
+            let (full, j_r) = pt.at_carrier_speed(omega_c);
+            let t_w = u.drive_torque_nm.min(u.drive_cap_nm).min(full);
+            let i_axle = [self.axle_inertia; 2];
+            let acc = super::powertrain::axle_accelerations(t_w, shares, i_axle, load, j_r);
+            torque = [acc[0] * self.axle_inertia, acc[1] * self.axle_inertia];
+        } else if u.drive_cap_nm < u.drive_torque_nm {
+            // traction control without a powertrain model: the cap on the request
+            let t = u.drive_cap_nm.max(0.0);
+            for i in 0..2 {
+                torque[i] += t * shares_of(front_share)[i] - drive[i];
+            }
+        }
+        Axles { vxw, alpha, f, torque, cos_d, sin_d }
+    }
+
+    /// The input of axle `i`'s tyres at its static load share, slip angle `alpha` (rad) and
+    /// wheel-axis forward speed `vxw` (m/s).
+    fn tyre_input(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        i: usize,
+        alpha: f64,
+        vxw: f64,
+    ) -> TyreInput {
+        let lat = &self.vehicle.lateral;
+        let mut mu = env.mu * lat.mu_scale;
+        if lat.thermal_mu_per_k != 0.0 {
+            let rise = u.contact_temp_c[i] - env.surface_temp_c;
+            mu *= lateral::thermal_friction_factor(lat.thermal_mu_per_k, rise);
+        }
+        TyreInput {
+            fz_n: self.fz_tyre[i],
+            kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
+            alpha_rad: alpha,
+            camber_rad: 0.0,
+            vx_mps: vxw,
+            mu_surface: mu,
+            surface_temp_c: env.surface_temp_c,
+            contact_temp_c: u.contact_temp_c[i],
+        }
+    }
+
+    /// The derivative from the axle quantities `ax` and the body loads (x, y force, yaw moment).
+    fn derivative_of(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        ax: &Axles,
+        (fx, fy, mz): (f64, f64, f64),
+    ) -> SVector<f64, N> {
+        let v = &self.vehicle;
+        let (yaw, vx, vy, r) = (x[ix::YAW], x[ix::VX], x[ix::VY], x[ix::R]);
+        let (s, c) = crate::tyre::fastmath::sin_cos(yaw);
+        let radius = v.tyre.rolling_radius_m;
+        let sigma = v.tyre.relaxation_length_x_m;
+        let mut d = SVector::<f64, N>::zeros();
+        d[ix::X] = vx * c - vy * s;
+        d[ix::Y] = vx * s + vy * c;
+        d[ix::YAW] = r;
+        d[ix::VX] = fx / v.mass_kg + r * vy;
+        (d[ix::VY], d[ix::R]) = single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2, vx, r, fy, mz);
+        d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
+        d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
+        d[ix::KAPPA_F] = relaxed_slip_rate(x[ix::KAPPA_F], x[ix::OMEGA_F], radius, ax.vxw[0], sigma);
+        d[ix::KAPPA_R] = relaxed_slip_rate(x[ix::KAPPA_R], x[ix::OMEGA_R], radius, ax.vxw[1], sigma);
+        let lat = &v.lateral;
+        if lat.relaxation_length_y_m > 0.0 {
+            let rate = lateral::relaxation_rate(vx, lat.relaxation_length_y_m);
+            d[ix::FY_F] = rate * (ax.f[0].fy_n - x[ix::FY_F]);
+            d[ix::FY_R] = rate * (ax.f[1].fy_n - x[ix::FY_R]);
+        }
+        if lat.steer_lag_s > 0.0 {
+            d[ix::DELTA_L] = (u.steer_rad - x[ix::DELTA_L]) / lat.steer_lag_s;
+        }
+        d
+    }
+
+    /// The observation from the axle quantities `ax`, the acting forces and the body loads.
+    fn observation_of(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        ax: &Axles,
+        acting: &[TyreForces; 2],
+        (fx, fy, _): (f64, f64, f64),
+    ) -> Observation {
+        let kin = super::rigid_body(x.as_slice());
+        Observation {
+            kin,
+            ax_mps2: fx / self.vehicle.mass_kg,
+            ay_mps2: fy / self.vehicle.mass_kg,
+            alpha_rad: ax.alpha,
+            kappa: [x[ix::KAPPA_F], x[ix::KAPPA_R]],
+            fx_n: [acting[0].fx_n, acting[1].fx_n],
+            fy_n: [acting[0].fy_n, acting[1].fy_n],
+            omega_radps: [x[ix::OMEGA_F], x[ix::OMEGA_R]],
+            fz_n: {
+                // vx r > 0 (turning left) moves load to the right (outer) tyres.
+                let [[(_, fr), (_, fl)], [(_, rr), (_, rl)]] =
+                    [0, 1].map(|i| lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i)));
+                [fl, fr, rl, rr]
+            },
+            roll_rad: 0.0,
+            contact_temp_axle_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
+        }
+    }
+
+    /// Body-frame force (x, y) and yaw moment of the acting tyre forces `forces`, plus drag.
+    fn body_loads(&self, ax: &Axles, forces: &[TyreForces; 2], vx: f64) -> (f64, f64, f64) {
+        let v = &self.vehicle;
+        let [f, r] = forces;
+        let fxf_b = f.fx_n * ax.cos_d - f.fy_n * ax.sin_d;
+        let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+        let fx = fxf_b + r.fx_n - drag;
+        let (fy, mz) = single_track::lateral_loads(f, r, ax.cos_d, ax.sin_d, v.a_m, v.b_m);
+        (fx, fy, mz)
+    }
+}
+
+impl VehicleModel<N> for Bicycle {
+    const TYRES: usize = 2;
+
+    fn state_names(&self) -> [&'static str; N] {
+        [
+            "x_m",
+            "y_m",
+            "yaw_rad",
+            "vx_mps",
+            "vy_mps",
+            "yaw_rate_radps",
+            "omega_front_radps",
+            "omega_rear_radps",
+            "kappa_front",
+            "kappa_rear",
+            "fy_front_relaxed_n",
+            "fy_rear_relaxed_n",
+            "steer_lagged_rad",
+        ]
+    }
+
+    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        self.derivative_of(x, u, &ax, self.body_loads(&ax, &acting, x[ix::VX]))
+    }
+
+    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
+        super::rigid_body(x.as_slice())
+    }
+
+    fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
+        let mut s = SVector::<f64, N>::zeros();
+        super::set_rigid_body(s.as_mut_slice(), x_m, y_m, yaw_rad, speed_mps);
+        let omega = speed_mps / self.vehicle.tyre.rolling_radius_m;
+        s[ix::OMEGA_F] = omega;
+        s[ix::OMEGA_R] = omega;
+        s
+    }
+
+    fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64) {
+        (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX])
+    }
+
+    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        self.observation_of(x, u, &ax, &acting, self.body_loads(&ax, &acting, x[ix::VX]))
+    }
+
+    fn derivatives_observed(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+    ) -> (SVector<f64, N>, Observation) {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
+        (self.derivative_of(x, u, &ax, loads), self.observation_of(x, u, &ax, &acting, loads))
+    }
+
+    /// The tyres' departures from their published laws, per axle and side.
+    fn notes(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        out: &mut Vec<(crate::event::EventKind, String)>,
+    ) {
+        let tyre = &self.vehicle.tyre;
+        if !tyre.model.reports_departures() {
+            return;
+        }
+        let ax = self.axles(x, u, env);
+        for i in 0..2 {
+            let input = self.tyre_input(x, u, env, i, ax.alpha[i], ax.vxw[i]);
+            let [right, left] = lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i));
+            for ((side, fz), name) in [(left, "left"), (right, "right")] {
+                if let Some((kind, detail)) = tyre.on(side).departure(&TyreInput { fz_n: fz, ..input }) {
+                    out.push((kind, format!("{} {name} tyre: {detail}", ["front", "rear"][i])));
+                }
+            }
+        }
+    }
+
+    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        self.contacts_of(x, env, &ax, &acting, out);
+    }
+
+    fn derivatives_contacts(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        observe: bool,
+        out: &mut [TyreContact],
+    ) -> (SVector<f64, N>, Option<Observation>) {
+        let ax = self.axles(x, u, env);
+        let acting = self.acting(x, &ax);
+        self.contacts_of(x, env, &ax, &acting, out);
+        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
+        (self.derivative_of(x, u, &ax, loads), observe.then(|| self.observation_of(x, u, &ax, &acting, loads)))
+    }
+
+    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
+        let t = &self.vehicle.tyre;
+        (&[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)], t.rolling_radius_m / t.relaxation_length_x_m)
+    }
+
+    /// Per axle (front, rear): omega R_e, the wheel-centre forward speed in wheel axes, whether
+    /// it is driven and its largest brake torque.
+    fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
+        let v = &self.vehicle;
+        let radius = v.tyre.rolling_radius_m;
+        let share = v.drive_front_share();
+        let bmax = v.brake_torque_max_nm;
+        for (axle, o) in out.iter_mut().take(2).enumerate() {
+            let steer = if axle == 0 { steer_rad } else { 0.0 };
+            let (vy_w, om) = if axle == 0 {
+                (x[ix::VY] + v.a_m * x[ix::R], x[ix::OMEGA_F])
+            } else {
+                (x[ix::VY] - v.b_m * x[ix::R], x[ix::OMEGA_R])
+            };
+            *o = super::WheelSensor {
+                omega_r_mps: om * radius,
+                v_mps: to_wheel_axes(x[ix::VX], vy_w, steer).0,
+                driven: if axle == 0 { share > 0.0 } else { share < 1.0 },
+                brake_max_nm: bmax * if axle == 0 { v.brake_front_share } else { 1.0 - v.brake_front_share },
+            };
+        }
+        2
+    }
+}
+
+/// The drive shares (front, rear) of a front share.
+fn shares_of(front_share: f64) -> [f64; 2] {
+    [front_share, 1.0 - front_share]
+}
+
+/// Kinematic slip ratio of an axle for a state (diagnostics and tests).
+pub fn kinematic_slip_of(model: &Bicycle, x: &SVector<f64, N>, steer_rad: f64, axle: usize) -> f64 {
+    let v = &model.vehicle;
+    let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
+    let (vxw, _) = if axle == 0 { to_wheel_axes(vx, vy + v.a_m * r, steer_rad) } else { (vx, vy - v.b_m * r) };
+    let omega = if axle == 0 { x[ix::OMEGA_F] } else { x[ix::OMEGA_R] };
+    kinematic_slip(omega, v.tyre.rolling_radius_m, vxw)
+}

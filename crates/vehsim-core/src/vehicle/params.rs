@@ -1,0 +1,199 @@
+//! The validated vehicle: the parameters the vehicle models read, with their units.
+//!
+//! Geometry follows ISO 8855: x forward, y left, z up; `a` and `b` are the horizontal distances from
+//! the centre of gravity to the front and rear axle. The spec layer builds a [`Vehicle`] from a
+//! vehicle file; nothing here reads files.
+
+use crate::tyre::Tyre;
+
+/// Which axle(s) the engine drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum DriveLayout {
+    Front,
+    Rear,
+    All,
+}
+
+/// The allowed ranges of the `[lateral]` keys, each declared once (README's vehicle section lists
+/// the same; `tests/spec_bounds.rs` holds the two together).
+pub mod lateral_bounds {
+    use crate::error::Bound;
+
+    pub const STEER_COMPLIANCE: Bound = Bound::closed("lateral.steer_compliance_rad_per_kn", 0.0, 0.1, "rad/kN");
+    pub const MU_SCALE: Bound = Bound::closed("lateral.mu_scale", 0.05, 3.0, "");
+    pub const STEER_LAG: Bound = Bound::closed("lateral.steer_lag_s", 0.0, 2.0, "s");
+    pub const RELAXATION_LENGTH: Bound = Bound::closed("lateral.relaxation_length_y_m", 0.0, 10.0, "m");
+    pub const LOAD_TRANSFER_HEIGHT: Bound = Bound::closed("lateral.load_transfer_height_m", 0.0, 2.0, "m");
+    pub const THERMAL_MU: Bound = Bound::closed("lateral.thermal_mu_per_k", -2.0, 0.0, "1/K");
+
+    /// Every bound above, in the order of [`super::Lateral::values`].
+    pub const ALL: [Bound; 6] =
+        [STEER_COMPLIANCE, MU_SCALE, STEER_LAG, RELAXATION_LENGTH, LOAD_TRANSFER_HEIGHT, THERMAL_MU];
+}
+
+/// Validated lateral extensions (see [`LateralSection`]); the default changes nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lateral {
+    /// rad per kN of front axle lateral force.
+    pub steer_compliance_rad_per_kn: f64,
+    /// Friction scale.
+    pub mu_scale: f64,
+    /// Steering lag, s.
+    pub steer_lag_s: f64,
+    /// Lateral relaxation length, m.
+    pub relaxation_length_y_m: f64,
+    /// Lateral load-transfer height, m.
+    pub load_transfer_height_m: f64,
+    /// Friction change per kelvin of contact-temperature rise, 1/K.
+    pub thermal_mu_per_k: f64,
+}
+
+impl Lateral {
+    /// The values in the order of [`lateral_bounds::ALL`].
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.steer_compliance_rad_per_kn,
+            self.mu_scale,
+            self.steer_lag_s,
+            self.relaxation_length_y_m,
+            self.load_transfer_height_m,
+            self.thermal_mu_per_k,
+        ]
+    }
+
+    /// The key (e.g. `lateral.steer_lag_s`) of the first extension switched on, if any.
+    pub fn first_active_key(&self) -> Option<&'static str> {
+        let off = Lateral::default().values();
+        lateral_bounds::ALL.iter().zip(self.values().iter().zip(off)).find(|(_, (v, d))| **v != *d).map(|(b, _)| b.key)
+    }
+}
+
+impl Default for Lateral {
+    fn default() -> Self {
+        Lateral {
+            steer_compliance_rad_per_kn: 0.0,
+            mu_scale: 1.0,
+            steer_lag_s: 0.0,
+            relaxation_length_y_m: 0.0,
+            load_transfer_height_m: 0.0,
+            thermal_mu_per_k: 0.0,
+        }
+    }
+}
+
+/// Validated roll data, with the derived sprung-mass geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roll {
+    /// Roll-centre heights (front, rear), m.
+    pub rc_height_m: [f64; 2],
+    /// Roll stiffness (front, rear), N m/rad.
+    pub stiffness_nm_per_rad: [f64; 2],
+    /// Roll damping (front, rear), N m s/rad.
+    pub damping_nms_per_rad: [f64; 2],
+    /// Unsprung mass per axle (front, rear), kg.
+    pub unsprung_mass_kg: [f64; 2],
+    /// Unsprung CG height, m.
+    pub unsprung_cg_height_m: f64,
+    /// Sprung-mass roll inertia about its own CG, kg m^2.
+    pub roll_inertia_kgm2: f64,
+    /// Fraction of ideal Ackermann, [0, 1].
+    pub ackermann: f64,
+    /// Load-transfer acceleration lag, s.
+    pub load_transfer_lag_s: f64,
+    /// Sprung mass m_s, kg.
+    pub sprung_mass_kg: f64,
+    /// Sprung-mass CG height above ground h_s, m.
+    pub sprung_cg_height_m: f64,
+    /// Sprung-mass CG ahead of the whole vehicle's CG, m (x_s; usually a few cm either way).
+    pub sprung_cg_ahead_m: f64,
+    /// Roll-axis height under the sprung CG, m.
+    pub roll_axis_height_m: f64,
+    /// h' = h_s - roll-axis height: sprung CG above the roll axis, m (>= 0).
+    pub h_prime_m: f64,
+}
+
+impl Roll {
+    /// Sprung-mass CG to the front and rear axle (a_s, b_s), m, for a vehicle with CG-to-axle
+    /// distances a, b.
+    pub fn sprung_axle_distances(&self, a: f64, b: f64) -> (f64, f64) {
+        (a - self.sprung_cg_ahead_m, b + self.sprung_cg_ahead_m)
+    }
+
+    /// Total roll stiffness K_phi, N m/rad.
+    pub fn total_stiffness(&self) -> f64 {
+        self.stiffness_nm_per_rad[0] + self.stiffness_nm_per_rad[1]
+    }
+}
+
+/// Air density used for drag, kg/m^3 (ISA sea level at 15 degC; cold air on ice is ~5 % denser).
+pub const AIR_DENSITY: f64 = 1.225;
+/// Standard gravity, m/s^2.
+pub const GRAVITY: f64 = 9.80665;
+
+/// A validated vehicle with its tyre built for one provider.
+#[derive(Debug, Clone)]
+pub struct Vehicle {
+    pub name: String,
+    pub mass_kg: f64,
+    pub yaw_inertia_kgm2: f64,
+    /// CG to front axle a, m.
+    pub a_m: f64,
+    /// CG to rear axle b, m.
+    pub b_m: f64,
+    pub track_m: f64,
+    pub cg_height_m: f64,
+    pub body_width_m: f64,
+    pub body_length_m: f64,
+    pub front_overhang_m: f64,
+    pub wheel_inertia_kgm2: f64,
+    pub drive: DriveLayout,
+    pub front_drive_share: f64,
+    pub drive_torque_max_nm: f64,
+    pub brake_torque_max_nm: f64,
+    pub brake_front_share: f64,
+    pub steer_max_rad: f64,
+    pub steer_rate_max_radps: f64,
+    pub drag_area_m2: f64,
+    pub rolling_resistance: f64,
+    /// Roll data for the 4-DOF model (`None` when the file has no `[roll]` section).
+    pub roll: Option<Roll>,
+    /// Lateral extensions of the bicycle model (default: none).
+    pub lateral: Lateral,
+    /// The ranges the tyre file declares as measured (plausibility, [`crate::sim::range_check`]).
+    pub tyre_ranges: crate::tyre::ranges::TyreRanges,
+    /// The powertrain (`None`: the single torque limit, the models' unchanged path).
+    pub powertrain: Option<crate::vehicle::powertrain::Powertrain>,
+    pub tyre: Tyre,
+    /// Warnings from reading the tyre data (e.g. `.tir` sections ignored), for the CLI to print.
+    pub tyre_warnings: Vec<String>,
+}
+
+impl Vehicle {
+    /// Wheelbase a + b, m.
+    pub fn wheelbase_m(&self) -> f64 {
+        self.a_m + self.b_m
+    }
+
+    /// Rear overhang: rear axle to rear bumper, m.
+    pub fn rear_overhang_m(&self) -> f64 {
+        self.body_length_m - self.front_overhang_m - self.wheelbase_m()
+    }
+
+    /// Static axle loads (front, rear), N.
+    pub fn static_axle_loads_n(&self) -> (f64, f64) {
+        let w = self.mass_kg * GRAVITY;
+        let l = self.wheelbase_m();
+        (w * self.b_m / l, w * self.a_m / l)
+    }
+
+    /// Front share of drive torque for this layout.
+    pub fn drive_front_share(&self) -> f64 {
+        match self.drive {
+            DriveLayout::Front => 1.0,
+            DriveLayout::Rear => 0.0,
+            DriveLayout::All => self.front_drive_share,
+        }
+    }
+}

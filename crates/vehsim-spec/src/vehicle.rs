@@ -1,0 +1,541 @@
+//! Vehicle spec (`vehicles/*.toml`) and the validated [`Vehicle`].
+//!
+//! Geometry follows ISO 8855: x forward, y left, z up; `a` and `b` are the horizontal distances from
+//! the centre of gravity to the front and rear axle.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::files::{parse_toml, read_input, resolve};
+
+use crate::tyre::TyreFileSpec;
+use vehsim_core::error::{Checker, Result};
+use vehsim_core::tyre::TyreModelKind;
+use vehsim_core::vehicle::params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, GRAVITY};
+
+/// Raw vehicle file as written by the user. Every field: unit in the name, typical range in the docs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleFile {
+    /// Human-readable name.
+    pub name: String,
+    /// Tyre spec file, relative to this file (all four tyres are the same).
+    pub tyre: String,
+    /// Total mass, kg (passenger cars 800–3000).
+    pub mass_kg: f64,
+    /// Yaw moment of inertia about the vertical axis through the CG, kg m^2 (1000–6000).
+    pub yaw_inertia_kgm2: f64,
+    /// CG to front axle, m (0.8–2.0).
+    pub cg_to_front_axle_m: f64,
+    /// CG to rear axle, m (0.8–2.0).
+    pub cg_to_rear_axle_m: f64,
+    /// Track width (average of front and rear), m (1.2–1.8).
+    pub track_m: f64,
+    /// CG height above ground, m (0.3–1.2).
+    pub cg_height_m: f64,
+    /// Body width (without mirrors), m (1.4–2.2); sets the ISO 3888-2 lane widths.
+    pub body_width_m: f64,
+    /// Body length, m (3.0–6.0).
+    pub body_length_m: f64,
+    /// Front overhang: front axle to front bumper, m (0.6–1.2).
+    pub front_overhang_m: f64,
+    /// Spin inertia of one wheel with tyre, brake and its share of the driveline, kg m^2 (0.8–3).
+    pub wheel_inertia_kgm2: f64,
+    /// Driven axle(s).
+    pub drive: DriveLayout,
+    /// Front share of drive torque for `drive = "all"`, in [0, 1] (ignored otherwise).
+    #[serde(default = "half")]
+    pub front_drive_share: f64,
+    /// Largest total drive torque at the wheels, N m (1000–6000).
+    pub drive_torque_max_nm: f64,
+    /// Largest total brake torque at the wheels, N m (3000–12000).
+    pub brake_torque_max_nm: f64,
+    /// Front share of brake torque, in [0, 1] (0.6–0.75 typical).
+    pub brake_front_share: f64,
+    /// Largest road-wheel steer angle, rad (0.5–0.7).
+    pub steer_max_rad: f64,
+    /// Largest road-wheel steer rate, rad/s (0.5–2).
+    pub steer_rate_max_radps: f64,
+    /// Aerodynamic drag area C_d A, m^2 (0.5–1.2); 0 disables drag.
+    #[serde(default)]
+    pub drag_area_m2: f64,
+    /// Rolling-resistance coefficient, dimensionless (0.008–0.015); 0 disables it.
+    #[serde(default)]
+    pub rolling_resistance: f64,
+    /// Roll, load-transfer and steering-geometry data of the 4-DOF model (optional; the bicycle
+    /// model ignores it, the 4-DOF model requires it).
+    #[serde(default)]
+    pub roll: Option<RollSection>,
+    /// Lateral extensions found by `vehsim discover` (optional; bicycle model only, a 4-DOF run
+    /// refuses them; the defaults leave the model unchanged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lateral: Option<LateralSection>,
+    /// Engine or motor, gearbox, final drive, driveline inertia and differential (optional; see
+    /// [`PowertrainSection`]; without it the single limit `drive_torque_max_nm` is the drive).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub powertrain: Option<PowertrainSection>,
+}
+
+/// Raw `[lateral]` section: optional extensions of the bicycle model's lateral behaviour, as
+/// fitted by `vehsim discover` (docs/discover.md). The 4-DOF model has none of them: a 4-DOF run
+/// refuses a vehicle that switches one on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LateralSection {
+    /// Steer compliance: the effective road-wheel angle is reduced by this much per kN of front
+    /// axle lateral force, rad/kN (0 = rigid steering, default; typical 0.001–0.01; at most 0.1).
+    #[serde(default)]
+    pub steer_compliance_rad_per_kn: f64,
+    /// Scale on the surface friction seen by every tyre, dimensionless (default 1; [0.05, 3]).
+    #[serde(default = "one")]
+    pub mu_scale: f64,
+    /// First-order steering lag between the commanded and the effective road-wheel angle, s
+    /// (0 = none, default; at most 2).
+    #[serde(default)]
+    pub steer_lag_s: f64,
+    /// Lateral relaxation length of the axle forces, m (0 = none, default; at most 10).
+    #[serde(default)]
+    pub relaxation_length_y_m: f64,
+    /// Effective height of quasi-static lateral load transfer, m (0 = none, default; at most 2):
+    /// each tyre of an axle is evaluated at its own load.
+    #[serde(default)]
+    pub load_transfer_height_m: f64,
+    /// Friction change per kelvin of contact-temperature rise above the surface, 1/K (0 = none,
+    /// default; [-2, 0]). Acts only when the manoeuvre's `[contact] model = "atiim"`.
+    #[serde(default)]
+    pub thermal_mu_per_k: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Raw `[roll]` section: what the 4-DOF roll model needs beyond the bicycle's data.
+///
+/// Roll-centre heights are above the ground at each axle; the roll axis joins them. The sprung
+/// mass is `mass_kg` minus both unsprung masses; its CG height follows from `cg_height_m` (the
+/// whole vehicle's) and the unsprung CG height.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollSection {
+    /// Front roll-centre height above ground, m (MacPherson / double wishbone: 0.0–0.15).
+    pub roll_centre_height_front_m: f64,
+    /// Rear roll-centre height above ground, m (0.05–0.35).
+    pub roll_centre_height_rear_m: f64,
+    /// Front roll stiffness (springs + anti-roll bar), N m/rad (passenger cars 20e3–80e3).
+    pub roll_stiffness_front_nm_per_rad: f64,
+    /// Rear roll stiffness, N m/rad (15e3–60e3).
+    pub roll_stiffness_rear_nm_per_rad: f64,
+    /// Front roll damping (dampers), N m s/rad (1e3–6e3).
+    pub roll_damping_front_nms_per_rad: f64,
+    /// Rear roll damping, N m s/rad (1e3–6e3).
+    pub roll_damping_rear_nms_per_rad: f64,
+    /// Unsprung mass of the front axle (both corners), kg (60–120).
+    pub unsprung_mass_front_kg: f64,
+    /// Unsprung mass of the rear axle (both corners), kg (50–120).
+    pub unsprung_mass_rear_kg: f64,
+    /// Height of the unsprung masses' CG above ground, m (default: the tyre's unloaded radius).
+    #[serde(default)]
+    pub unsprung_cg_height_m: Option<f64>,
+    /// Roll moment of inertia of the sprung mass about the x axis through its own CG, kg m^2
+    /// (passenger cars 300–900).
+    pub roll_inertia_kgm2: f64,
+    /// Fraction of ideal Ackermann steering geometry, in [0, 1] (0 = parallel steer; default 0).
+    #[serde(default)]
+    pub ackermann: f64,
+    /// Time constant of the first-order lag on the accelerations that drive load transfer, s
+    /// (default 0.02; in [0.001, 1]). Breaks the algebraic loop load -> force -> acceleration -> load.
+    #[serde(default = "default_lag")]
+    pub load_transfer_lag_s: f64,
+}
+
+fn default_lag() -> f64 {
+    0.02
+}
+
+fn half() -> f64 {
+    0.5
+}
+
+impl VehicleFile {
+    /// Read and parse a vehicle file.
+    pub fn load(path: &Path) -> Result<Self> {
+        parse_toml(path, &read_input(path)?)
+    }
+
+    /// Validate every value and build the tyre for provider `tyre_model`.
+    pub fn build(&self, path: &Path, tyre_model: TyreModelKind) -> Result<Vehicle> {
+        let c = Checker::new(path);
+        // Upper ends: beyond any road vehicle (a 40 t lorry, a bus) by a wide margin; they keep a
+        // mistyped unit or exponent from reaching the engine (where it makes a run take hours).
+        c.positive_up_to("mass_kg", self.mass_kg, 100_000.0, "kg")?;
+        c.positive_up_to("yaw_inertia_kgm2", self.yaw_inertia_kgm2, 1e6, "kg m^2")?;
+        c.positive_up_to("cg_to_front_axle_m", self.cg_to_front_axle_m, 10.0, "m")?;
+        c.positive_up_to("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 10.0, "m")?;
+        c.positive_up_to("track_m", self.track_m, 5.0, "m")?;
+        c.range("cg_height_m", self.cg_height_m, 0.0, 5.0)?;
+        c.positive_up_to("body_width_m", self.body_width_m, 5.0, "m")?;
+        c.range("front_overhang_m", self.front_overhang_m, 0.0, 5.0)?;
+        let wheelbase = self.cg_to_front_axle_m + self.cg_to_rear_axle_m;
+        c.require(
+            "body_length_m",
+            self.body_length_m,
+            self.body_length_m >= wheelbase + self.front_overhang_m && self.body_length_m <= 30.0,
+            "expected wheelbase + front_overhang_m <= body_length_m <= 30 (m)",
+        )?;
+        c.range("wheel_inertia_kgm2", self.wheel_inertia_kgm2, 0.01, 100.0)?;
+        c.range("front_drive_share", self.front_drive_share, 0.0, 1.0)?;
+        c.range("drive_torque_max_nm", self.drive_torque_max_nm, 0.0, 100_000.0)?;
+        c.positive_up_to("brake_torque_max_nm", self.brake_torque_max_nm, 100_000.0, "N m")?;
+        c.range("brake_front_share", self.brake_front_share, 0.0, 1.0)?;
+        c.range("steer_max_rad", self.steer_max_rad, 1e-3, 1.2)?;
+        c.positive_up_to("steer_rate_max_radps", self.steer_rate_max_radps, 20.0, "rad/s")?;
+        c.range("drag_area_m2", self.drag_area_m2, 0.0, 20.0)?;
+        c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
+        let tyre_path = resolve(path, &self.tyre);
+        let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)
+            .and_then(|t| t.build_with_warnings(&tyre_path, tyre_model))
+            .map_err(vehsim_core::error::referred_by(path, "tyre"))?;
+        let roll = match &self.roll {
+            Some(r) => Some(r.build(&c, self, tyre.unloaded_radius_m)?),
+            None => None,
+        };
+        let lateral = match &self.lateral {
+            Some(l) => {
+                use lateral_bounds as b;
+                Lateral {
+                    steer_compliance_rad_per_kn: c.bound(&b::STEER_COMPLIANCE, l.steer_compliance_rad_per_kn)?,
+                    mu_scale: c.bound(&b::MU_SCALE, l.mu_scale)?,
+                    steer_lag_s: c.bound(&b::STEER_LAG, l.steer_lag_s)?,
+                    relaxation_length_y_m: c.bound(&b::RELAXATION_LENGTH, l.relaxation_length_y_m)?,
+                    load_transfer_height_m: c.bound(&b::LOAD_TRANSFER_HEIGHT, l.load_transfer_height_m)?,
+                    thermal_mu_per_k: c.bound(&b::THERMAL_MU, l.thermal_mu_per_k)?,
+                }
+            }
+            None => Lateral::default(),
+        };
+        let powertrain = match &self.powertrain {
+            Some(p) => Some(p.build(&c)?),
+            None => None,
+        };
+        Ok(Vehicle {
+            lateral,
+            powertrain,
+            tyre_ranges: crate::tyre::declared_ranges(&tyre_path),
+            name: self.name.clone(),
+            mass_kg: self.mass_kg,
+            yaw_inertia_kgm2: self.yaw_inertia_kgm2,
+            a_m: self.cg_to_front_axle_m,
+            b_m: self.cg_to_rear_axle_m,
+            track_m: self.track_m,
+            cg_height_m: self.cg_height_m,
+            body_width_m: self.body_width_m,
+            body_length_m: self.body_length_m,
+            front_overhang_m: self.front_overhang_m,
+            wheel_inertia_kgm2: self.wheel_inertia_kgm2,
+            drive: self.drive,
+            front_drive_share: self.front_drive_share,
+            drive_torque_max_nm: self.drive_torque_max_nm,
+            brake_torque_max_nm: self.brake_torque_max_nm,
+            brake_front_share: self.brake_front_share,
+            steer_max_rad: self.steer_max_rad,
+            steer_rate_max_radps: self.steer_rate_max_radps,
+            drag_area_m2: self.drag_area_m2,
+            rolling_resistance: self.rolling_resistance,
+            roll,
+            tyre,
+            tyre_warnings,
+        })
+    }
+}
+
+impl RollSection {
+    /// Validate the section against its vehicle (`unloaded_radius` is the tyre's, m).
+    fn build(&self, c: &Checker, v: &VehicleFile, unloaded_radius: f64) -> Result<Roll> {
+        c.range("roll.roll_centre_height_front_m", self.roll_centre_height_front_m, -0.5, 2.0)?;
+        c.range("roll.roll_centre_height_rear_m", self.roll_centre_height_rear_m, -0.5, 2.0)?;
+        c.positive_up_to("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad, 1e7, "N m/rad")?;
+        c.positive_up_to("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad, 1e7, "N m/rad")?;
+        c.range("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad, 0.0, 1e6)?;
+        c.range("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad, 0.0, 1e6)?;
+        c.non_negative("roll.unsprung_mass_front_kg", self.unsprung_mass_front_kg)?;
+        c.non_negative("roll.unsprung_mass_rear_kg", self.unsprung_mass_rear_kg)?;
+        let m_u = self.unsprung_mass_front_kg + self.unsprung_mass_rear_kg;
+        c.require(
+            "roll.unsprung_mass_rear_kg",
+            self.unsprung_mass_rear_kg,
+            m_u < 0.5 * v.mass_kg,
+            "expected unsprung_mass_front_kg + unsprung_mass_rear_kg < mass_kg / 2 (kg)",
+        )?;
+        let h_u = match self.unsprung_cg_height_m {
+            Some(h) => c.range("roll.unsprung_cg_height_m", h, 0.0, 1.0)?,
+            None => unloaded_radius,
+        };
+        c.positive_up_to("roll.roll_inertia_kgm2", self.roll_inertia_kgm2, 1e6, "kg m^2")?;
+        c.range("roll.ackermann", self.ackermann, 0.0, 1.0)?;
+        c.range("roll.load_transfer_lag_s", self.load_transfer_lag_s, 0.001, 1.0)?;
+        let m = v.mass_kg;
+        let m_s = m - m_u;
+        let h_s = (m * v.cg_height_m - m_u * h_u) / m_s;
+        c.require(
+            "roll.unsprung_cg_height_m",
+            h_u,
+            h_s >= 0.0,
+            &format!(
+                "the sprung-mass CG would lie below ground (h_s = {h_s:.3} m); expected unsprung mass x height \
+                 <= mass_kg x cg_height_m"
+            ),
+        )?;
+        let (a, b) = (v.cg_to_front_axle_m, v.cg_to_rear_axle_m);
+        let l = a + b;
+        let x_s = (self.unsprung_mass_rear_kg * b - self.unsprung_mass_front_kg * a) / m_s;
+        let (a_s, b_s) = (a - x_s, b + x_s);
+        let above = "expected a roll centre at or below the sprung-mass CG height h_s";
+        c.require(
+            "roll.roll_centre_height_front_m",
+            self.roll_centre_height_front_m,
+            self.roll_centre_height_front_m <= h_s,
+            &format!("{above} = {h_s:.3} m (m)"),
+        )?;
+        c.require(
+            "roll.roll_centre_height_rear_m",
+            self.roll_centre_height_rear_m,
+            self.roll_centre_height_rear_m <= h_s,
+            &format!("{above} = {h_s:.3} m (m)"),
+        )?;
+        let h_ra = (self.roll_centre_height_front_m * b_s + self.roll_centre_height_rear_m * a_s) / l;
+        let h_prime = (h_s - h_ra).max(0.0);
+        let k = self.roll_stiffness_front_nm_per_rad + self.roll_stiffness_rear_nm_per_rad;
+        let k_min = m_s * crate::vehicle::GRAVITY * h_prime;
+        c.require(
+            "roll.roll_stiffness_rear_nm_per_rad",
+            self.roll_stiffness_rear_nm_per_rad,
+            k > 1.05 * k_min,
+            &format!(
+                "the body would fall over: expected total roll stiffness > 1.05 m_s g h' = {:.0} N m/rad",
+                1.05 * k_min
+            ),
+        )?;
+        Ok(Roll {
+            rc_height_m: [self.roll_centre_height_front_m, self.roll_centre_height_rear_m],
+            stiffness_nm_per_rad: [self.roll_stiffness_front_nm_per_rad, self.roll_stiffness_rear_nm_per_rad],
+            damping_nms_per_rad: [self.roll_damping_front_nms_per_rad, self.roll_damping_rear_nms_per_rad],
+            unsprung_mass_kg: [self.unsprung_mass_front_kg, self.unsprung_mass_rear_kg],
+            unsprung_cg_height_m: h_u,
+            roll_inertia_kgm2: self.roll_inertia_kgm2,
+            ackermann: self.ackermann,
+            load_transfer_lag_s: self.load_transfer_lag_s,
+            sprung_mass_kg: m_s,
+            sprung_cg_height_m: h_s,
+            sprung_cg_ahead_m: x_s,
+            roll_axis_height_m: h_ra,
+            h_prime_m: h_prime,
+        })
+    }
+}
+
+/// Raw `[powertrain]` section of a vehicle file (docs/powertrain.md). Engine speeds in rpm,
+/// torques in N m at the engine or motor shaft, power in kW.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PowertrainSection {
+    /// `engine` (a full-load torque curve) or `motor` (constant torque, then constant power).
+    pub kind: String,
+    /// Engine: full-load curve `[[speed_rpm, torque_nm], ...]`, speeds strictly increasing
+    /// (at least two points, torques >= 0); the last speed is the rev limit.
+    #[serde(default)]
+    pub torque_curve: Option<Vec<[f64; 2]>>,
+    /// Power cap, kW (engine: optional; motor: required).
+    #[serde(default)]
+    pub power_max_kw: Option<f64>,
+    /// Motor: torque up to the base speed, N m.
+    #[serde(default)]
+    pub torque_max_nm: Option<f64>,
+    /// Motor: top speed, rpm.
+    #[serde(default)]
+    pub speed_max_rpm: Option<f64>,
+    /// Gearbox ratios, first gear first, each > 0 (a single-speed motor: one ratio).
+    pub gear_ratios: Vec<f64>,
+    /// Final-drive ratio, > 0.
+    pub final_drive_ratio: f64,
+    /// Driveline efficiency, (0, 1] (default 1).
+    #[serde(default = "one")]
+    pub efficiency: f64,
+    /// Engine-side rotating inertia (engine, flywheel, gearbox input), kg m^2, >= 0 (default 0).
+    #[serde(default)]
+    pub engine_inertia_kgm2: f64,
+    /// Fixed gear, 1 = first; omitted: the automatic schedule (the gear with the most wheel torque).
+    #[serde(default)]
+    pub fixed_gear: Option<f64>,
+    /// `open` (default), `locked` or `limited_slip`.
+    #[serde(default)]
+    pub differential: Option<String>,
+    /// Limited slip: torque bias ratio, >= 1 (required with `limited_slip`, refused otherwise).
+    #[serde(default)]
+    pub torque_bias_ratio: Option<f64>,
+}
+
+/// The allowed ranges of the `[powertrain]` keys.
+pub mod powertrain_bounds {
+    use vehsim_core::error::Bound;
+
+    pub const SPEED_RPM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 30_000.0, "rpm");
+    pub const TORQUE_NM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 5_000.0, "N m");
+    pub const POWER_MAX_KW: Bound = Bound::left_open("powertrain.power_max_kw", 0.0, 2_000.0, "kW");
+    pub const TORQUE_MAX_NM: Bound = Bound::left_open("powertrain.torque_max_nm", 0.0, 5_000.0, "N m");
+    pub const SPEED_MAX_RPM: Bound = Bound::left_open("powertrain.speed_max_rpm", 0.0, 30_000.0, "rpm");
+    pub const GEAR_RATIO: Bound = Bound::left_open("powertrain.gear_ratios", 0.0, 20.0, "");
+    pub const FINAL_DRIVE: Bound = Bound::left_open("powertrain.final_drive_ratio", 0.0, 20.0, "");
+    pub const EFFICIENCY: Bound = Bound::left_open("powertrain.efficiency", 0.0, 1.0, "");
+    pub const ENGINE_INERTIA: Bound = Bound::closed("powertrain.engine_inertia_kgm2", 0.0, 10.0, "kg m^2");
+    pub const TORQUE_BIAS_RATIO: Bound = Bound::closed("powertrain.torque_bias_ratio", 1.0, 20.0, "");
+}
+
+impl PowertrainSection {
+    /// Validate into a [`vehsim_core::vehicle::powertrain::Powertrain`]; bad input names the key.
+    pub fn build(&self, c: &Checker) -> Result<vehsim_core::vehicle::powertrain::Powertrain> {
+        use powertrain_bounds as b;
+        use vehsim_core::error::Error;
+        use vehsim_core::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
+        let rpm = std::f64::consts::PI / 30.0;
+        let refuse = |key: &str, what: &str| {
+            Err(Error::key(c.file, &format!("powertrain.{key}"), format!("not used with kind = \"{what}\"; remove it")))
+        };
+        let source = match self.kind.as_str() {
+            "engine" => {
+                for (k, set) in
+                    [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())]
+                {
+                    if set {
+                        return refuse(k, "engine");
+                    }
+                }
+                let curve = self.torque_curve.as_ref().ok_or_else(|| {
+                    Error::key(
+                        c.file,
+                        "powertrain.torque_curve",
+                        "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]",
+                    )
+                })?;
+                if curve.len() < 2 {
+                    return Err(Error::key(
+                        c.file,
+                        "powertrain.torque_curve",
+                        "expected at least two [speed_rpm, torque_nm] points",
+                    ));
+                }
+                let mut prev = f64::NEG_INFINITY;
+                for (n, [w, t]) in curve.iter().enumerate() {
+                    let key = format!("powertrain.torque_curve[{n}]");
+                    c.require(
+                        &key,
+                        *w,
+                        b::SPEED_RPM.contains(*w) && *w > prev,
+                        "expected engine speeds in [0, 30000] rpm, strictly increasing",
+                    )?;
+                    c.require(&key, *t, b::TORQUE_NM.contains(*t), "expected a torque in [0, 5000] N m")?;
+                    prev = *w;
+                }
+                c.require(
+                    "powertrain.torque_curve",
+                    curve.iter().map(|p| p[1]).fold(0.0, f64::max),
+                    curve.iter().any(|p| p[1] > 0.0),
+                    "expected some torque > 0 on the curve",
+                )?;
+                let power_max_w = match self.power_max_kw {
+                    Some(p) => 1e3 * c.bound(&b::POWER_MAX_KW, p)?,
+                    None => f64::INFINITY,
+                };
+                TorqueSource::Engine { curve: curve.iter().map(|p| (p[0] * rpm, p[1])).collect(), power_max_w }
+            }
+            "motor" => {
+                if self.torque_curve.is_some() {
+                    return refuse("torque_curve", "motor");
+                }
+                let need = |k: &str, v: Option<f64>, bound: &vehsim_core::error::Bound| -> Result<f64> {
+                    let v = v.ok_or_else(|| {
+                        Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\"")
+                    })?;
+                    c.bound(bound, v)
+                };
+                TorqueSource::Motor {
+                    torque_max_nm: need("torque_max_nm", self.torque_max_nm, &b::TORQUE_MAX_NM)?,
+                    power_max_w: 1e3 * need("power_max_kw", self.power_max_kw, &b::POWER_MAX_KW)?,
+                    speed_max_radps: rpm * need("speed_max_rpm", self.speed_max_rpm, &b::SPEED_MAX_RPM)?,
+                }
+            }
+            other => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.kind",
+                    format!("unknown powertrain kind '{other}'; allowed: engine, motor"),
+                ))
+            }
+        };
+        if self.gear_ratios.is_empty() || self.gear_ratios.len() > 12 {
+            return Err(Error::key(c.file, "powertrain.gear_ratios", "expected 1 to 12 ratios, first gear first"));
+        }
+        for (n, g) in self.gear_ratios.iter().enumerate() {
+            c.require(
+                &format!("powertrain.gear_ratios[{n}]"),
+                *g,
+                b::GEAR_RATIO.contains(*g),
+                "expected 0 < ratio <= 20",
+            )?;
+        }
+        c.bound(&b::FINAL_DRIVE, self.final_drive_ratio)?;
+        c.bound(&b::EFFICIENCY, self.efficiency)?;
+        c.bound(&b::ENGINE_INERTIA, self.engine_inertia_kgm2)?;
+        let gear = match self.fixed_gear {
+            None => GearMode::Auto,
+            Some(g) => {
+                let n = self.gear_ratios.len();
+                c.require(
+                    "powertrain.fixed_gear",
+                    g,
+                    g.fract() == 0.0 && g >= 1.0 && g <= n as f64,
+                    &format!("expected a whole gear number from 1 to {n} (the number of gear_ratios)"),
+                )?;
+                GearMode::Fixed(g as usize - 1)
+            }
+        };
+        let differential = match (self.differential.as_deref().unwrap_or("open"), self.torque_bias_ratio) {
+            ("open", None) => Differential::Open,
+            ("locked", None) => Differential::Locked,
+            ("limited_slip", Some(t)) => {
+                Differential::LimitedSlip { torque_bias_ratio: c.bound(&b::TORQUE_BIAS_RATIO, t)? }
+            }
+            ("limited_slip", None) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.torque_bias_ratio",
+                    "required with differential = \"limited_slip\" (a number in [1, 20])",
+                ))
+            }
+            ("open" | "locked", Some(_)) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.torque_bias_ratio",
+                    "only used with differential = \"limited_slip\"; remove it",
+                ))
+            }
+            (other, _) => {
+                return Err(Error::key(
+                    c.file,
+                    "powertrain.differential",
+                    format!("unknown differential '{other}'; allowed: open, locked, limited_slip"),
+                ))
+            }
+        };
+        Ok(Powertrain::new(
+            source,
+            self.gear_ratios.clone(),
+            self.final_drive_ratio,
+            self.efficiency,
+            self.engine_inertia_kgm2,
+            gear,
+            differential,
+        ))
+    }
+}
