@@ -7,9 +7,10 @@
 //! that does no heating (contact temperature = surface temperature).
 //!
 //! Submodules: [`patch`] (pressure grids), [`thermal`] (materials, Shore A), [`heat`] (temperature
-//! rise), [`film`] (water film), [`friction`] (friction laws), [`model`] (the coupled patch solve),
-//! [`estimator`] (the per-step [`ContactTemperature`] for the engine), [`spec`] (the `[contact]`
-//! table and scenario files) and [`command`] (`vehsim atiim`).
+//! rise), [`film`] (water film), [`model`] (the coupled patch solve) and [`estimator`] (the
+//! per-step [`ContactTemperature`] for the engine). The rubber-ice friction law they share with
+//! the car's tyre is [`crate::tyre::friction`]; the `[contact]` table and scenario files are read
+//! by the spec layer, and `vehsim atiim` is the application's.
 
 pub mod estimator;
 pub mod film;

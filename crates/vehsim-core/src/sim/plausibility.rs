@@ -14,7 +14,7 @@
 //!   surface (the spec's mu for the unsaturated linear tyre). Fails when |a_y| / (mu_eff g) >
 //!   [`AY_RATIO_LIMIT`] (1.05).
 //! - **leaving the path**: |lateral deviation of the CG from the reference path| beyond the
-//!   manoeuvre's tolerance ([`path_tolerance_m`]): constant radius max(1 m, 5 % of R); lane change
+//!   manoeuvre's tolerance (the spec layer's `run::path_tolerance_m`): constant radius max(1 m, 5 % of R); lane change
 //!   half the widest lane's width (the CG is then outside a lane-wide band around the path: the car
 //!   has left the course, not merely clipped a cone).
 //!

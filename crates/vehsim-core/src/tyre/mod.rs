@@ -11,9 +11,11 @@
 //!   estimator both are equal.
 //!
 //! Providers (selected by [`TyreModelKind`]): [`linear`], [`polynomial`] (brush), [`pacejka`]
-//! (MF 5.2 / PAC2002, `.tir` files via [`tir`]), [`dugoff`] (plain and thermal), [`atiim`]
-//! (the ATIIM modifier on top of the Magic Formula). [`combine`] holds the shared curve and friction-ellipse pieces;
-//! [`sweep`] is the `vehsim tyre` command. Equations and conventions: docs/tyres.md.
+//! (MF 5.2 / PAC2002; `.tir` files are read by the spec layer), [`dugoff`] (plain and thermal),
+//! [`atiim`] (the ATIIM modifier on top of the Magic Formula). [`combine`] holds the shared curve
+//! and friction-ellipse pieces, [`friction`] the rubber-ice friction law, [`ice`] the car tyre's
+//! friction from that law, [`ranges`] the ranges a tyre's data declares. Equations and
+//! conventions: docs/tyres.md.
 //!
 //! Every provider must be finite and continuous for kappa in [-1, 10], alpha in [-pi/2, pi/2] and
 //! load in [0, 3 Fz_nominal], give zero force at zero load, and bound combined slip with a friction

@@ -33,7 +33,7 @@ pub mod lateral_bounds {
         [STEER_COMPLIANCE, MU_SCALE, STEER_LAG, RELAXATION_LENGTH, LOAD_TRANSFER_HEIGHT, THERMAL_MU];
 }
 
-/// Validated lateral extensions (see [`LateralSection`]); the default changes nothing.
+/// Validated lateral extensions (the spec layer reads them from a vehicle file's `[lateral]` section); the default changes nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lateral {
     /// rad per kN of front axle lateral force.
