@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The polynomial kernels of src/tyre/fastmath.rs: Chebyshev interpolants, computed in 60-digit
+"""The polynomial kernels of crates/vehsim-core/src/tyre/fastmath.rs: Chebyshev interpolants, computed in 60-digit
 decimal arithmetic and printed in monomial form (lowest degree first) with their largest error.
 
     python3 scripts/fastmath_kernels.py [ATAN_DEGREE [SIN_DEGREE]]     (defaults 8 and 7)

@@ -149,7 +149,7 @@ pub enum Command {
     },
     /// ISO 3888-2: the highest entry speed that clears the course; constant radius: the highest
     /// steady lateral acceleration; for every [sweep] combination. Writes <out>/<name>/envelope.csv
-    /// and plots/envelope.png/.svg (spec keys: src/envelope.rs, docs/iso3888-2.md).
+    /// and plots/envelope.png/.svg (spec keys: src/envelope/mod.rs, docs/iso3888-2.md).
     Envelope {
         /// Envelope spec: a run spec (iso3888_2 or constant_radius) with optional `[envelope]` search
         /// settings and `[sweep]` (e.g. scenarios/envelope/envelope_ice_temperature.toml).

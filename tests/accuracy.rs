@@ -1,7 +1,7 @@
 //! Accuracy guard of the default time-stepping settings.
 //!
 //! The defaults (controllers sampled every 10 ms with the predicted first-order hold, the RK4 step
-//! from the vehicle's fastest mode; `src/sim/stability.rs`) must stay close to a run with
+//! from the vehicle's fastest mode; `crates/vehsim-core/src/sim/stability.rs`) must stay close to a run with
 //! step = control period = 0.25 ms, which is within about 2e-6 rad/s of its own step-halved
 //! run:
 //!

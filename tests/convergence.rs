@@ -20,7 +20,7 @@
 //! ATIIM-Pacejka), and run the shipped 10 degree sine steer, deep into saturation (peak friction
 //! use about 0.95 per axle). The Dugoff providers are not: their force is
 //! F = q / (1 + kappa) f(z) with f(z) = z (2 - z) for z < 1 and 1 otherwise
-//! (`src/tyre/dugoff.rs`), z = mu Fz (1 + kappa) / (2 q). The switch at z = 1, where the
+//! (`crates/vehsim-core/src/tyre/dugoff.rs`), z = mu Fz (1 + kappa) / (2 q). The switch at z = 1, where the
 //! force magnitude reaches half the friction limit, is only C1: f'(1) = 0 on both sides but f''
 //! jumps from -2 to 0, so the second derivative of the force in the slips, and the third time
 //! derivative of the state, jump at every crossing. Every RK4 step that straddles a

@@ -241,7 +241,7 @@ fn single_torque_limit_is_the_special_case() {
 }
 
 /// The 4-DOF model launches the rear-drive sedan through its limited-slip differential (the
-/// differentials' closed forms on split friction are unit tests of src/vehicle/powertrain.rs).
+/// differentials' closed forms on split friction are unit tests of crates/vehsim-core/src/vehicle/powertrain.rs).
 #[test]
 fn four_wheel_launch_through_the_limited_slip_differential() {
     let path = common::root().join(LAUNCH);

@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use vehsim_spec::files::{parse_toml, read_input};
-use vehsim_spec::step::{ExternalInputs, StepRun, Torque};
+use vehsim_core::sim::external::{ExternalInputs, Torque};
+use vehsim_spec::step::StepRun;
 use vehsim_spec::RunConfig;
 use vehsim_core::Error;
 

@@ -13,7 +13,7 @@
 //! arrays chunk by chunk.
 //!
 //! Units and sign conventions are the library's: SI, angles in rad, ISO 8855 axes (see the
-//! README's Python section and `src/tyre/mod.rs`).
+//! README's Python section and `crates/vehsim-core/src/tyre/mod.rs`).
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -221,7 +221,7 @@ fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -
 /// (the same numbers to the bit: Rust prints the shortest text that parses back to the same f64;
 /// an empty cell, a value the run does not define, becomes NaN).
 fn timeseries(out: &RunOutput) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = run::timeseries_csv(&out.rows);
+    let text = vehsim::run::timeseries_csv(&out.rows);
     let mut lines = text.lines();
     let names: Vec<String> = lines.next().unwrap_or_default().split(',').map(str::to_string).collect();
     let mut cols: Vec<Vec<f64>> = names.iter().map(|_| Vec::with_capacity(out.rows.len())).collect();
@@ -757,6 +757,6 @@ fn _vehsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(discover_runs, m)?)?;
     m.add_class::<NativeTyre>()?;
     m.add("TYRE_MODELS", TyreModelKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>())?;
-    m.add("TIMESERIES_COLUMNS", run::COLUMNS.to_vec())?;
+    m.add("TIMESERIES_COLUMNS", vehsim_core::sim::columns::COLUMNS.to_vec())?;
     Ok(())
 }

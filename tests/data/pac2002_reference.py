@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent reference values for tests/tyre_pacejka.rs.
 
-Written separately from src/tyre/pacejka.rs, straight from the PAC2002 equations in Pacejka,
+Written separately from crates/vehsim-core/src/tyre/pacejka.rs, straight from the PAC2002 equations in Pacejka,
 Tyre and Vehicle Dynamics 2nd ed., section 4.3.2 (4.E1-4.E30 pure slip, 4.E50-4.E67 combined).
 Run: python3 tests/data/pac2002_reference.py ; the printed numbers are pasted into the test.
 

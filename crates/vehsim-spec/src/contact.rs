@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::patch_file::{parse_csv, read_png_map, ImageLayout};
+use crate::patch_file::{parse_csv, read_png_map, ImageLayout};
 use crate::files::{read_input, resolve};
 use vehsim_core::contact::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableRanges, TyreBuild};
 use vehsim_core::contact::film::FilmParams;

@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::vehicle::VehicleFile;
+use crate::vehicle::VehicleFile;
 use crate::contact::ContactSpec;
 use crate::files::{parse_toml, read_input, resolve};
 use vehsim_core::control::{DriverParams, PidParams};
@@ -889,7 +889,7 @@ impl ManeuverFile {
                     return Ok((cp, cp, false));
                 }
                 // Below the regularisation wheel speed omega_1 the brake and rolling-resistance
-                // torques are stiff, up to TORQUE_RATE_MAX (src/vehicle/wheel.rs), a rate the
+                // torques are stiff, up to TORQUE_RATE_MAX (crates/vehsim-core/src/vehicle/wheel.rs), a rate the
                 // linearisation at free rolling does not see and the exponential RK4 leaves
                 // explicit: a manoeuvre whose speed range reaches twice that speed (a stop) takes
                 // it into the step's bound.
@@ -1356,5 +1356,44 @@ impl BrakingInTurnSpec {
             brake_fraction: self.brake_fraction,
             after_s: self.after_s,
         })
+    }
+}
+
+/// [`crate::strict`] on manoeuvre specs (here, not there, so that `strict` needs no manoeuvre type).
+#[cfg(test)]
+mod strict_tests {
+    use super::ManeuverFile;
+    use crate::strict::{check, MARK};
+    use std::path::Path;
+
+    const BASE: &str = "name = 'a'\nvehicle = 'v.toml'\ntyre_model = 'linear'\n[maneuver]\nkind = 'sine_steer'\n";
+
+    fn value(extra: &str) -> toml::Value {
+        toml::from_str(&format!("{extra}\n{BASE}")).unwrap()
+    }
+
+    #[test]
+    fn a_table_given_as_an_array_or_a_scalar_names_its_key() {
+        for (extra, key, found) in [
+            ("surface = [1.0, 2.0]", "surface", "an array"),
+            ("integrator = ['rk4', 0.01]\nsurface = { mu = 0.1 }", "integrator", "an array"),
+            ("surface = 0.3", "surface", "a float"),
+            ("surface = { mu = 0.1 }\noutput = 'none'", "output", "a string"),
+        ] {
+            let e = check::<ManeuverFile>(Path::new("m.toml"), &value(extra)).unwrap_err().to_string();
+            assert!(e.contains(&format!("key '{key}'")) && e.contains(found) && e.contains(MARK), "{extra}: {e}");
+        }
+    }
+
+    #[test]
+    fn well_shaped_tables_and_other_errors_pass_to_the_ordinary_parse() {
+        let ok = value("surface = { mu = 0.1, temperature_c = -5 }\nintegrator = { method = 'rk4', step_s = 0.01 }");
+        assert!(check::<ManeuverFile>(Path::new("m.toml"), &ok).is_ok());
+        // A wrong type inside a well-shaped table is the ordinary parse's to report.
+        let typed = value("surface = { mu = 'ice' }");
+        assert!(check::<ManeuverFile>(Path::new("m.toml"), &typed).is_ok());
+        // And the ordinary parse does accept the ok spec exactly as given.
+        let f: ManeuverFile = ok.try_into().unwrap();
+        assert_eq!((f.surface.mu, f.surface.temperature_c, f.integrator.step_s), (0.1, -5.0, Some(0.01)));
     }
 }

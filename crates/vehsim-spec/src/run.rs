@@ -3,8 +3,7 @@
 
 use std::path::Path;
 
-use crate::maneuver::ManeuverConfig;
-use crate::{ManeuverFile, RunConfig};
+use crate::maneuver::{ManeuverConfig, ManeuverFile, RunConfig};
 use vehsim_core::contact::{ContactTemperature, Isothermal};
 use vehsim_core::error::Result;
 use vehsim_core::event::EndReason;

@@ -11,7 +11,7 @@ use std::ptr::NonNull;
 use vehsim_core::sim::external::{ExternalInputs, Limits};
 
 use crate::run::{build_maneuver, controls};
-use crate::RunConfig;
+use crate::maneuver::RunConfig;
 use vehsim_core::contact::ContactTemperature;
 use vehsim_core::error::{Error, Result};
 use vehsim_core::event::EndReason;

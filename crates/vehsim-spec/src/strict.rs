@@ -15,7 +15,7 @@ use serde::de::{self, value::Error as DeError, Deserializer, IntoDeserializer, V
 use vehsim_core::error::{Error, Result};
 
 /// Text that marks the shape errors of [`Strict`] (only those are reported by [`check`]).
-const MARK: &str = "expected a table";
+pub(crate) const MARK: &str = "expected a table";
 
 /// A `toml::Value` seen as a deserializer that gives a struct only a table.
 #[derive(Clone, Copy)]
@@ -110,42 +110,5 @@ pub fn check<T: serde::de::DeserializeOwned>(path: &Path, value: &toml::Value) -
             Err(Error::key(path, &key, e.into_inner().to_string()))
         }
         _ => Ok(()),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::ManeuverFile;
-
-    const BASE: &str = "name = 'a'\nvehicle = 'v.toml'\ntyre_model = 'linear'\n[maneuver]\nkind = 'sine_steer'\n";
-
-    fn value(extra: &str) -> toml::Value {
-        toml::from_str(&format!("{extra}\n{BASE}")).unwrap()
-    }
-
-    #[test]
-    fn a_table_given_as_an_array_or_a_scalar_names_its_key() {
-        for (extra, key, found) in [
-            ("surface = [1.0, 2.0]", "surface", "an array"),
-            ("integrator = ['rk4', 0.01]\nsurface = { mu = 0.1 }", "integrator", "an array"),
-            ("surface = 0.3", "surface", "a float"),
-            ("surface = { mu = 0.1 }\noutput = 'none'", "output", "a string"),
-        ] {
-            let e = check::<ManeuverFile>(Path::new("m.toml"), &value(extra)).unwrap_err().to_string();
-            assert!(e.contains(&format!("key '{key}'")) && e.contains(found) && e.contains(MARK), "{extra}: {e}");
-        }
-    }
-
-    #[test]
-    fn well_shaped_tables_and_other_errors_pass_to_the_ordinary_parse() {
-        let ok = value("surface = { mu = 0.1, temperature_c = -5 }\nintegrator = { method = 'rk4', step_s = 0.01 }");
-        assert!(check::<ManeuverFile>(Path::new("m.toml"), &ok).is_ok());
-        // A wrong type inside a well-shaped table is the ordinary parse's to report.
-        let typed = value("surface = { mu = 'ice' }");
-        assert!(check::<ManeuverFile>(Path::new("m.toml"), &typed).is_ok());
-        // And the ordinary parse does accept the ok spec exactly as given.
-        let f: ManeuverFile = ok.try_into().unwrap();
-        assert_eq!((f.surface.mu, f.surface.temperature_c, f.integrator.step_s), (0.1, -5.0, Some(0.01)));
     }
 }

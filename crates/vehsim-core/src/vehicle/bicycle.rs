@@ -241,7 +241,7 @@ impl Bicycle {
             load[i] = resist + radius * f[i].fx_n;
         }
         if let Some(pt) = &v.powertrain {
-            // The driveline (src/vehicle/powertrain.rs): the request, capped by traction control
+            // The driveline (crates/vehsim-core/src/vehicle/powertrain.rs): the request, capped by traction control
             // and by the full-load torque at the carrier speed, drives the axles through the
             // reflected engine inertia. The torque balance is expressed as the equivalent axle
             // torque I d(omega)/dt.

@@ -342,7 +342,7 @@ impl Roll4Dof {
 
     /// The wheels' torque balances (as I_w d(omega)/dt) through the powertrain `pt`: the request
     /// capped by traction control and the full-load torque at the carrier speed, the reflected
-    /// engine inertia and the axles' differentials (src/vehicle/powertrain.rs), from the wheels'
+    /// engine inertia and the axles' differentials (crates/vehsim-core/src/vehicle/powertrain.rs), from the wheels'
     /// load torques `load` (N m: brake, rolling resistance and R_e F_x).
     fn driveline(
         &self,
