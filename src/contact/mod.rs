@@ -9,7 +9,8 @@
 //! Submodules: [`patch`] (pressure grids), [`thermal`] (materials, Shore A), [`heat`] (temperature
 //! rise), [`film`] (water film), [`friction`] (friction laws), [`model`] (the coupled patch solve),
 //! [`estimator`] (the per-step [`ContactTemperature`] for the engine), [`spec`] (the `[contact]`
-//! table and scenario files) and [`command`] (`vehsim atiim`).
+//! table and scenario files), [`tread_bulk`] (the tread band's temperature over a rig run) and
+//! [`command`] (`vehsim atiim`).
 
 pub mod command;
 pub mod estimator;
@@ -20,6 +21,7 @@ pub mod model;
 pub mod patch;
 pub mod spec;
 pub mod thermal;
+pub mod tread_bulk;
 
 /// Operating conditions of one tyre at the start of a step (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
