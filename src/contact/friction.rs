@@ -189,7 +189,13 @@ impl IceFriction {
     /// Sliding friction at interface temperature `t_c` (degC), sliding speed `v_mps` and contact
     /// pressure `p_pa` (the adhesion peak at [`Self::peak_speed_at`] this pressure).
     pub fn mu(&self, t_c: f64, v_mps: f64, p_pa: f64) -> f64 {
-        self.scale(t_c, p_pa) * self.speed_factor_at(v_mps, p_pa)
+        // one logarithm of the pressure for both the pressure factor and the peak's shift
+        let shift = -self.pressure_exponent * self.ln_pressure_ratio(p_pa);
+        let pressure = if self.pressure_exponent > 0.0 { shift.exp() } else { 1.0 };
+        self.mu_ref / self.speed_factor(self.v_ref_mps)
+            * pressure
+            * self.temp_factor(t_c)
+            * self.speed_factor_ln_shift(v_mps, shift)
     }
 
     /// Static (sticking) limit: the friction at the adhesion peak (no road-speed fall), >= every
