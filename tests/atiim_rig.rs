@@ -454,6 +454,17 @@ fn tread_bulk_takes_the_rolling_heat_and_stays_below_the_measured_rise() {
         steady.push(b.steady_rise_k);
     }
     assert!(steady[0] < steady[1] && steady[1] < steady[2], "the band warms more at higher load: {steady:?}");
+    // every rig scenario states f_rr = 0.010 (inflation / 35 psi)^-0.4 (SAE J2452's inflation
+    // exponent), to its 3 significant digits
+    for sc in all_scenarios().iter().filter(|s| s.name.starts_with("rig_")) {
+        let want = 0.010 * (sc.spec.tyre.inflation_kpa / 241.3).powf(-0.4);
+        assert!(
+            (sc.params.rolling_resistance / want - 1.0).abs() < 5e-3,
+            "{}: f_rr {}",
+            sc.name,
+            sc.params.rolling_resistance
+        );
+    }
     // `vehsim atiim` reports the same band in summary.json
     let out = std::env::temp_dir().join(format!("vehsim_tread_bulk_{}", std::process::id()));
     let d = vehsim::contact::command::run_atiim_command(&dir().join("rig_srtt_7kN_35psi_m10C.toml"), &out).unwrap();
