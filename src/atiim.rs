@@ -4,7 +4,8 @@
 //! Files: `pressure.csv` (kPa), `rise.csv` (K), `wet.csv` (1 = melting), `film.csv` (nm),
 //! `friction.csv` (tau / p), `mu_visc.csv` (eq. 4.13, wet pixels), each row one grid row along
 //! travel (leading edge first); a heat map `<same stem>.png/.svg` of each; `drawbar.csv` and
-//! `drawbar.png/.svg`; `summary.json`.
+//! `drawbar.png/.svg`; `summary.json` (with `tread_bulk`, the tread band over a run at the
+//! operating point, [`super::tread_bulk`]).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -12,6 +13,7 @@ use std::path::{Path, PathBuf};
 use crate::output::{write_atomic, Staged};
 use crate::plot::{heat_map, xy_chart, HeatMap, LineStyle, Series, XyChart};
 use vehsim_core::contact::model::{drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchResult};
+use vehsim_core::contact::tread_bulk::{TreadBulk, SRTT_ROLLING_RADIUS_M};
 use vehsim_core::error::{Error, Result};
 use vehsim_spec::contact::{Scenario, ScenarioSpec};
 
@@ -128,6 +130,7 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
             "slip_stiffness_per_fz": slip_stiffness_per_fz(&sc.grid, &sc.params, sc.speed_mps, sc.ice_temp_c),
         },
         "summary": res.summary,
+        "tread_bulk": tread_bulk_json(&sc, &op, &res),
         "max_film_nm": res.summary.max_film_m * 1e9,
         "drawbar": curve.iter().map(|(k, s)| serde_json::json!({"slip_ratio": k, "coeff": s.drawbar_coeff, "friction_coeff": s.friction_coeff, "wet_fraction": s.wet_fraction})).collect::<Vec<_>>(),
     });
@@ -135,6 +138,28 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     staged.commit()?;
     Ok(dest)
+}
+
+/// The tread band over a run at the operating point (`tread_bulk`): its steady rise, time
+/// constant, the rise after 60, 300 and 600 s from the ice temperature, and the interface's share.
+fn tread_bulk_json(sc: &Scenario, op: &Kinematics, res: &PatchResult) -> serde_json::Value {
+    let b = TreadBulk::new(
+        &sc.params,
+        &res.summary,
+        sc.grid.load_n(),
+        op.speeds().0,
+        sc.grid.contact_area_m2(),
+        sc.spec.tyre.tread_width_m,
+        SRTT_ROLLING_RADIUS_M,
+    );
+    serde_json::json!({
+        "model": b,
+        "rolling_radius_m": SRTT_ROLLING_RADIUS_M,
+        "rise_after_60s_k": b.rise_after_k(60.0),
+        "rise_after_300s_k": b.rise_after_k(300.0),
+        "rise_after_600s_k": b.rise_after_k(600.0),
+        "contact_rise_steady_k": b.contact_rise_k(b.steady_rise_k),
+    })
 }
 
 /// (file stem, values for the CSV, title, colour-scale label, CSV decimals, values shown).

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::patch_file::{parse_csv, read_png_map, ImageLayout};
 use crate::files::{read_input, resolve};
+use crate::patch_file::{parse_csv, read_png_map, ImageLayout};
 use vehsim_core::contact::estimator::{AtiimEstimator, BulkParams, FlashTable, Statistic, TableRanges, TyreBuild};
 use vehsim_core::contact::film::FilmParams;
 use vehsim_core::contact::model::{carcass_stiffness_n_per_m, PatchParams};

@@ -30,9 +30,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::vehicle::VehicleFile;
 use crate::contact::ContactSpec;
 use crate::files::{parse_toml, read_input, resolve};
+use crate::vehicle::VehicleFile;
 use vehsim_core::control::{DriverParams, PidParams};
 use vehsim_core::error::{Checker, Error, Result};
 use vehsim_core::maneuver::constant_radius::{ConstantRadiusParams, Direction};

@@ -10,8 +10,8 @@ use std::mem::ManuallyDrop;
 use std::ptr::NonNull;
 use vehsim_core::sim::external::{ExternalInputs, Limits};
 
-use crate::run::{build_maneuver, controls};
 use crate::maneuver::RunConfig;
+use crate::run::{build_maneuver, controls};
 use vehsim_core::contact::ContactTemperature;
 use vehsim_core::error::{Error, Result};
 use vehsim_core::event::EndReason;

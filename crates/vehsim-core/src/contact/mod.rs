@@ -7,10 +7,11 @@
 //! that does no heating (contact temperature = surface temperature).
 //!
 //! Submodules: [`patch`] (pressure grids), [`thermal`] (materials, Shore A), [`heat`] (temperature
-//! rise), [`film`] (water film), [`model`] (the coupled patch solve) and [`estimator`] (the
-//! per-step [`ContactTemperature`] for the engine). The rubber-ice friction law they share with
-//! the car's tyre is [`crate::tyre::friction`]; the `[contact]` table and scenario files are read
-//! by the spec layer, and `vehsim atiim` is the application's.
+//! rise), [`film`] (water film), [`model`] (the coupled patch solve), [`estimator`] (the
+//! per-step [`ContactTemperature`] for the engine) and [`tread_bulk`] (the tread band's
+//! temperature over a rig run). The rubber-ice friction law they share with the car's tyre is
+//! [`crate::tyre::friction`]; the `[contact]` table and scenario files are read by the spec layer,
+//! and `vehsim atiim` is the application's.
 
 pub mod estimator;
 pub mod film;
@@ -18,6 +19,7 @@ pub mod heat;
 pub mod model;
 pub mod patch;
 pub mod thermal;
+pub mod tread_bulk;
 
 /// Operating conditions of one tyre at the start of a step (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

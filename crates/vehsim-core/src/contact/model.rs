@@ -25,7 +25,8 @@
 //!    distributed like the pressure, is released through the tread depth d; during the tread's
 //!    contact time t only the layer within the thermal penetration depth sqrt(a_tread t) reaches the
 //!    interface, so q_roll = f_rr p V min(1, sqrt(a_tread t) / d) (a few per mille at road speed,
-//!    about 5 % at the rig's 7 cm/s). The rest warms the tread's bulk (the estimator's bulk state).
+//!    about 5 % at the rig's 7 cm/s). The rest warms the tread's bulk (the estimator's bulk state;
+//!    over a rig run, [`super::tread_bulk`]).
 //! 4. If the interface would reach 0 degC by the pixel's end, the pixel is wet: the interface is
 //!    pinned at 0 degC, the conducted flux q_c keeps the Duhamel sum at (0 - T_ice) at the pixel end
 //!    (discrete Abel inversion, clamped >= 0), and the film grows from the friction heat of

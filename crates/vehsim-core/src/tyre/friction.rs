@@ -25,7 +25,7 @@ pub const COLD_PLATEAU_C: f64 = -12.0;
 ///
 /// mu = mu_ref * Phi(T, v, p) / Phi(T_ref, v_ref, p_ref),
 /// Phi = exp(-c_T clamp(T, T_cold, 0)) * S(v) * (1 + v / v_c)^(-n_v) * max(p, p_min)^(-n_p),
-/// S(v) = 1 + g exp(-ln^2(v / v_pk) / (2 w^2)),
+/// S(v) = 1 + g exp(-ln^2(v / v_pk(p)) / (2 w^2)),  v_pk(p) = v_pk (max(p, p_min) / p_ref)^(-n_p),
 ///
 /// with T the interface (contact) temperature, degC, T_cold = [`COLD_PLATEAU_C`], and v clamped to
 /// at least 1e-6 m/s. Trends (the dissertation's 2.2, Fig. 2.4 and Fig. 2.14): the friction is higher on
@@ -42,9 +42,10 @@ pub const COLD_PLATEAU_C: f64 = -12.0;
 /// - `mu_ref`: the friction at the reference conditions (T_ref, v_ref, p_ref), which the caller
 ///   states (a patch scenario: the rig's `mu_dry` at -10 degC, 0.028 m/s, 250 kPa; a manoeuvre's
 ///   surface: `mu` at its `mu_reference_temperature_c` and 1 m/s, see docs/tyres.md);
-/// - adhesion peak: gain g 0.35 at v_pk 5 mm/s, width w 1.0 (in ln v). Assumption, set from the
-///   rig's ratio of peak to saturated drawbar pull (about 1.2) and its peak at 5-10 % slip at
-///   7 cm/s travel (3.5-7 mm/s sliding); Fig. 2.14 gives no numbers;
+/// - adhesion peak: gain g 0.35 at v_pk 5 mm/s (at p_ref), width w 1.0 (in ln v). Assumption, set
+///   from the rig's ratio of peak to saturated drawbar pull (about 1.2) and its peak at 5-10 % slip
+///   at 7 cm/s travel (3.5-7 mm/s sliding); Fig. 2.14 gives no numbers. The peak's speed falls
+///   with pressure with the same exponent n_p (derived, not a parameter: [`IceFriction::peak_speed_at`]);
 /// - speed fall: v_c 0.1 m/s, n_v 0.1. Assumption: the fall starts near 0.01-0.1 m/s (2.5.4) and
 ///   is mild, so that the rig's friction at mm/s sliding (0.16-0.21 peaks) and a road tyre's peak
 ///   on ice at about 1 m/s sliding stay of one size (0.8x from 0.028 to 1 m/s), and a locked
@@ -112,10 +113,44 @@ impl IceFriction {
         }
     }
 
-    /// The speed factor S(v) (1 + v/v_c)^(-n_v), dimensionless.
+    /// The speed factor S(v) (1 + v/v_c)^(-n_v), dimensionless, at the reference pressure (where the
+    /// adhesion peak lies at `peak_speed_mps`).
     pub fn speed_factor(&self, v_mps: f64) -> f64 {
+        self.speed_factor_ln_shift(v_mps, 0.0)
+    }
+
+    /// The speed factor at contact pressure `p_pa`: the adhesion peak lies at
+    /// v_pk(p) = v_pk (max(p, p_min) / p_ref)^(-n_p) ([`Self::peak_speed_at`]).
+    pub fn speed_factor_at(&self, v_mps: f64, p_pa: f64) -> f64 {
+        self.speed_factor_ln_shift(v_mps, -self.pressure_exponent * self.ln_pressure_ratio(p_pa))
+    }
+
+    /// Sliding speed of the adhesion peak at contact pressure `p_pa`, m/s:
+    /// v_pk (max(p, p_min) / p_ref)^(-n_p). Derivation (docs/atiim.md, "Peak slip and inflation"):
+    /// the peak is where flash heating of the real contact spots starts to weaken the interface;
+    /// at the rig's millimetre-per-second sliding the spots (micrometres) heat at low Peclet number,
+    /// their rise is tau_s v a / (4 k) with tau_s the interfacial shear strength, so the peak speed
+    /// goes as 1 / a, the spot radius. The pressure exponent n_p says the real contact area grows as
+    /// p^(1 - n_p); with spots of radius a ~ p^(n_p) and a number ~ p^(1 - 3 n_p) (Hertzian spots of
+    /// fixed number at n_p = 1/3, spots of fixed size at n_p = 0, Amontons), v_pk ~ p^(-n_p).
+    pub fn peak_speed_at(&self, p_pa: f64) -> f64 {
+        self.peak_speed_mps * (-self.pressure_exponent * self.ln_pressure_ratio(p_pa)).exp()
+    }
+
+    /// ln(max(p, p_min) / p_ref) (0 where the law has no pressure dependence or p is not finite).
+    #[inline]
+    fn ln_pressure_ratio(&self, p_pa: f64) -> f64 {
+        if self.pressure_exponent > 0.0 && p_pa.is_finite() {
+            (p_pa.max(P_MIN_PA) / self.p_ref_pa).ln()
+        } else {
+            0.0
+        }
+    }
+
+    /// S(v) (1 + v/v_c)^(-n_v) with the adhesion peak at ln v_pk + `ln_shift`.
+    fn speed_factor_ln_shift(&self, v_mps: f64, ln_shift: f64) -> f64 {
         let v = if v_mps.is_finite() { v_mps.abs().max(1e-6) } else { 1e-6 };
-        let l = (v / self.peak_speed_mps).ln() / self.peak_width;
+        let l = ((v / self.peak_speed_mps).ln() - ln_shift) / self.peak_width;
         let bell = 1.0 + self.peak_gain * (-0.5 * l * l).exp();
         if self.speed_exponent > 0.0 {
             bell * (1.0 + v / self.speed_scale_mps).powf(-self.speed_exponent)
@@ -137,24 +172,30 @@ impl IceFriction {
         -self.temp_coeff_per_k * (t - self.t_ref_c.clamp(COLD_PLATEAU_C, 0.0))
     }
 
-    /// The pressure factor relative to the reference.
+    /// The pressure factor relative to the reference, (max(p, p_min) / p_ref)^(-n_p).
     fn pressure_factor(&self, p_pa: f64) -> f64 {
         if self.pressure_exponent > 0.0 {
-            (p_pa.max(P_MIN_PA) / self.p_ref_pa).powf(-self.pressure_exponent)
+            (-self.pressure_exponent * self.ln_pressure_ratio(p_pa)).exp()
         } else {
             1.0
         }
     }
 
-    /// Pressure and temperature factor times mu_ref / S(v_ref).
+    /// Pressure and temperature factor times mu_ref / S(v_ref) (S at the reference pressure).
     fn scale(&self, t_c: f64, p_pa: f64) -> f64 {
         self.mu_ref / self.speed_factor(self.v_ref_mps) * self.pressure_factor(p_pa) * self.temp_factor(t_c)
     }
 
     /// Sliding friction at interface temperature `t_c` (degC), sliding speed `v_mps` and contact
-    /// pressure `p_pa`.
+    /// pressure `p_pa` (the adhesion peak at [`Self::peak_speed_at`] this pressure).
     pub fn mu(&self, t_c: f64, v_mps: f64, p_pa: f64) -> f64 {
-        self.scale(t_c, p_pa) * self.speed_factor(v_mps)
+        // one logarithm of the pressure for both the pressure factor and the peak's shift
+        let shift = -self.pressure_exponent * self.ln_pressure_ratio(p_pa);
+        let pressure = if self.pressure_exponent > 0.0 { shift.exp() } else { 1.0 };
+        self.mu_ref / self.speed_factor(self.v_ref_mps)
+            * pressure
+            * self.temp_factor(t_c)
+            * self.speed_factor_ln_shift(v_mps, shift)
     }
 
     /// Static (sticking) limit: the friction at the adhesion peak (no road-speed fall), >= every
@@ -307,6 +348,37 @@ mod tests {
         let c = IceFriction::constant(0.2);
         assert_eq!(c.mu(-3.0, 5.0, 1e5), 0.2);
         assert_eq!(c.static_mu(-30.0, 9e5), 0.2);
+    }
+
+    /// The adhesion peak's sliding speed falls with pressure as p^(-n_p): the bell's maximum found
+    /// by a scan in ln v (not from `peak_speed_at`) lies there, its height is unchanged, and the
+    /// friction still falls with pressure at every sliding speed (n_p (1 - g / (w sqrt e)) > 0).
+    #[test]
+    fn adhesion_peak_speed_falls_with_pressure() {
+        let f = IceFriction { speed_exponent: 0.0, ..IceFriction::srtt(0.15) };
+        for p in [100e3, 145e3, 250e3, 400e3] {
+            let mut best = (0.0, 0.0);
+            for k in 0..4000 {
+                let v = 1e-4 * (1.0 + 1e-3f64).powi(k * 2);
+                let m = f.mu(-10.0, v, p);
+                if m > best.1 {
+                    best = (v, m);
+                }
+            }
+            let want = 0.005 * (p / 250e3).powf(-0.25);
+            assert!((best.0 / want - 1.0).abs() < 3e-3, "{p}: peak at {} vs {want}", best.0);
+            assert!((best.1 / f.static_mu(-10.0, p) - 1.0).abs() < 1e-6);
+            assert!((f.peak_speed_at(p) / want - 1.0).abs() < 1e-12);
+        }
+        let g = IceFriction::srtt(0.15);
+        for k in 0..120 {
+            let v = 1e-5 * 1.15f64.powi(k);
+            assert!(g.mu(-10.0, v, 150e3) > g.mu(-10.0, v, 350e3), "v {v}");
+        }
+        // no pressure dependence: the peak stays at v_pk
+        let h = IceFriction { pressure_exponent: 0.0, ..f };
+        assert_eq!(h.peak_speed_at(400e3), 0.005);
+        assert_eq!(h.mu(-10.0, 0.003, 100e3), h.mu(-10.0, 0.003, 400e3));
     }
 
     #[test]
