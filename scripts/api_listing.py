@@ -34,7 +34,7 @@ def first_sentence(doc):
     text = " ".join(d.strip() for d in doc).strip()
     if not text:
         return ""
-    m = re.match(r"(.+?[.:;])(\s|$)", text)
+    m = re.match(r"(.+?\.)(\s+[A-Z(`\[]|$)", text)
     s = m.group(1) if m else text
     return s if len(s) <= 160 else s[:157].rstrip() + "..."
 

@@ -190,3 +190,30 @@ fn the_cycle_finder_finds_a_cycle() {
         .collect();
     assert_eq!(find_cycle(&g), Some(vec!["a".into(), "b".into(), "c".into(), "a".into()]));
 }
+
+/// `python3 scripts/api_listing.py ARGS` from the project root; its exit status and output.
+fn api_listing(args: &[&str]) -> (bool, String) {
+    let out = Command::new("python3")
+        .current_dir(root())
+        .arg("scripts/api_listing.py")
+        .args(args)
+        .output()
+        .expect("python3 runs (README's set-up needs it)");
+    (out.status.success(), format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)))
+}
+
+#[test]
+fn the_public_api_listing_is_current() {
+    let (ok, msg) = api_listing(&["--check"]);
+    assert!(ok, "{msg}");
+    let text = std::fs::read_to_string(root().join("docs/api.md")).unwrap();
+    for item in ["fn `simulate`", "struct `Simulation`", "struct `StepRun`", "trait `TyreModel`", "struct `RunConfig`"] {
+        assert!(text.contains(item), "docs/api.md lacks {item}");
+    }
+}
+
+#[test]
+fn no_public_item_of_core_or_spec_is_dead() {
+    let (ok, msg) = api_listing(&["--unused"]);
+    assert!(ok, "public items named nowhere else:\n{msg}");
+}
