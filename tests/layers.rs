@@ -213,7 +213,8 @@ fn the_public_api_listing_is_current() {
     let (ok, msg) = api_listing(&["--check"]);
     assert!(ok, "{msg}");
     let text = std::fs::read_to_string(root().join("docs/api.md")).unwrap();
-    for item in ["fn `simulate`", "struct `Simulation`", "struct `StepRun`", "trait `TyreModel`", "struct `RunConfig`"] {
+    for item in ["fn `simulate`", "struct `Simulation`", "struct `StepRun`", "trait `TyreModel`", "struct `RunConfig`"]
+    {
         assert!(text.contains(item), "docs/api.md lacks {item}");
     }
 }

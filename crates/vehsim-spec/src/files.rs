@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use vehsim_core::error::{Error, Result};
 
 /// Largest spec (TOML) or `.tir` file read, bytes.
-pub const MAX_SPEC_BYTES: u64 = 16 << 20;
+pub(crate) const MAX_SPEC_BYTES: u64 = 16 << 20;
 /// Largest data file (CSV) read, bytes.
-pub const MAX_DATA_BYTES: u64 = 256 << 20;
+pub(crate) const MAX_DATA_BYTES: u64 = 256 << 20;
 
 /// Read a text file, mapping a missing or unreadable file to a bad-input error. Spec and `.tir`
 /// files above [`MAX_SPEC_BYTES`], others above [`MAX_DATA_BYTES`] are refused without reading

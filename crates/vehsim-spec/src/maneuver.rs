@@ -125,7 +125,7 @@ fn minus_three() -> f64 {
 /// ISO 3888-2 speed mode as written in specs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum SpeedModeSpec {
+pub(crate) enum SpeedModeSpec {
     Hold,
     Coast,
 }
@@ -152,7 +152,7 @@ fn default_ramp() -> f64 {
 /// `[maneuver]` with `kind = "iso3888_2"`: ISO 3888-2 severe lane change with the path-following driver.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Iso3888_2Spec {
+pub(crate) struct Iso3888_2Spec {
     /// Entry speed, m/s (> 0).
     pub speed_mps: f64,
     /// `hold` (PID all the way) or `coast` (throttle released at the entry gate).
@@ -175,7 +175,7 @@ pub struct Iso3888_2Spec {
 /// `[maneuver]` with `kind = "sine_steer"`: open-loop sine steer at a held speed (dissertation Fig. 6.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SineSteerSpec {
+pub(crate) struct SineSteerSpec {
     pub speed_mps: f64,
     /// Road-wheel amplitude, degrees.
     pub steer_amplitude_deg: f64,
@@ -190,7 +190,7 @@ pub struct SineSteerSpec {
 /// `[maneuver]` with `kind = "step_steer"`: open-loop ramped step steer at a held speed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StepSteerSpec {
+pub(crate) struct StepSteerSpec {
     pub speed_mps: f64,
     /// Road-wheel angle, degrees.
     pub steer_amplitude_deg: f64,
@@ -205,7 +205,7 @@ pub struct StepSteerSpec {
 /// `[maneuver]` with `kind = "straight"`: straight running following a speed schedule.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StraightSpec {
+pub(crate) struct StraightSpec {
     /// [[t_s, v_mps], ...], piecewise linear, held beyond the ends.
     pub speed_schedule: Vec<[f64; 2]>,
 }
@@ -213,7 +213,7 @@ pub struct StraightSpec {
 /// Turn direction as written in specs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum DirectionSpec {
+pub(crate) enum DirectionSpec {
     Left,
     Right,
 }
@@ -221,7 +221,7 @@ pub enum DirectionSpec {
 /// Constant-radius speed mode as written in specs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum RadiusSpeedModeSpec {
+pub(crate) enum RadiusSpeedModeSpec {
     /// One speed held by the PID (`speed_mps`).
     Hold,
     /// Speed raised in steps of nominal lateral acceleration (`ay_*` keys).
@@ -247,7 +247,7 @@ fn default_speed_ramp() -> f64 {
 /// `[maneuver]` with `kind = "constant_radius"`: steady-state circular driving (ISO 4138 method 1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ConstantRadiusSpec {
+pub(crate) struct ConstantRadiusSpec {
     /// Circle radius, m (> 0; ISO 4138 suggests 40 m or 100 m, among others).
     pub radius_m: f64,
     /// `left` (counter-clockwise, default) or `right`.
@@ -281,7 +281,7 @@ pub struct ConstantRadiusSpec {
 
 /// A parsed `[maneuver]` table.
 #[derive(Debug, Clone, PartialEq)]
-pub enum ManeuverSpec {
+pub(crate) enum ManeuverSpec {
     Iso3888_2(Iso3888_2Spec),
     SineSteer(SineSteerSpec),
     StepSteer(StepSteerSpec),
@@ -619,7 +619,7 @@ pub struct RunConfig {
 /// Fastest mode a run may have, 1/s: 100 times the sedan's on dry asphalt (250 1/s at 10 m/s).
 /// Above it the default step would be below 80 us and the run of an ordinary manoeuvre would take
 /// minutes; such a rate comes from a stiffness or inertia no car has.
-pub const MAX_RATE_PER_S: f64 = 25_000.0;
+pub(crate) const MAX_RATE_PER_S: f64 = 25_000.0;
 
 /// Division counts up to which [`fewest_stable_division`] tries every count in turn; above it the
 /// search bisects, assuming that a shorter step stays stable.
@@ -1124,7 +1124,7 @@ const LONGITUDINAL_MIN_DECEL: f64 = 0.05 * vehsim_core::vehicle::GRAVITY;
 /// `[maneuver]` with `kind = "braking"`: straight-line braking with the pedal at its stop.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BrakingSpec {
+pub(crate) struct BrakingSpec {
     /// Start speed, m/s.
     pub speed_mps: f64,
     /// End speed, m/s, below the start speed (default 0: standstill).
@@ -1142,7 +1142,7 @@ fn half_second() -> f64 {
 /// `[maneuver]` with `kind = "launch"`: from standstill at full throttle to a speed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct LaunchSpec {
+pub(crate) struct LaunchSpec {
     /// Target speed, m/s.
     pub speed_mps: f64,
 }
@@ -1289,7 +1289,7 @@ impl ManeuverFile {
 /// the brake applied (after ISO 7975; [`vehsim_core::maneuver::brake_in_turn`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BrakingInTurnSpec {
+pub(crate) struct BrakingInTurnSpec {
     /// Circle radius, m.
     pub radius_m: f64,
     /// `left` (default) or `right`.

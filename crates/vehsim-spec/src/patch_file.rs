@@ -84,7 +84,7 @@ pub struct ImageLayout {
 /// Largest decoded PNG pressure map, bytes (64 MiB: 4096 x 4096 RGBA). Scanned maps are a few
 /// hundred pixels a side; the header's size is checked before the frame buffer is allocated, so
 /// a short file claiming a huge image is an input error instead of an allocation failure.
-pub const MAX_PNG_DECODED_BYTES: usize = 64 << 20;
+pub(crate) const MAX_PNG_DECODED_BYTES: usize = 64 << 20;
 
 /// Decode an 8-bit RGB(A)/grey PNG into (width, height, RGB bytes).
 fn decode_png(file: &Path, bytes: &[u8]) -> Result<(u32, u32, Vec<[u8; 3]>)> {

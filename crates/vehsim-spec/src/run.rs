@@ -45,7 +45,7 @@ pub fn load(path: &Path) -> Result<RunConfig> {
 }
 
 /// Torque at the wheels that holds `speed` against drag and rolling resistance, N m.
-pub fn cruise_torque_nm(v: &Vehicle, speed: f64) -> f64 {
+pub(crate) fn cruise_torque_nm(v: &Vehicle, speed: f64) -> f64 {
     let f = 0.5 * AIR_DENSITY * v.drag_area_m2 * speed * speed + v.rolling_resistance * v.mass_kg * GRAVITY;
     f * v.tyre.rolling_radius_m
 }
@@ -141,13 +141,8 @@ pub fn execute_until(cfg: &RunConfig, stop: &dyn Fn() -> bool) -> (RunOutput, bo
     }
 }
 
-/// Simulate a validated run with a given model.
-pub fn execute_with<const N: usize, M: VehicleModel<N>>(model: &M, cfg: &RunConfig) -> RunOutput {
-    execute_with_stop(model, cfg, &|| false).0
-}
-
 /// [`execute_with`], asking `stop` after every step whether to stop early (see [`execute_until`]).
-pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
+pub(crate) fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
     model: &M,
     cfg: &RunConfig,
     stop: &dyn Fn() -> bool,
@@ -226,7 +221,7 @@ pub fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
 }
 
 /// The path tolerance of a run's manoeuvre, m (`None` for open-loop manoeuvres, which have no path).
-pub fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
+pub(crate) fn path_tolerance_m(cfg: &RunConfig) -> Option<f64> {
     match &cfg.maneuver {
         ManeuverConfig::ConstantRadius(p) => {
             Some(vehsim_core::maneuver::constant_radius::circle_tolerance_m(p.radius_m))

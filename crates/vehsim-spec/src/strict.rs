@@ -19,7 +19,7 @@ pub(crate) const MARK: &str = "expected a table";
 
 /// A `toml::Value` seen as a deserializer that gives a struct only a table.
 #[derive(Clone, Copy)]
-pub struct Strict<'a>(pub &'a toml::Value);
+pub(crate) struct Strict<'a>(pub &'a toml::Value);
 
 impl<'de> Deserializer<'de> for Strict<'_> {
     type Error = DeError;

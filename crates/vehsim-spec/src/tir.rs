@@ -22,10 +22,10 @@ use std::path::Path;
 use vehsim_core::error::{Error, Result};
 
 /// Property-file formats whose equations [`vehsim_core::tyre::pacejka`] implements (MF 5.2 family).
-pub const SUPPORTED_FORMATS: &[&str] = &["PAC2002", "MF_05"];
+pub(crate) const SUPPORTED_FORMATS: &[&str] = &["PAC2002", "MF_05"];
 
 /// Sections read as `KEY = value` lines.
-pub const KNOWN_SECTIONS: &[&str] = &[
+pub(crate) const KNOWN_SECTIONS: &[&str] = &[
     "MDI_HEADER",
     "UNITS",
     "MODEL",
@@ -49,7 +49,7 @@ pub const KNOWN_SECTIONS: &[&str] = &[
 ];
 
 /// Sections that hold tables (not `KEY = value`); their content is skipped without a warning.
-pub const TABLE_SECTIONS: &[&str] = &["SHAPE"];
+pub(crate) const TABLE_SECTIONS: &[&str] = &["SHAPE"];
 
 /// A value on the right of `=`.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,7 +91,7 @@ impl TirFile {
 
 /// Physical dimension of a dimensional `.tir` parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Dimension {
+pub(crate) enum Dimension {
     Length,
     Force,
     Angle,
@@ -105,7 +105,7 @@ pub enum Dimension {
 }
 
 /// The dimension of a known dimensional parameter; `None` for dimensionless ones.
-pub fn dimension_of(key: &str) -> Option<Dimension> {
+pub(crate) fn dimension_of(key: &str) -> Option<Dimension> {
     use Dimension::*;
     Some(match key {
         "UNLOADED_RADIUS" | "WIDTH" | "RIM_RADIUS" | "RIM_WIDTH" => Length,
@@ -122,7 +122,7 @@ pub fn dimension_of(key: &str) -> Option<Dimension> {
 /// The range of magnitudes (SI) a road-vehicle tyre's dimensional parameter has, with its unit and
 /// what it is: a value outside it almost certainly means `[UNITS]` that do not match the numbers
 /// (a radius of 0.338 read as millimetres). Parameters not listed are not checked.
-pub fn plausible_si(key: &str) -> Option<(f64, f64, &'static str, &'static str)> {
+pub(crate) fn plausible_si(key: &str) -> Option<(f64, f64, &'static str, &'static str)> {
     Some(match key {
         "UNLOADED_RADIUS" => (0.1, 2.0, "m", "a tyre's unloaded radius"),
         "RIM_RADIUS" => (0.05, 1.5, "m", "a rim radius"),
@@ -206,7 +206,7 @@ fn unit_factor(key: &str, name: &str) -> std::result::Result<f64, &'static str> 
 }
 
 /// Read and parse a `.tir` file.
-pub fn read_tir(path: &Path) -> Result<TirFile> {
+pub(crate) fn read_tir(path: &Path) -> Result<TirFile> {
     let text = crate::files::read_input(path)?;
     parse_tir(path, &text)
 }

@@ -652,10 +652,10 @@ impl TyreFileSpec {
 
 /// Largest slip stiffness (cornering N/rad, longitudinal N per unit slip) at the nominal load:
 /// ten times a heavy lorry tyre's (passenger tyres 50-150 kN, lorry tyres up to about 500 kN).
-pub const MAX_STIFFNESS_N: f64 = 5e6;
+pub(crate) const MAX_STIFFNESS_N: f64 = 5e6;
 
 /// Largest nominal load of one tyre, N (a lorry tyre carries up to about 40 kN).
-pub const MAX_NOMINAL_LOAD_N: f64 = 100_000.0;
+pub(crate) const MAX_NOMINAL_LOAD_N: f64 = 100_000.0;
 
 /// Error for a provider whose section is absent from the tyre file.
 pub fn missing(path: &Path, section: &str) -> Error {
@@ -670,7 +670,7 @@ pub fn missing(path: &Path, section: &str) -> Error {
 /// The ranges declared by the `.tir` file of the tyre file `tyre_file`'s `[pacejka]` section
 /// (none for a tyre without one). The files were validated when the vehicle was built; a
 /// file that cannot be read here declares nothing.
-pub fn declared_ranges(tyre_file: &Path) -> TyreRanges {
+pub(crate) fn declared_ranges(tyre_file: &Path) -> TyreRanges {
     let Ok(spec) = crate::tyre::TyreFileSpec::load(tyre_file) else { return TyreRanges::default() };
     let Some(tir) = spec.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()) else { return TyreRanges::default() };
     let Ok(f) = crate::tir::read_tir(&crate::files::resolve(tyre_file, tir)) else {

@@ -100,7 +100,8 @@ impl Axis {
 
 /// Slip fraction sigma = v_slide / (v_roll + v_slide), in (0, 1]; 1 for v_roll = v_slide = 0.
 #[inline]
-pub fn slip_fraction(vs_mps: f64, vr_mps: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn slip_fraction(vs_mps: f64, vr_mps: f64) -> f64 {
     let d = vr_mps.max(0.0) + vs_mps.max(0.0);
     if d > 0.0 {
         vs_mps.max(0.0) / d
@@ -233,7 +234,7 @@ pub struct TyreBuild {
 /// ln(S / R0) for w = ln(dtm / R0), where S = R0 dtm / (R0 + dtm) is a smooth stand-in for the
 /// melting cap min(R0, dtm): w - ln(1 + e^w), computed without overflow.
 #[inline]
-pub fn soft_cap(w: f64) -> f64 {
+pub(crate) fn soft_cap(w: f64) -> f64 {
     if w > 0.0 {
         -(-w).exp().ln_1p()
     } else {
@@ -250,7 +251,7 @@ pub const REFERENCE_GRID: (usize, usize) = (64, 48);
 const DRY_ICE_C: f64 = -1e6;
 
 /// Coldest temperature the dry friction law distinguishes (its clamp), degC.
-pub const DRY_LAW_COLD_C: f64 = crate::tyre::friction::COLD_PLATEAU_C;
+pub(crate) const DRY_LAW_COLD_C: f64 = crate::tyre::friction::COLD_PLATEAU_C;
 
 /// ln of the dry law's temperature factor relative to [`DRY_LAW_COLD_C`]:
 /// -c_T (clamp(T, T_cold, 0) - T_cold).
@@ -732,7 +733,7 @@ impl AtiimEstimator {
 
 /// Largest number of condition evaluations of one coupled update ([`AtiimEstimator`]'s
 /// `update_coupled`).
-pub const COUPLED_MAX_EVALS: usize = 16;
+pub(crate) const COUPLED_MAX_EVALS: usize = 16;
 /// Residual |T - G(T)| at which the coupled update over a 10 ms period ([`COUPLED_TOL_PERIOD_S`])
 /// or longer stops, K (0.3 N of friction force where the force falls by 300 N per K of contact
 /// temperature, as near melting on the sedan); shorter periods stop at a tolerance shrinking
@@ -742,14 +743,14 @@ pub const COUPLED_MAX_EVALS: usize = 16;
 /// scaled so, the estimate's share of the error stays a fixed fraction of the sampled loop's own,
 /// which is second order in the period. Chosen by measurement on the ISO 3888-2 lane change on
 /// ice (`tests/accuracy.rs`).
-pub const COUPLED_TOL_K: f64 = 1e-3;
+pub(crate) const COUPLED_TOL_K: f64 = 1e-3;
 /// The control period at and above which [`COUPLED_TOL_K`] applies, s.
-pub const COUPLED_TOL_PERIOD_S: f64 = 0.01;
+pub(crate) const COUPLED_TOL_PERIOD_S: f64 = 0.01;
 
 /// The coupled update's tolerance over a period of `h_s` seconds, K: [`COUPLED_TOL_K`] times
 /// (h / [`COUPLED_TOL_PERIOD_S`])^2, at most [`COUPLED_TOL_K`] and at least 1e-9 K (so the first
 /// sample, which advances over no time, solves to 1e-9 K).
-pub fn coupled_tol_k(h_s: f64) -> f64 {
+pub(crate) fn coupled_tol_k(h_s: f64) -> f64 {
     let q = h_s / COUPLED_TOL_PERIOD_S;
     let t = COUPLED_TOL_K * q * q;
     if t.is_finite() {

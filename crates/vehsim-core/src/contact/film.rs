@@ -150,7 +150,7 @@ pub fn advance(h0_m: f64, dt_s: f64, substeps: usize, k: &FilmCoeffs) -> FilmSte
 /// Result of advancing a wet pixel's film under the friction law [`crate::tyre::friction::WetFilm`] (energies per unit
 /// area over the interval, J/m^2).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct WetStep {
+pub(crate) struct WetStep {
     /// Film height at the end, m (>= 0).
     pub h_end_m: f64,
     /// Frictional heat generated, integral of q(h) dt.
@@ -178,7 +178,7 @@ pub struct WetStep {
 /// root h >= 0 (the residual is strictly increasing in h), found by a bracketed Newton iteration.
 /// The energy balance friction + extra = conducted + rho L (h_end - h0 + squeezed) holds to the
 /// solver tolerance by construction.
-pub fn advance_wet(
+pub(crate) fn advance_wet(
     h0_m: f64,
     dt_s: f64,
     substeps: usize,

@@ -22,22 +22,20 @@
 //! The lateral (nearest-neighbour) contribution of assumption 6/12 is not included: its range,
 //! sqrt(a_ice t) ~ 0.1 mm at t = 10 ms, is far below a pixel width (1–5 mm).
 
-use std::f64::consts::PI;
-
 /// Duhamel weights `w[m] = sqrt(m + 1) - sqrt(m)`, m = 0..n (dimensionless; multiply by sqrt(dt)).
-pub fn duhamel_weights(n: usize) -> Vec<f64> {
+pub(crate) fn duhamel_weights(n: usize) -> Vec<f64> {
     (0..n).map(|m| ((m + 1) as f64).sqrt() - (m as f64).sqrt()).collect()
 }
 
 /// Centre weights: contribution of pixel k to the rise at the centre of pixel i = k + m:
 /// `c[0] = sqrt(1/2)`, `c[m] = sqrt(m + 1/2) - sqrt(m - 1/2)`.
-pub fn centre_weights(n: usize) -> Vec<f64> {
+pub(crate) fn centre_weights(n: usize) -> Vec<f64> {
     (0..n).map(|m| if m == 0 { 0.5f64.sqrt() } else { (m as f64 + 0.5).sqrt() - (m as f64 - 0.5).sqrt() }).collect()
 }
 
 /// Effective effusivity of the tread + ice pair, W s^0.5/(m^2 K):
 /// e_ice + e_tread sqrt(t_ice / t_tread). `t_ice_s`, `t_tread_s` > 0 (equal when rolling).
-pub fn effective_effusivity(e_tread: f64, e_ice: f64, t_ice_s: f64, t_tread_s: f64) -> f64 {
+pub(crate) fn effective_effusivity(e_tread: f64, e_ice: f64, t_ice_s: f64, t_tread_s: f64) -> f64 {
     let r = if t_tread_s > 0.0 && t_ice_s > 0.0 { (t_ice_s / t_tread_s).sqrt() } else { 1.0 };
     e_ice + e_tread * r
 }
@@ -47,25 +45,6 @@ pub fn effective_effusivity(e_tread: f64, e_ice: f64, t_ice_s: f64, t_tread_s: f
 pub fn tread_fraction(e_tread: f64, e_ice: f64, t_ice_s: f64, t_tread_s: f64) -> f64 {
     let e = effective_effusivity(e_tread, e_ice, t_ice_s, t_tread_s);
     (e - e_ice) / e
-}
-
-/// Closed form for a uniform flux `q_w_m2` applied for `t_s`: 2 q sqrt(t / pi) / e_eff, K.
-pub fn uniform_flux_rise(q_w_m2: f64, t_s: f64, e_eff: f64) -> f64 {
-    2.0 * q_w_m2 * (t_s.max(0.0) / PI).sqrt() / e_eff
-}
-
-/// Temperature rise at pixel centres along one track for piecewise-constant interface fluxes `q`
-/// (W/m^2, one per pixel, first = leading edge), pixel duration `dt_s`, constant `e_eff`.
-/// Writes K into `out` (same length as `q`). O(n^2); `w` = [`centre_weights`] of length >= n.
-pub fn rise_along_track(q: &[f64], dt_s: f64, e_eff: f64, w: &[f64], out: &mut [f64]) {
-    let scale = 2.0 * dt_s.max(0.0).sqrt() / (e_eff * PI.sqrt());
-    for i in 0..q.len().min(out.len()) {
-        let mut s = 0.0;
-        for k in 0..=i {
-            s += q[k] * w[i - k];
-        }
-        out[i] = scale * s;
-    }
 }
 
 #[cfg(test)]

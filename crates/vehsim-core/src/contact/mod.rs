@@ -70,7 +70,7 @@ pub trait ContactTemperature: Send {
 /// temperatures `guess` (when `c` reads them), then [`ContactTemperature::update`]. The default
 /// [`ContactTemperature::update_coupled`]; the ATIIM estimator's for more tyres than it solves
 /// jointly.
-pub fn update_at_guess<C: ContactTemperature + ?Sized>(
+pub(crate) fn update_at_guess<C: ContactTemperature + ?Sized>(
     c: &mut C,
     h: f64,
     guess: &[f64],

@@ -45,7 +45,7 @@ use crate::tyre::friction::{beta_from_critical_height, IceFriction, WetFilm};
 use std::f64::consts::PI;
 
 /// Reference inflation pressure of the in-patch carcass stiffness, Pa (the SRTT's 35 psi).
-pub const CARCASS_REF_INFLATION_PA: f64 = 241.3e3;
+pub(crate) const CARCASS_REF_INFLATION_PA: f64 = 241.3e3;
 
 /// Parameters of the patch model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -237,11 +237,11 @@ pub struct PatchResult {
 
 /// Length over which the leading-edge viscous friction is averaged, m (from each track's first
 /// wet point).
-pub const LEADING_AVERAGE_M: f64 = 0.01;
+pub(crate) const LEADING_AVERAGE_M: f64 = 0.01;
 
 /// Length over which the trailing-edge viscous friction and film height are averaged, m (the
 /// last part of each track's loaded length).
-pub const TRAILING_AVERAGE_M: f64 = 0.02;
+pub(crate) const TRAILING_AVERAGE_M: f64 = 0.02;
 
 /// Patch maxima and averages.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -524,7 +524,7 @@ fn summarize(grid: &PressureGrid, r: &mut PatchResult) {
 /// Viscous friction (eq. 4.13, pressure-weighted) and film height over the wet part of the last
 /// `len_m` of each track's loaded length (partial pixels weighted by their overlap); (0, 0) if
 /// nothing there is wet.
-pub fn trailing_average(grid: &PressureGrid, r: &PatchResult, len_m: f64) -> (f64, f64) {
+pub(crate) fn trailing_average(grid: &PressureGrid, r: &PatchResult, len_m: f64) -> (f64, f64) {
     let (rows, cols) = (r.rows, r.cols);
     let (mut mu_t, mut mu_p, mut film_t, mut film_n) = (0.0, 0.0, 0.0, 0.0);
     for c in 0..cols {
@@ -576,7 +576,7 @@ pub fn drawbar_curve(
 /// contact time `t_s`: min(1, sqrt(a_tread t) / tread depth) (heat generated uniformly through
 /// the tread depth; only the layer within the thermal penetration depth conducts to the surface
 /// while in contact).
-pub fn rolling_heat_share(compound: &Compound, tread_depth_m: f64, t_s: f64) -> f64 {
+pub(crate) fn rolling_heat_share(compound: &Compound, tread_depth_m: f64, t_s: f64) -> f64 {
     ((compound.solid.diffusivity_m2_s() * t_s.max(0.0)).sqrt() / tread_depth_m.max(1e-4)).min(1.0)
 }
 

@@ -252,7 +252,7 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
 /// +-0.9, then rescaled to the same load. Assumption (no measured map under slip angle is
 /// available): under a slip angle the carcass is pushed sideways and loads the shoulder toward
 /// which the wheel slides; 2.0 gives +-7 % across the patch at 2 degrees.
-pub const SLIP_ANGLE_TILT: f64 = 2.0;
+pub(crate) const SLIP_ANGLE_TILT: f64 = 2.0;
 
 /// Tilt `grid` for slip angle `alpha_rad` (positive: the wheel slides toward +y, the pressure
 /// rises there); the load is unchanged. No-op for alpha = 0 or a single column.

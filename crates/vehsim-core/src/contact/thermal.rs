@@ -97,7 +97,7 @@ impl Compound {
 /// Shore A hardness of the dissertation's tyres (Table 3.4, average of tread block, sidewall and
 /// shoulder) at 19.9, -3 and -10 degC. Tire A is the SRTT P225/60R16; B the Pirelli P235/55R19
 /// all-season; D a 215/60R16 winter tyre; E a 215/60R16 directional all-season.
-pub const TABLE_3_4: [(&str, [f64; 3]); 4] =
+pub(crate) const TABLE_3_4: [(&str, [f64; 3]); 4] =
     [("A", [64.7, 67.3, 69.3]), ("B", [66.3, 66.2, 68.2]), ("D", [56.5, 52.0, 52.3]), ("E", [68.2, 68.5, 68.3])];
 
 /// Preset names accepted by [`preset_shore_a`].

@@ -31,7 +31,8 @@ use std::f64::consts::PI;
 pub const SRTT_ROLLING_RADIUS_M: f64 = 0.328;
 
 /// The lumped tread band of one rig run.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TreadBulk {
     /// Heat capacity of the band's rubber, J/K.
     pub heat_capacity_j_k: f64,

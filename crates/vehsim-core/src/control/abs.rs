@@ -66,7 +66,7 @@ pub enum Phase {
 
 /// ABS state: per wheel the pressure fraction and the phase of the last sample.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Abs {
+pub(crate) struct Abs {
     pub params: AbsParams,
     pub pressure: [f64; 4],
     pub phase: [Phase; 4],

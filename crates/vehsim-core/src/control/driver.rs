@@ -111,7 +111,7 @@ impl Driver {
 }
 
 /// Move `current` toward `target` by at most `rate_max * h`, then clamp to +-`lock`.
-pub fn limit_steer(current: f64, target: f64, lock: f64, rate_max: f64, h: f64) -> f64 {
+pub(crate) fn limit_steer(current: f64, target: f64, lock: f64, rate_max: f64, h: f64) -> f64 {
     let target = target.clamp(-lock, lock);
     let step = rate_max * h;
     (current + (target - current).clamp(-step, step)).clamp(-lock, lock)
@@ -125,7 +125,7 @@ pub fn limit_steer(current: f64, target: f64, lock: f64, rate_max: f64, h: f64) 
 /// moves slower than the limit. (The sampled limiter, which moves the steer by at most `rate h`
 /// toward the clamped `c1`, leaves the lock up to a period early when the command crosses it
 /// within the period: an error first order in the period.)
-pub fn rate_limited_steer(y0: f64, c0: f64, c1: f64, lock: f64, rate: f64, h: f64) -> f64 {
+pub(crate) fn rate_limited_steer(y0: f64, c0: f64, c1: f64, lock: f64, rate: f64, h: f64) -> f64 {
     let lock = lock.abs();
     let mut y = y0.clamp(-lock, lock);
     if !(h > 0.0 && rate >= 0.0 && c0.is_finite() && c1.is_finite()) {

@@ -43,7 +43,7 @@ impl Default for TcsParams {
 
 /// TCS state: the cap on the total drive torque, N m.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Tcs {
+pub(crate) struct Tcs {
     pub params: TcsParams,
     /// Largest drive torque of the vehicle, N m (the scale of the rates).
     pub torque_max_nm: f64,

@@ -80,7 +80,7 @@ pub fn layout(w: f64, lane5_min: f64) -> [Gate; 3] {
 }
 
 /// Course length from the entry gate to the exit gate, m.
-pub const COURSE_LENGTH_M: f64 = 61.0;
+pub(crate) const COURSE_LENGTH_M: f64 = 61.0;
 
 /// Parameters of the manoeuvre (validated by the spec layer).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,10 +160,10 @@ impl Transition {
 }
 
 /// The body's four corners on the ground, (x, y) in m in the ground frame.
-pub type Corners = [(f64, f64); 4];
+pub(crate) type Corners = [(f64, f64); 4];
 
 /// Body corners in the ground frame: front-left, front-right, rear-left, rear-right.
-pub fn body_corners(body: &Body, kin: &Kinematics) -> Corners {
+pub(crate) fn body_corners(body: &Body, kin: &Kinematics) -> Corners {
     let (f, r, hw) = (body.front_m, body.rear_m, 0.5 * body.width_m);
     let (s, c) = kin.yaw_rad.sin_cos();
     let at = |px: f64, py: f64| (kin.x_m + px * c - py * s, kin.y_m + px * s + py * c);
@@ -223,7 +223,7 @@ fn best_transition(a: &Gate, b: &Gate, from: &[f64], to: &[f64], body: &Body, cl
 /// of their peak curvatures; falls back to centre-to-centre transitions across the gaps when no
 /// candidate clears (a vehicle too large for its own lanes cannot occur with W-scaled lanes, but the
 /// fallback keeps the manoeuvre defined).
-pub fn design_path(gates: &[Gate; 3], body: &Body, clearance: f64) -> (Transition, Transition) {
+pub(crate) fn design_path(gates: &[Gate; 3], body: &Body, clearance: f64) -> (Transition, Transition) {
     // The design depends only on the gates, the body and the clearance; batches repeat it with the
     // same inputs, so it is memoised (the result is the same whether computed or cached).
     type Key = [u64; 6];

@@ -26,7 +26,7 @@ use crate::event::Event;
 use crate::vehicle::Kinematics;
 
 /// Speed that counts as standstill for a stop, m/s.
-pub const STOP_SPEED_MPS: f64 = 0.1;
+pub(crate) const STOP_SPEED_MPS: f64 = 0.1;
 
 /// Braking parameters (validated by the spec layer).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -70,9 +70,9 @@ use crate::maneuver::Maneuver;
 use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
-pub const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
+pub(crate) const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
 /// Speed below which sideslip is not judged, m/s.
-pub const SPIN_OUT_MIN_SPEED_MPS: f64 = 1.0;
+pub(crate) const SPIN_OUT_MIN_SPEED_MPS: f64 = 1.0;
 
 /// Time-stepping settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -796,7 +796,7 @@ pub fn simulate<const N: usize, M: VehicleModel<N>>(
 
 /// [`simulate`] with the slip controllers `slip` (ABS, traction control).
 #[allow(clippy::too_many_arguments)]
-pub fn simulate_with_slip_control<const N: usize, M: VehicleModel<N>>(
+pub(crate) fn simulate_with_slip_control<const N: usize, M: VehicleModel<N>>(
     model: &M,
     env: Environment,
     maneuver: &mut dyn Maneuver,

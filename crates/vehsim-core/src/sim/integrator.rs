@@ -85,7 +85,7 @@ pub fn rk4_step_t<const N: usize>(
 /// [`rk4_step_t`] with the first stage k1 = f(t, x) already evaluated (the engine takes the
 /// output row from that evaluation).
 #[inline]
-pub fn rk4_step_k1<const N: usize>(
+pub(crate) fn rk4_step_k1<const N: usize>(
     f: impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
     t: f64,
     x: &SVector<f64, N>,
@@ -138,7 +138,7 @@ pub fn rk4_lag_step<const N: usize, const L: usize>(
 }
 
 /// [`rk4_lag_step`] with the first stage `body(x0, 0)` already evaluated.
-pub fn rk4_lag_step_k1<const N: usize, const L: usize>(
+pub(crate) fn rk4_lag_step_k1<const N: usize, const L: usize>(
     body: impl Fn(&SVector<f64, N>, f64) -> (SVector<f64, N>, [f64; L]),
     x0: &SVector<f64, N>,
     h: f64,
@@ -174,7 +174,7 @@ pub fn rk4_lag_step_k1<const N: usize, const L: usize>(
 /// A 2 x 2 block of the state, components (`i`, `j`), integrated exactly over a step: its linear
 /// part L (row-major, 1/s) and the propagators exp(h L / 2) and exp(h L).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ExpPair {
+pub(crate) struct ExpPair {
     pub i: usize,
     pub j: usize,
     pub l: [[f64; 2]; 2],
@@ -200,7 +200,7 @@ impl ExpPair {
 /// exp(A) = e^m (c I + s (A - m I)), where c = cosh(sqrt q), s = sinh(sqrt q) / sqrt q for q > 0,
 /// c = cos(sqrt -q), s = sin(sqrt -q) / sqrt -q for q < 0 (a complex pair), and their series
 /// near q = 0 (|q| < 1e-6, truncated after q^2: relative error below 1e-19).
-pub fn expm2(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+pub(crate) fn expm2(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
     let m = 0.5 * (a[0][0] + a[1][1]);
     let q = m * m - (a[0][0] * a[1][1] - a[0][1] * a[1][0]);
     let (c, s) = if q.abs() < 1e-6 {
@@ -244,7 +244,7 @@ fn propagate<const N: usize>(pairs: &[ExpPair], v: &SVector<f64, N>, full: bool)
 ///
 /// with E_1/2 = exp(h L / 2), E_1 = exp(h L) on the pairs and the identity elsewhere: without
 /// pairs it is exactly [`rk4_step_t`].
-pub fn rk4_exp_step_t<const N: usize>(
+pub(crate) fn rk4_exp_step_t<const N: usize>(
     f: impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
     t: f64,
     x: &SVector<f64, N>,
@@ -298,7 +298,7 @@ pub fn step<const N: usize>(
 }
 
 /// Advance `x` from time `t` by `h` with `method`; an error names why the adaptive solver gave up.
-pub fn step_t<const N: usize>(
+pub(crate) fn step_t<const N: usize>(
     method: Method,
     f: impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
     t: f64,

@@ -38,9 +38,9 @@ use crate::vehicle::Environment;
 use crate::vehicle::GRAVITY;
 
 /// Largest plausible |F| / (mu Fz) of an axle.
-pub const FORCE_RATIO_LIMIT: f64 = 1.05;
+pub(crate) const FORCE_RATIO_LIMIT: f64 = 1.05;
 /// Largest plausible |a_y| / (mu_eff g).
-pub const AY_RATIO_LIMIT: f64 = 1.05;
+pub(crate) const AY_RATIO_LIMIT: f64 = 1.05;
 
 /// The three row checks, in the order of [`CHECKS`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

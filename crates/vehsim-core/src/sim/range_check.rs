@@ -32,7 +32,7 @@ struct Track {
 
 /// The range checker of one run.
 #[derive(Debug, Clone)]
-pub struct RangeCheck {
+pub(crate) struct RangeCheck {
     ranges: TyreRanges,
     tracks: [Track; 3],
     events: Vec<Event>,

@@ -40,7 +40,7 @@ impl<T: Copy> Ramp<T> {
 
 /// The controllers' state in a run.
 #[derive(Debug, Clone)]
-pub struct SlipControl {
+pub(crate) struct SlipControl {
     abs: Option<(Abs, u64, Ramp<[f64; 4]>)>,
     tcs: Option<(Tcs, u64, Ramp<f64>)>,
     /// The wheels' largest brake torques, N m (from the last sample's sensors).

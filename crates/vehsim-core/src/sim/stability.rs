@@ -33,8 +33,6 @@ const SCHUR_MAX_ITER: usize = 10_000;
 /// Factor by which the default exponential RK4 step must stay stable when lengthened.
 pub const EXP_MARGIN: f64 = 1.3;
 
-/// Where RK4's stability region meets the negative real axis: h lambda = -2.785.
-pub const RK4_REAL_BOUND: f64 = 2.785;
 /// h |lambda| of the default step.
 pub const DEFAULT_H_LAMBDA: f64 = 2.0;
 /// Default controller sample period, s, for every model, provider and contact estimate. The

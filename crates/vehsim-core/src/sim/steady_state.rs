@@ -23,11 +23,11 @@ use crate::sim::Row;
 use crate::vehicle::GRAVITY;
 
 /// Speed error a steady window allows: the larger of this (m/s) and the fraction of the target.
-pub const SPEED_TOL_MPS: f64 = 0.2;
-pub const SPEED_TOL_FRACTION: f64 = 0.03;
+pub(crate) const SPEED_TOL_MPS: f64 = 0.2;
+pub(crate) const SPEED_TOL_FRACTION: f64 = 0.03;
 /// Spread of a_y a steady window allows: the larger of this (m/s^2) and the fraction of |nominal a_y|.
-pub const AY_RANGE_TOL_MPS2: f64 = 0.1;
-pub const AY_RANGE_TOL_FRACTION: f64 = 0.1;
+pub(crate) const AY_RANGE_TOL_MPS2: f64 = 0.1;
+pub(crate) const AY_RANGE_TOL_FRACTION: f64 = 0.1;
 
 /// Means of one steady-state window (signed quantities: left turns positive).
 #[derive(Debug, Clone, PartialEq)]
@@ -176,7 +176,7 @@ pub fn steady_states(windows: &[SteadyWindow], rows: &[Row], path_tol_m: Option<
 
 /// Set `steady` and `not_steady` of a window from the criteria in the module docs; the run's last
 /// recorded row is at `t_last`.
-pub fn judge(q: &mut SteadyState, t_last: f64, path_tol_m: Option<f64>) {
+pub(crate) fn judge(q: &mut SteadyState, t_last: f64, path_tol_m: Option<f64>) {
     let mut why = Vec::new();
     if t_last < q.t1_s - 1e-9 {
         why.push(format!("the run ended at t = {t_last:.2} s, before the window's end at {:.2} s", q.t1_s));

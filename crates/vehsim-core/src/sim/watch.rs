@@ -17,11 +17,11 @@ use crate::event::{Event, EventKind};
 use crate::vehicle::{Condition, Environment, Inputs, VehicleModel};
 
 /// Onsets reported per condition and run before its changes are suppressed.
-pub const MAX_ONSETS: u32 = 20;
+pub(crate) const MAX_ONSETS: u32 = 20;
 
 /// Previous activity of each condition (by position in the model's list).
 #[derive(Debug, Default)]
-pub struct Watch {
+pub(crate) struct Watch {
     buf: Vec<Condition>,
     active: Vec<bool>,
     onsets: Vec<u32>,

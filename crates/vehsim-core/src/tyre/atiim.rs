@@ -39,7 +39,7 @@ use super::{TyreForces, TyreInput, TyreModel};
 
 /// Smallest melting margin used in the law, K: ice at -0.1 degC or warmer (and a non-ice surface)
 /// reaches the full effect at a 0.1 K rise; keeps the law finite and continuous at 0 degC.
-pub const MIN_MARGIN_K: f64 = 0.1;
+pub(crate) const MIN_MARGIN_K: f64 = 0.1;
 
 /// The shift factor k_shift(Delta-T) = a Delta-T^2 + b.
 #[derive(Debug, Clone, Copy, PartialEq)]

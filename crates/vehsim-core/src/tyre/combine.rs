@@ -26,7 +26,7 @@ use super::fastmath;
 /// so the value returned is exactly `x.powf(p)` whether it hits or not (keys compare bit patterns;
 /// the initial entries hold the true value 1^1 = 1). Per thread, so batch workers share nothing.
 #[inline]
-pub fn powf_memo(x: f64, p: f64) -> f64 {
+pub(crate) fn powf_memo(x: f64, p: f64) -> f64 {
     use std::cell::Cell;
     const ONE: u64 = 0x3ff0_0000_0000_0000; // 1.0f64.to_bits()
     thread_local! {
@@ -54,7 +54,7 @@ pub fn powf_memo(x: f64, p: f64) -> f64 {
 /// Magic Formula sine curve y = D sin(C atan(B x - E (B x - atan(B x)))) (the arctangents and
 /// the sine by [`fastmath`], a polynomial kernel within an ulp or two of the library's).
 #[inline]
-pub fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
+pub(crate) fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     // E = 0 is common; skipping the inner atan then is exact.
     let phi = if e == 0.0 { bx } else { bx - e * (bx - fastmath::atan(bx)) };
@@ -64,7 +64,7 @@ pub fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
 /// cos(C atan(B x - E (B x - atan(B x)))), the Magic Formula weighting shape. With C = 1 it is
 /// evaluated exactly as 1 / sqrt(1 + phi^2).
 #[inline]
-pub fn mf_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
+pub(crate) fn mf_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     let phi = if e == 0.0 { bx } else { bx - e * (bx - fastmath::atan(bx)) };
     if c == 1.0 {
@@ -75,7 +75,7 @@ pub fn mf_cos(b: f64, c: f64, e: f64, x: f64) -> f64 {
 }
 
 /// dy/dx of [`mf_sin`] at `x` (E held fixed).
-pub fn mf_sin_slope(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
+pub(crate) fn mf_sin_slope(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     let phi = bx - e * (bx - fastmath::atan(bx));
     let dphi = b - e * (b - b / (1.0 + bx * bx));
@@ -102,7 +102,7 @@ pub fn normalised(sx: f64, sy: f64) -> (f64, f64, f64) {
 
 /// +1 for x >= 0, -1 otherwise (a sign that is never 0, used to carry the slip direction).
 #[inline]
-pub fn sgn(x: f64) -> f64 {
+pub(crate) fn sgn(x: f64) -> f64 {
     if x < 0.0 {
         -1.0
     } else {

@@ -237,7 +237,7 @@ const LN_TABLE: [(f64, f64); LN_CELLS] = {
 /// ln(1 + r) with r = m / c - 1 in [0, 2^-8), by its series to r^5 (truncation below 2^-48 / 6).
 /// Non-positive, subnormal or non-finite x fall back to `f64::ln`.
 #[inline]
-pub fn fast_ln(x: f64) -> f64 {
+pub(crate) fn fast_ln(x: f64) -> f64 {
     if !(x.is_normal() && x > 0.0) {
         return x.ln();
     }

@@ -17,7 +17,7 @@
 /// holds 0.16-0.20, i.e. the rise with cold levels off). Assumption: -12 degC, so that with
 /// c_T = 0.028 /K the plateau is 6 % above the -10 degC value (0.157 -> 0.166 on the rig's ice,
 /// inside 0.16-0.20).
-pub const COLD_PLATEAU_C: f64 = -12.0;
+pub(crate) const COLD_PLATEAU_C: f64 = -12.0;
 
 /// The rubber-ice friction law of vehsim: mu(T, v_slide, p), one function used by the contact
 /// patch (every dry pixel, and the dry limit of every wet one) and by the car's Magic Formula tyre
@@ -216,7 +216,7 @@ impl IceFriction {
 /// the viscous friction. q is therefore bounded (<= mu_d p v) and non-increasing in h, so the
 /// film ODE has a unique implicit step (see `film::advance_wet`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WetFilm {
+pub(crate) struct WetFilm {
     /// p v, W/m^2 per unit friction.
     pub pv: f64,
     /// Dry friction at 0 degC.
@@ -256,7 +256,8 @@ impl WetFilm {
 /// time-average of 1/h over a pixel (`inv_h_mean`, 1/m) so that the h -> 0 onset stays integrable.
 /// `kappa` 0–1, `eta_pa_s` water viscosity, `v_mps` sliding speed >= 0, `p_pa` > 0.
 /// Returns 0 if p <= 0.
-pub fn viscous_mu(kappa: f64, eta_pa_s: f64, v_mps: f64, p_pa: f64, inv_h_mean: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn viscous_mu(kappa: f64, eta_pa_s: f64, v_mps: f64, p_pa: f64, inv_h_mean: f64) -> f64 {
     if p_pa > 0.0 && inv_h_mean.is_finite() {
         kappa * eta_pa_s * v_mps.abs() * inv_h_mean / p_pa
     } else {
@@ -267,30 +268,27 @@ pub fn viscous_mu(kappa: f64, eta_pa_s: f64, v_mps: f64, p_pa: f64, inv_h_mean: 
 /// Friction versus film height (eq. 2.1, Kulakowski & Harwood): mu = dmu exp(-beta h) + mu_f, with
 /// dmu = mu_dry - mu_f so that mu(0) = mu_dry. `beta_per_m` from the critical height h_c at which
 /// the excess friction has dropped to 25 %: beta = ln 4 / h_c (see [`beta_from_critical_height`]).
-pub fn film_mu(mu_dry: f64, mu_f: f64, beta_per_m: f64, h_m: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn film_mu(mu_dry: f64, mu_f: f64, beta_per_m: f64, h_m: f64) -> f64 {
     (mu_dry - mu_f) * (-beta_per_m * h_m.max(0.0)).exp() + mu_f
 }
 
 /// beta = ln 4 / h_c, 1/m. `h_c_m` > 0 (tens of nm to a few µm).
-pub fn beta_from_critical_height(h_c_m: f64) -> f64 {
+pub(crate) fn beta_from_critical_height(h_c_m: f64) -> f64 {
     4f64.ln() / h_c_m.max(1e-12)
-}
-
-/// Shear stress of an adhering tread element, Pa: stiffness (Pa/m) x slip x distance from the
-/// leading edge (brush model: deflection grows linearly through the adhesion zone).
-pub fn brush_stress_pa(stiffness_pa_per_m: f64, slip: f64, xi_m: f64) -> f64 {
-    stiffness_pa_per_m * slip.abs() * xi_m.max(0.0)
 }
 
 /// Sliding power under severe slip (eq. 2.12 / 4.15), W: (sin^2 alpha + s^2)^0.5 mu_d V F_z.
 /// `alpha_rad` slip angle, `s` slip ratio magnitude (1 = locked), `mu_d` sliding friction,
 /// `v_mps` travel speed, `fz_n` load.
-pub fn sliding_power_w(alpha_rad: f64, s: f64, mu_d: f64, v_mps: f64, fz_n: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn sliding_power_w(alpha_rad: f64, s: f64, mu_d: f64, v_mps: f64, fz_n: f64) -> f64 {
     severe_slip_factor(alpha_rad, s) * mu_d * v_mps.abs() * fz_n
 }
 
 /// (sin^2 alpha + s^2)^0.5: the sliding speed over the travel speed implied by eq. 2.12.
-pub fn severe_slip_factor(alpha_rad: f64, s: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn severe_slip_factor(alpha_rad: f64, s: f64) -> f64 {
     (alpha_rad.sin().powi(2) + s * s).sqrt()
 }
 

@@ -73,7 +73,7 @@ fn exp_near_zero(a: f64) -> f64 {
 pub const DEFAULT_REFERENCE_C: f64 = -3.0;
 
 /// Reference sliding speed of a surface's `mu`, m/s (see the module docs).
-pub const REFERENCE_SLIDING_MPS: f64 = 1.0;
+pub(crate) const REFERENCE_SLIDING_MPS: f64 = 1.0;
 
 /// The law as the car's tyre uses it: ratios to the reference conditions.
 #[derive(Debug, Clone, PartialEq)]
@@ -206,7 +206,7 @@ enum Base {
 /// A Magic Formula tyre on ice whose friction follows [`SurfaceFriction`] (see the module docs).
 /// Its name is the base provider's, so outputs are labelled as before.
 #[derive(Debug, Clone, PartialEq)]
-pub struct IceSurfaceTyre {
+pub(crate) struct IceSurfaceTyre {
     base: Base,
     surface: SurfaceFriction,
     temp: TempFactors,

@@ -35,8 +35,7 @@
 use nalgebra::SVector;
 
 use super::wheel::{
-    kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
-    V_LOW,
+    relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
 use super::{lateral, single_track, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
@@ -508,13 +507,4 @@ impl VehicleModel<N> for Bicycle {
 /// The drive shares (front, rear) of a front share.
 fn shares_of(front_share: f64) -> [f64; 2] {
     [front_share, 1.0 - front_share]
-}
-
-/// Kinematic slip ratio of an axle for a state (diagnostics and tests).
-pub fn kinematic_slip_of(model: &Bicycle, x: &SVector<f64, N>, steer_rad: f64, axle: usize) -> f64 {
-    let v = &model.vehicle;
-    let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
-    let (vxw, _) = if axle == 0 { to_wheel_axes(vx, vy + v.a_m * r, steer_rad) } else { (vx, vy - v.b_m * r) };
-    let omega = if axle == 0 { x[ix::OMEGA_F] } else { x[ix::OMEGA_R] };
-    kinematic_slip(omega, v.tyre.rolling_radius_m, vxw)
 }

@@ -9,11 +9,11 @@
 use crate::tyre::{TyreForces, TyreSide};
 
 /// Floor on |vx| in the lateral relaxation rate, m/s (keeps a relaxed force decaying at rest).
-pub const V_RELAX_MPS: f64 = 1.0;
+pub(crate) const V_RELAX_MPS: f64 = 1.0;
 /// Floor of the thermal friction factor (keeps friction positive for large rises).
-pub const THERMAL_FLOOR: f64 = 0.1;
+pub(crate) const THERMAL_FLOOR: f64 = 0.1;
 /// Damped fixed-point iterations of the steer compliance ([`compliant_steer`]).
-pub const COMPLIANCE_ITERATIONS: usize = 4;
+pub(crate) const COMPLIANCE_ITERATIONS: usize = 4;
 
 /// Rate of a relaxed lateral force, 1/s: dFy/dt = rate (Fy_ss - Fy), with relaxation length
 /// `sigma_m` (m, > 0) at forward speed `vx_mps` (m/s).
@@ -33,7 +33,7 @@ pub fn load_transfer_n(mass_kg: f64, vx_mps: f64, r_radps: f64, height_m: f64, t
 /// `transfer_n` the axle's transfer ([`load_transfer_n`]; > 0 loads the right tyre) and dz the
 /// transfer clamped to [-Fz, Fz], so a tyre's load never falls below 0 (the inner tyre lifts and
 /// the outer one carries the whole axle, 2 Fz).
-pub fn tyre_loads(fz_tyre_n: f64, transfer_n: f64) -> [(TyreSide, f64); 2] {
+pub(crate) fn tyre_loads(fz_tyre_n: f64, transfer_n: f64) -> [(TyreSide, f64); 2] {
     let dz = transfer_n.clamp(-fz_tyre_n, fz_tyre_n);
     [(TyreSide::Right, fz_tyre_n + dz), (TyreSide::Left, fz_tyre_n - dz)]
 }

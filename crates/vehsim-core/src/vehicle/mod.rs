@@ -124,12 +124,12 @@ impl Kinematics {
 }
 
 /// The rigid-body kinematics from the six leading states (see the module docs).
-pub fn rigid_body(x: &[f64]) -> Kinematics {
+pub(crate) fn rigid_body(x: &[f64]) -> Kinematics {
     Kinematics { x_m: x[0], y_m: x[1], yaw_rad: x[2], vx_mps: x[3], vy_mps: x[4], yaw_rate_radps: x[5] }
 }
 
 /// Write a pose and forward speed into the six leading states (the rest is left as it is).
-pub fn set_rigid_body(x: &mut [f64], x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) {
+pub(crate) fn set_rigid_body(x: &mut [f64], x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) {
     x[..6].copy_from_slice(&[x_m, y_m, yaw_rad, speed_mps, 0.0, 0.0]);
 }
 

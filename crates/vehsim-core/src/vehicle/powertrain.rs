@@ -271,7 +271,7 @@ impl Powertrain {
 
 /// (TBR - 1) / (TBR + 1): the largest friction torque of a limited-slip differential as a
 /// fraction of its input torque.
-pub fn bias_fraction(torque_bias_ratio: f64) -> f64 {
+pub(crate) fn bias_fraction(torque_bias_ratio: f64) -> f64 {
     (torque_bias_ratio - 1.0) / (torque_bias_ratio + 1.0)
 }
 
@@ -281,7 +281,7 @@ pub fn bias_fraction(torque_bias_ratio: f64) -> f64 {
 /// reflected engine inertia `j_r` (kg m^2). From J_r d(omega_c)/dt = T_w - T_out,
 /// omega_c = sum s_i omega_i and I_i d(omega_i)/dt = s_i T_out - L_i:
 /// T_out = (T_w + J_r sum s_i L_i / I_i) / (1 + J_r sum s_i^2 / I_i).
-pub fn axle_accelerations(t_w: f64, shares: [f64; 2], inertia: [f64; 2], load: [f64; 2], j_r: f64) -> [f64; 2] {
+pub(crate) fn axle_accelerations(t_w: f64, shares: [f64; 2], inertia: [f64; 2], load: [f64; 2], j_r: f64) -> [f64; 2] {
     let (mut num, mut den) = (t_w, 1.0);
     for i in 0..2 {
         num += j_r * shares[i] * load[i] / inertia[i];
@@ -297,7 +297,7 @@ pub fn axle_accelerations(t_w: f64, shares: [f64; 2], inertia: [f64; 2], load: [
 /// `wheel_inertia` (kg m^2), the torque into the axle `axle_torque` (N m; 0 for an undriven axle,
 /// whose wheels turn freely) and the limited-slip regularisation speed `omega_eps` (rad/s).
 #[allow(clippy::too_many_arguments)]
-pub fn wheel_accelerations(
+pub(crate) fn wheel_accelerations(
     mean: f64,
     diff: Differential,
     driven: bool,

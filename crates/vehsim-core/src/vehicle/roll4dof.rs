@@ -58,8 +58,7 @@
 use nalgebra::{Matrix3, SVector, Vector3};
 
 use super::wheel::{
-    kinematic_slip, relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes,
-    V_LOW,
+    relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
 use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
 use crate::contact::TyreContact;
@@ -663,14 +662,4 @@ fn tyre_input(
         surface_temp_c: env.surface_temp_c,
         contact_temp_c: u.contact_temp_c[i],
     }
-}
-
-/// Kinematic slip ratio of wheel `i` (FL, FR, RL, RR) for a state (diagnostics and tests).
-pub fn kinematic_slip_of(model: &Roll4Dof, x: &SVector<f64, N>, steer_rad: f64, i: usize) -> f64 {
-    let v = &model.vehicle;
-    let (px, py) = model.pos[i.min(3)];
-    let (dl, dr) = front_steer_angles(steer_rad, model.roll.ackermann, v.wheelbase_m(), v.track_m);
-    let steer = [dl, dr, 0.0, 0.0][i.min(3)];
-    let (vxw, _) = to_wheel_axes(x[ix::VX] - x[ix::R] * py, x[ix::VY] + x[ix::R] * px, steer);
-    kinematic_slip(x[ix::OMEGA + i.min(3)], v.tyre.rolling_radius_m, vxw)
 }

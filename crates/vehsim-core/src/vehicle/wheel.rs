@@ -22,14 +22,14 @@ pub const TORQUE_RATE_MAX: f64 = 400.0;
 
 /// Velocity of a wheel centre in wheel axes, from its body-frame velocity (vx, vy) and steer angle.
 #[inline]
-pub fn to_wheel_axes(vx: f64, vy: f64, steer_rad: f64) -> (f64, f64) {
+pub(crate) fn to_wheel_axes(vx: f64, vy: f64, steer_rad: f64) -> (f64, f64) {
     let (s, c) = crate::tyre::fastmath::sin_cos(steer_rad);
     (vx * c + vy * s, -vx * s + vy * c)
 }
 
 /// Slip angle, rad, from wheel-axis velocities (the arctangent by [`crate::tyre::fastmath`]).
 #[inline]
-pub fn slip_angle(vxw: f64, vyw: f64) -> f64 {
+pub(crate) fn slip_angle(vxw: f64, vyw: f64) -> f64 {
     -crate::tyre::fastmath::atan(vyw / vxw.abs().max(V_LOW))
 }
 
@@ -41,30 +41,21 @@ pub fn kinematic_slip(omega: f64, radius: f64, vxw: f64) -> f64 {
 
 /// Rate of the relaxed slip ratio kappa', 1/s.
 #[inline]
-pub fn relaxed_slip_rate(kappa: f64, omega: f64, radius: f64, vxw: f64, sigma: f64) -> f64 {
+pub(crate) fn relaxed_slip_rate(kappa: f64, omega: f64, radius: f64, vxw: f64, sigma: f64) -> f64 {
     ((omega * radius - vxw) - vxw.abs().max(V_LOW) * kappa) / sigma
-}
-
-/// Torque opposing wheel spin of magnitude `torque_nm`, regularised near omega = 0 as
-/// T sat(omega / omega_1) with the C1 cubic saturation sat(u) = u (3 - u^2) / 2 for |u| < 1 and
-/// sign(u) beyond (a Coulomb torque made continuous). Its slope at 0 is 1.5 T / omega_1; with
-/// omega_1 = 1.5 T_max / (I TORQUE_RATE_MAX) the torque's stiffness stays below TORQUE_RATE_MAX.
-#[inline]
-pub fn resisting_torque(torque_nm: f64, torque_max_nm: f64, inertia: f64, omega: f64) -> f64 {
-    resisting_torque_at(torque_nm, resisting_omega1(torque_max_nm, inertia), omega)
 }
 
 /// The regularisation speed omega_1 (rad/s) of [`resisting_torque`] for the largest torque
 /// `torque_max_nm` and spin inertia `inertia`: it depends only on the vehicle, so the models
 /// compute it once ([`resisting_torque_at`]).
 #[inline]
-pub fn resisting_omega1(torque_max_nm: f64, inertia: f64) -> f64 {
+pub(crate) fn resisting_omega1(torque_max_nm: f64, inertia: f64) -> f64 {
     (1.5 * torque_max_nm / (inertia * TORQUE_RATE_MAX)).max(1e-3)
 }
 
 /// [`resisting_torque`] with its regularisation speed `omega1` ([`resisting_omega1`]) given.
 #[inline]
-pub fn resisting_torque_at(torque_nm: f64, omega1: f64, omega: f64) -> f64 {
+pub(crate) fn resisting_torque_at(torque_nm: f64, omega1: f64, omega: f64) -> f64 {
     let u = omega / omega1;
     if u >= 1.0 {
         torque_nm
