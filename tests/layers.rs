@@ -90,7 +90,9 @@ fn core_reads_and_writes_no_files() {
     assert!(files.len() > 30, "{} core sources", files.len());
     for f in files {
         let text = code(&f);
-        for banned in ["std::fs", " fs::", "(fs::", "File::", "OpenOptions", "read_dir", "std::env::var", "include_str!(\"/"] {
+        for banned in
+            ["std::fs", " fs::", "(fs::", "File::", "OpenOptions", "read_dir", "std::env::var", "include_str!(\"/"]
+        {
             assert!(!text.contains(banned), "{} uses {banned}", f.display());
         }
     }

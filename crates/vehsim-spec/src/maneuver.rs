@@ -934,186 +934,190 @@ impl ManeuverFile {
         ))
     }
 
-    fn build_maneuver(&self, c: &Checker) -> Result<(ManeuverConfig, ManeuverKind, Option<f64>)> {
-        let speed = |v: f64| c.bound(&bounds::SPEED_MPS, v);
-        let steer = |v: f64| c.bound(&bounds::STEER_AMPLITUDE_DEG, v);
-        Ok(match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
-            ManeuverSpec::Iso3888_2(Iso3888_2Spec {
-                speed_mps,
-                speed_mode,
-                approach_m,
-                exit_m,
-                lane5_min_width_m,
-                clearance_m,
-            }) => {
-                let v = speed(*speed_mps)?;
-                c.bound(&bounds::APPROACH_M, *approach_m)?;
-                c.bound(&bounds::EXIT_M, *exit_m)?;
-                c.bound(&bounds::LANE5_MIN_WIDTH_M, *lane5_min_width_m)?;
-                c.bound(&bounds::CLEARANCE_M, *clearance_m)?;
-                let mode = match speed_mode {
-                    SpeedModeSpec::Hold => SpeedMode::Hold,
-                    SpeedModeSpec::Coast => SpeedMode::Coast,
-                };
-                let params = Iso3888_2Params {
-                    speed_mps: v,
-                    mode,
-                    approach_m: *approach_m,
-                    exit_m: *exit_m,
-                    lane5_min_width_m: *lane5_min_width_m,
-                    clearance_m: *clearance_m,
-                };
-                // Twice the time of the run's length at the entry speed, plus 5 s.
-                (
-                    ManeuverConfig::Iso3888_2(params),
-                    ManeuverKind::Iso3888_2,
-                    Some(2.0 * params.run_length_m() / v + 5.0),
-                )
-            }
-            ManeuverSpec::SineSteer(SineSteerSpec { speed_mps, steer_amplitude_deg, period_s, start_s }) => {
-                let v = speed(*speed_mps)?;
-                let a = steer(*steer_amplitude_deg)?;
-                c.bound(&bounds::PERIOD_S, *period_s)?;
-                c.bound(&bounds::START_S, *start_s)?;
-                let steer =
-                    SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: *period_s, start_s: *start_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::SineSteer, None)
-            }
-            ManeuverSpec::StepSteer(StepSteerSpec { speed_mps, steer_amplitude_deg, start_s, ramp_s }) => {
-                let v = speed(*speed_mps)?;
-                let a = steer(*steer_amplitude_deg)?;
-                c.bound(&bounds::START_S, *start_s)?;
-                c.bound(&bounds::RAMP_S, *ramp_s)?;
-                let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: *start_s, ramp_s: *ramp_s };
-                (ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::StepSteer, None)
-            }
-            ManeuverSpec::Straight(StraightSpec { speed_schedule }) => {
-                if speed_schedule.is_empty() {
-                    return Err(Error::key(
-                        c.file,
-                        "maneuver.speed_schedule",
-                        "expected at least one [t_s, v_mps] pair",
-                    ));
-                }
-                let mut prev = f64::NEG_INFINITY;
-                for (n, [t, v]) in speed_schedule.iter().enumerate() {
-                    let key = format!("maneuver.speed_schedule[{n}]");
-                    c.require(
-                        &key,
-                        *t,
-                        t.is_finite() && *t >= 0.0 && *t > prev,
-                        "expected times >= 0, strictly increasing",
-                    )?;
-                    c.range(&key, *v, 0.0, 100.0)?;
-                    prev = *t;
-                }
-                let speed = SpeedSchedule { points: speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
-                (ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, ManeuverKind::Straight, None)
-            }
+    fn build_maneuver(&self, c: &Checker) -> Result<Built> {
+        match &ManeuverSpec::from_table(c.file, &self.maneuver)? {
+            ManeuverSpec::Iso3888_2(s) => s.build(c),
+            ManeuverSpec::SineSteer(s) => s.build(c),
+            ManeuverSpec::StepSteer(s) => s.build(c),
+            ManeuverSpec::Straight(s) => s.build(c),
             ManeuverSpec::Braking(b) => {
                 let p = b.build(c)?;
-                (
-                    ManeuverConfig::Braking(p),
-                    ManeuverKind::Braking,
-                    Some(p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0),
-                )
+                let total = p.brake_at_s + 2.0 * p.speed_mps / LONGITUDINAL_MIN_DECEL + 2.0;
+                Ok((ManeuverConfig::Braking(p), ManeuverKind::Braking, Some(total)))
             }
             ManeuverSpec::BrakingInTurn(b) => {
                 let p = b.build(c)?;
                 let total = p.brake_at_s + p.after_s + 0.5;
-                (ManeuverConfig::BrakingInTurn(p), ManeuverKind::BrakingInTurn, Some(total))
+                Ok((ManeuverConfig::BrakingInTurn(p), ManeuverKind::BrakingInTurn, Some(total)))
             }
             ManeuverSpec::Launch(l) => {
-                let v = speed(l.speed_mps)?;
+                let v = speed(c, l.speed_mps)?;
                 let p = vehsim_core::maneuver::longitudinal::LaunchParams { speed_mps: v };
-                (ManeuverConfig::Launch(p), ManeuverKind::Launch, Some(2.0 * v / LONGITUDINAL_MIN_DECEL + 2.0))
+                Ok((ManeuverConfig::Launch(p), ManeuverKind::Launch, Some(2.0 * v / LONGITUDINAL_MIN_DECEL + 2.0)))
             }
-            ManeuverSpec::ConstantRadius(s) => {
-                let r = c.bound(&bounds::RADIUS_M, s.radius_m)?;
-                c.bound(&bounds::SETTLE_S, s.settle_s)?;
-                c.bound(&bounds::WINDOW_S, s.window_s)?;
-                c.bound(&bounds::SPEED_RAMP_MPS2, s.speed_ramp_mps2)?;
-                let not_for = |key: &str, mode: &str| {
-                    Error::key(
-                        c.file,
-                        &format!("maneuver.{key}"),
-                        format!("not used with speed_mode = \"{mode}\"; remove it"),
-                    )
-                };
-                let speeds = match s.speed_mode {
-                    RadiusSpeedModeSpec::Hold => {
-                        for (k, v) in [
-                            ("ay_first_mps2", s.ay_first_mps2),
-                            ("ay_step_mps2", s.ay_step_mps2),
-                            ("ay_max_mps2", s.ay_max_mps2),
-                        ] {
-                            if v.is_some() {
-                                return Err(not_for(k, "hold"));
-                            }
-                        }
-                        let v = s.speed_mps.ok_or_else(|| {
-                            Error::key(c.file, "maneuver.speed_mps", "required with speed_mode = \"hold\" (m/s)")
-                        })?;
-                        vec![speed(v)?]
+            ManeuverSpec::ConstantRadius(s) => s.build(c),
+        }
+    }
+}
+
+/// What a manoeuvre spec builds: the validated manoeuvre, its kind and its default duration, s
+/// (`None`: the spec must give one).
+type Built = (ManeuverConfig, ManeuverKind, Option<f64>);
+
+/// An entry speed within its bound, m/s.
+fn speed(c: &Checker, v: f64) -> Result<f64> {
+    c.bound(&bounds::SPEED_MPS, v)
+}
+
+/// A steer amplitude within its bound, deg.
+fn steer(c: &Checker, v: f64) -> Result<f64> {
+    c.bound(&bounds::STEER_AMPLITUDE_DEG, v)
+}
+
+impl Iso3888_2Spec {
+    fn build(&self, c: &Checker) -> Result<Built> {
+        let v = speed(c, self.speed_mps)?;
+        c.bound(&bounds::APPROACH_M, self.approach_m)?;
+        c.bound(&bounds::EXIT_M, self.exit_m)?;
+        c.bound(&bounds::LANE5_MIN_WIDTH_M, self.lane5_min_width_m)?;
+        c.bound(&bounds::CLEARANCE_M, self.clearance_m)?;
+        let mode = match self.speed_mode {
+            SpeedModeSpec::Hold => SpeedMode::Hold,
+            SpeedModeSpec::Coast => SpeedMode::Coast,
+        };
+        let params = Iso3888_2Params {
+            speed_mps: v,
+            mode,
+            approach_m: self.approach_m,
+            exit_m: self.exit_m,
+            lane5_min_width_m: self.lane5_min_width_m,
+            clearance_m: self.clearance_m,
+        };
+        // Twice the time of the run's length at the entry speed, plus 5 s.
+        Ok((ManeuverConfig::Iso3888_2(params), ManeuverKind::Iso3888_2, Some(2.0 * params.run_length_m() / v + 5.0)))
+    }
+}
+
+impl SineSteerSpec {
+    fn build(&self, c: &Checker) -> Result<Built> {
+        let v = speed(c, self.speed_mps)?;
+        let a = steer(c, self.steer_amplitude_deg)?;
+        c.bound(&bounds::PERIOD_S, self.period_s)?;
+        c.bound(&bounds::START_S, self.start_s)?;
+        let steer =
+            SteerProfile::Sine { amplitude_rad: a.to_radians(), period_s: self.period_s, start_s: self.start_s };
+        Ok((ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::SineSteer, None))
+    }
+}
+
+impl StepSteerSpec {
+    fn build(&self, c: &Checker) -> Result<Built> {
+        let v = speed(c, self.speed_mps)?;
+        let a = steer(c, self.steer_amplitude_deg)?;
+        c.bound(&bounds::START_S, self.start_s)?;
+        c.bound(&bounds::RAMP_S, self.ramp_s)?;
+        let steer = SteerProfile::Step { amplitude_rad: a.to_radians(), start_s: self.start_s, ramp_s: self.ramp_s };
+        Ok((ManeuverConfig::OpenLoop { steer, speed: SpeedSchedule::constant(v) }, ManeuverKind::StepSteer, None))
+    }
+}
+
+impl StraightSpec {
+    fn build(&self, c: &Checker) -> Result<Built> {
+        if self.speed_schedule.is_empty() {
+            return Err(Error::key(c.file, "maneuver.speed_schedule", "expected at least one [t_s, v_mps] pair"));
+        }
+        let mut prev = f64::NEG_INFINITY;
+        for (n, [t, v]) in self.speed_schedule.iter().enumerate() {
+            let key = format!("maneuver.speed_schedule[{n}]");
+            c.require(&key, *t, t.is_finite() && *t >= 0.0 && *t > prev, "expected times >= 0, strictly increasing")?;
+            c.range(&key, *v, 0.0, 100.0)?;
+            prev = *t;
+        }
+        let speed = SpeedSchedule { points: self.speed_schedule.iter().map(|p| (p[0], p[1])).collect() };
+        Ok((ManeuverConfig::OpenLoop { steer: SteerProfile::Zero, speed }, ManeuverKind::Straight, None))
+    }
+}
+
+impl ConstantRadiusSpec {
+    fn build(&self, c: &Checker) -> Result<Built> {
+        let r = c.bound(&bounds::RADIUS_M, self.radius_m)?;
+        c.bound(&bounds::SETTLE_S, self.settle_s)?;
+        c.bound(&bounds::WINDOW_S, self.window_s)?;
+        c.bound(&bounds::SPEED_RAMP_MPS2, self.speed_ramp_mps2)?;
+        let not_for = |key: &str, mode: &str| {
+            Error::key(c.file, &format!("maneuver.{key}"), format!("not used with speed_mode = \"{mode}\"; remove it"))
+        };
+        let speeds = match self.speed_mode {
+            RadiusSpeedModeSpec::Hold => {
+                for (k, v) in [
+                    ("ay_first_mps2", self.ay_first_mps2),
+                    ("ay_step_mps2", self.ay_step_mps2),
+                    ("ay_max_mps2", self.ay_max_mps2),
+                ] {
+                    if v.is_some() {
+                        return Err(not_for(k, "hold"));
                     }
-                    RadiusSpeedModeSpec::Steps => {
-                        if s.speed_mps.is_some() {
-                            return Err(not_for("speed_mps", "steps"));
-                        }
-                        let step = s.ay_step_mps2.unwrap_or(0.5);
-                        c.require(
-                            "maneuver.ay_step_mps2",
-                            step,
-                            step > 0.0 && step <= 0.5,
-                            "expected 0 < ay_step_mps2 <= 0.5 (m/s^2; ISO 4138 steps)",
-                        )?;
-                        let first = s.ay_first_mps2.unwrap_or(step);
-                        c.bound(&bounds::AY_FIRST_MPS2, first)?;
-                        let max = s.ay_max_mps2.ok_or_else(|| {
-                            Error::key(c.file, "maneuver.ay_max_mps2", "required with speed_mode = \"steps\" (m/s^2)")
-                        })?;
-                        c.require(
-                            "maneuver.ay_max_mps2",
-                            max,
-                            max >= first && max <= 20.0 && (max - first) / step <= 200.0,
-                            "expected ay_first_mps2 <= ay_max_mps2 <= 20 (m/s^2), at most 200 steps",
-                        )?;
-                        let v = ConstantRadiusParams::stepped_speeds(r, first, step, max);
-                        if let Some(top) = v.last() {
-                            c.require("maneuver.ay_max_mps2", max, *top <= 100.0, "the top step would exceed 100 m/s")?;
-                        }
-                        v
-                    }
-                };
-                let direction = match s.direction {
-                    DirectionSpec::Left => Direction::Left,
-                    DirectionSpec::Right => Direction::Right,
-                };
-                // The steady-state window must not fall inside a speed ramp.
-                let longest_ramp_s =
-                    speeds.windows(2).map(|w| (w[1] - w[0]).abs() / s.speed_ramp_mps2).fold(0.0, f64::max);
+                }
+                let v = self.speed_mps.ok_or_else(|| {
+                    Error::key(c.file, "maneuver.speed_mps", "required with speed_mode = \"hold\" (m/s)")
+                })?;
+                vec![speed(c, v)?]
+            }
+            RadiusSpeedModeSpec::Steps => {
+                if self.speed_mps.is_some() {
+                    return Err(not_for("speed_mps", "steps"));
+                }
+                let step = self.ay_step_mps2.unwrap_or(0.5);
                 c.require(
-                    "maneuver.speed_ramp_mps2",
-                    s.speed_ramp_mps2,
-                    longest_ramp_s <= s.settle_s,
-                    &format!(
-                        "the largest speed step takes {longest_ramp_s:.1} s at this ramp, longer than settle_s = {} s; raise speed_ramp_mps2 or settle_s",
-                        s.settle_s
-                    ),
+                    "maneuver.ay_step_mps2",
+                    step,
+                    step > 0.0 && step <= 0.5,
+                    "expected 0 < ay_step_mps2 <= 0.5 (m/s^2; ISO 4138 steps)",
                 )?;
-                let params = ConstantRadiusParams {
-                    radius_m: r,
-                    direction,
-                    step_speeds_mps: speeds,
-                    settle_s: s.settle_s,
-                    window_s: s.window_s,
-                    speed_ramp_mps2: s.speed_ramp_mps2,
-                };
-                let total = params.total_s();
-                c.require("maneuver.window_s", s.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
-                (ManeuverConfig::ConstantRadius(params), ManeuverKind::ConstantRadius, Some(total + 0.5))
+                let first = self.ay_first_mps2.unwrap_or(step);
+                c.bound(&bounds::AY_FIRST_MPS2, first)?;
+                let max = self.ay_max_mps2.ok_or_else(|| {
+                    Error::key(c.file, "maneuver.ay_max_mps2", "required with speed_mode = \"steps\" (m/s^2)")
+                })?;
+                c.require(
+                    "maneuver.ay_max_mps2",
+                    max,
+                    max >= first && max <= 20.0 && (max - first) / step <= 200.0,
+                    "expected ay_first_mps2 <= ay_max_mps2 <= 20 (m/s^2), at most 200 steps",
+                )?;
+                let v = ConstantRadiusParams::stepped_speeds(r, first, step, max);
+                if let Some(top) = v.last() {
+                    c.require("maneuver.ay_max_mps2", max, *top <= 100.0, "the top step would exceed 100 m/s")?;
+                }
+                v
             }
-        })
+        };
+        let direction = match self.direction {
+            DirectionSpec::Left => Direction::Left,
+            DirectionSpec::Right => Direction::Right,
+        };
+        // The steady-state window must not fall inside a speed ramp.
+        let longest_ramp_s = speeds.windows(2).map(|w| (w[1] - w[0]).abs() / self.speed_ramp_mps2).fold(0.0, f64::max);
+        c.require(
+            "maneuver.speed_ramp_mps2",
+            self.speed_ramp_mps2,
+            longest_ramp_s <= self.settle_s,
+            &format!(
+                "the largest speed step takes {longest_ramp_s:.1} s at this ramp, longer than settle_s = {} s; raise speed_ramp_mps2 or settle_s",
+                self.settle_s
+            ),
+        )?;
+        let params = ConstantRadiusParams {
+            radius_m: r,
+            direction,
+            step_speeds_mps: speeds,
+            settle_s: self.settle_s,
+            window_s: self.window_s,
+            speed_ramp_mps2: self.speed_ramp_mps2,
+        };
+        let total = params.total_s();
+        c.require("maneuver.window_s", self.window_s, total <= 3600.0, "the whole schedule must fit in 3600 s")?;
+        Ok((ManeuverConfig::ConstantRadius(params), ManeuverKind::ConstantRadius, Some(total + 0.5)))
     }
 }
 
