@@ -267,9 +267,34 @@ pub(super) const V_FLOOR: f64 = 1.0;
 /// transient slip) are integrated exactly over the step
 /// ([`vehsim_core::sim::integrator::rk4_lag_step`]), so however fast they are they do not shorten it.
 pub(super) const H_MAX: f64 = 0.01;
+/// Indices of the replay state (the module docs give each state's meaning and unit).
+pub(super) mod ix {
+    /// Lateral velocity vy, m/s.
+    pub const VY: usize = 0;
+    /// Yaw rate r, rad/s.
+    pub const R: usize = 1;
+    /// Relaxed front and rear axle lateral forces Fy_f, Fy_r, N.
+    pub const FY_F: usize = 2;
+    pub const FY_R: usize = 3;
+    /// Lagged effective road-wheel angle delta_e, rad.
+    pub const DELTA_E: usize = 4;
+    /// Pose in the ground frame: X, Y (m), heading psi (rad).
+    pub const X: usize = 5;
+    pub const Y: usize = 6;
+    pub const PSI: usize = 7;
+    /// Lagged front and rear slip angles alpha_f, alpha_r (transient slip), rad.
+    pub const ALPHA_F: usize = 8;
+    pub const ALPHA_R: usize = 9;
+    /// Tread-temperature rises front and rear, K.
+    pub const DT_F: usize = 10;
+    pub const DT_R: usize = 11;
+    /// Prescribed forward speed vx (the measured one), m/s.
+    pub const VX: usize = 12;
+}
+
 /// The first-order lag states: the relaxed axle forces Fy_f, Fy_r, the lagged steer delta_e and the
 /// lagged slip angles alpha_f, alpha_r.
-pub(super) const LAGS: [usize; NL] = [2, 3, 4, 8, 9, 10, 11];
+pub(super) const LAGS: [usize; NL] = [ix::FY_F, ix::FY_R, ix::DELTA_E, ix::ALPHA_F, ix::ALPHA_R, ix::DT_F, ix::DT_R];
 /// Number of lag states (the tread-temperature rises front and rear are lags too: see
 /// [`ReplayModel::body`]).
 const NL: usize = 7;
@@ -394,7 +419,7 @@ impl ReplayModel {
             local = *d;
             if p.on_ground() {
                 // Each axle at its own ground position: the logged pose, else the replay's own.
-                let [px, py, psi] = d.pose.unwrap_or([x[5], x[6], x[7]]);
+                let [px, py, psi] = d.pose.unwrap_or([x[ix::X], x[ix::Y], x[ix::PSI]]);
                 let (s, c) = psi.sin_cos();
                 for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
                     let (xa, ya) = (px + l * c, py + l * s);
@@ -403,30 +428,36 @@ impl ReplayModel {
             }
             if tread {
                 let cap = melt_cap_k(d.ice_c);
-                local.tread_rise_k = [x[10].clamp(0.0, cap), x[11].clamp(0.0, cap)];
+                local.tread_rise_k = [x[ix::DT_F].clamp(0.0, cap), x[ix::DT_R].clamp(0.0, cap)];
             }
             &local
         } else {
             d
         };
-        let (vy, r) = (x[0], x[1]);
+        let (vy, r) = (x[ix::VY], x[ix::R]);
         let vxs = d.vx.abs().max(V_FLOOR);
         let beta_f = ((vy + v.a_m * r) / vxs).atan();
         let alpha_r = -((vy - v.b_m * r) / vxs).atan();
         let dfz = [self.load_transfer(0, d.vx, r, p), self.load_transfer(1, d.vx, r, p)];
         let rear = self.axle_force(1, alpha_r, dfz[1], d, p);
-        let steer = if p.steer_lag_s > 0.0 { x[4] } else { d.steer };
+        let steer = if p.steer_lag_s > 0.0 { x[ix::DELTA_E] } else { d.steer };
         let c = p.steer_compliance_rad_per_kn * 1e-3;
         if p.transient_slip() {
             // The forces follow the lagged slip angles; the compliance acts through them.
-            let axle = [self.axle_force(0, x[8], dfz[0], d, p), self.axle_force(1, x[9], dfz[1], d, p)];
+            let axle =
+                [self.axle_force(0, x[ix::ALPHA_F], dfz[0], d, p), self.axle_force(1, x[ix::ALPHA_R], dfz[1], d, p)];
             let delta_e = lateral::effective_steer(steer, c, axle[0].fy_n);
-            return Forces { axle, delta_e, alpha: [x[8], x[9]], alpha_kin: [delta_e - beta_f, alpha_r] };
+            return Forces {
+                axle,
+                delta_e,
+                alpha: [x[ix::ALPHA_F], x[ix::ALPHA_R]],
+                alpha_kin: [delta_e - beta_f, alpha_r],
+            };
         }
         let front_at = |delta: f64| self.axle_force(0, delta - beta_f, dfz[0], d, p);
         let (delta_e, front) = if c != 0.0 && p.sigma_y_m > 0.0 {
             // The acting front force is the relaxed state: no iteration needed.
-            let delta_e = lateral::effective_steer(steer, c, x[2]);
+            let delta_e = lateral::effective_steer(steer, c, x[ix::FY_F]);
             (delta_e, front_at(delta_e))
         } else {
             // The fixed point delta_e = delta - c Fy_f(delta_e) (delta_e = delta without compliance).
@@ -461,8 +492,8 @@ impl ReplayModel {
     fn acting(x: &State, f: &Forces, p: &EffectParams) -> [TyreForces; 2] {
         let mut a = f.axle;
         if p.sigma_y_m > 0.0 {
-            a[0].fy_n = x[2];
-            a[1].fy_n = x[3];
+            a[0].fy_n = x[ix::FY_F];
+            a[1].fy_n = x[ix::FY_R];
         }
         a
     }
@@ -494,12 +525,12 @@ impl ReplayModel {
         }
         let (fy, mz) = self.lateral_loads(&f, &acting);
         let mut dx = State::zeros();
-        (dx[0], dx[1]) =
-            single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2 * p.yaw_inertia_scale, d.vx, x[1], fy, mz);
-        let (sp, cp) = x[7].sin_cos();
-        dx[5] = d.vx * cp - x[0] * sp;
-        dx[6] = d.vx * sp + x[0] * cp;
-        dx[7] = x[1];
+        (dx[ix::VY], dx[ix::R]) =
+            single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2 * p.yaw_inertia_scale, d.vx, x[ix::R], fy, mz);
+        let (sp, cp) = x[ix::PSI].sin_cos();
+        dx[ix::X] = d.vx * cp - x[ix::VY] * sp;
+        dx[ix::Y] = d.vx * sp + x[ix::VY] * cp;
+        dx[ix::PSI] = x[ix::R];
         (dx, [f.axle[0].fy_n, f.axle[1].fy_n, d.steer, f.alpha_kin[0], f.alpha_kin[1], rise[0], rise[1]])
     }
 
@@ -516,7 +547,7 @@ impl ReplayModel {
             k[2] = 1.0 / p.steer_lag_s;
         }
         if p.transient_slip() {
-            let dfz = [self.load_transfer(0, d.vx, x[1], p), self.load_transfer(1, d.vx, x[1], p)];
+            let dfz = [self.load_transfer(0, d.vx, x[ix::R], p), self.load_transfer(1, d.vx, x[ix::R], p)];
             for i in 0..2 {
                 let sigma = self.slip_sigma(i, x[8 + i], dfz[i], d, p);
                 k[3 + i] = lateral::relaxation_rate(d.vx, sigma);
@@ -610,22 +641,22 @@ impl ReplayModel {
     /// the measured forward speed.
     pub(super) fn initial_state(&self, run: &MeasuredRun, p: &EffectParams, d0: &Drive) -> State {
         let mut x = State::zeros();
-        x[0] = run.channel("vy").map_or(0.0, |v| v[0]);
-        x[1] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
-        x[4] = d0.steer;
-        x[12] = d0.vx;
+        x[ix::VY] = run.channel("vy").map_or(0.0, |v| v[0]);
+        x[ix::R] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
+        x[ix::DELTA_E] = d0.steer;
+        x[ix::VX] = d0.vx;
         if p.sigma_y_m > 0.0 {
             let f = self.forces(&x, d0, p);
-            x[2] = f.axle[0].fy_n;
-            x[3] = f.axle[1].fy_n;
+            x[ix::FY_F] = f.axle[0].fy_n;
+            x[ix::FY_R] = f.axle[1].fy_n;
         }
         if p.transient_slip() {
             // Start relaxed: the lagged slip angles at their kinematic values (a fixed point,
             // since the compliance acts through the lagged force).
             for _ in 0..8 {
                 let f = self.forces(&x, d0, p);
-                x[8] = f.alpha_kin[0];
-                x[9] = f.alpha_kin[1];
+                x[ix::ALPHA_F] = f.alpha_kin[0];
+                x[ix::ALPHA_R] = f.alpha_kin[1];
             }
         }
         x

@@ -49,7 +49,7 @@
 use nalgebra::SVector;
 
 use super::measured::MeasuredRun;
-use super::model::{Drive, EffectParams, ReplayModel, Simulated, State, H_MAX, LAGS, NS, SLIP_SLOPE_FLOOR};
+use super::model::{ix, Drive, EffectParams, ReplayModel, Simulated, State, H_MAX, LAGS, NS, SLIP_SLOPE_FLOOR};
 use vehsim_core::contact::{ContactTemperature, Isothermal, TyreContact};
 use vehsim_core::control::driver::Driver;
 use vehsim_core::control::PidParams;
@@ -197,12 +197,19 @@ impl VehicleModel<NS> for RunModel<'_> {
 
     fn derivatives(&self, x: &State, u: &Inputs, _env: &Environment) -> State {
         let mut dx = self.model.derivatives(x, &self.drive(u), self.p);
-        dx[12] = self.vx_slope(u.t_s);
+        dx[ix::VX] = self.vx_slope(u.t_s);
         dx
     }
 
     fn kinematics(&self, x: &State) -> Kinematics {
-        Kinematics { x_m: x[5], y_m: x[6], yaw_rad: x[7], vx_mps: x[12], vy_mps: x[0], yaw_rate_radps: x[1] }
+        Kinematics {
+            x_m: x[ix::X],
+            y_m: x[ix::Y],
+            yaw_rad: x[ix::PSI],
+            vx_mps: x[ix::VX],
+            vy_mps: x[ix::VY],
+            yaw_rate_radps: x[ix::R],
+        }
     }
 
     /// The run's state at its first sample (the pose and speed given are the run's own).
@@ -213,13 +220,17 @@ impl VehicleModel<NS> for RunModel<'_> {
     }
 
     fn body_acceleration(&self, x: &State, dx: &State) -> (f64, f64) {
-        (dx[12], dx[0] + x[1] * x[12])
+        (dx[ix::VX], dx[ix::VY] + x[ix::R] * x[ix::VX])
     }
 
     fn observe(&self, x: &State, u: &Inputs, _env: &Environment) -> Observation {
         let (ay, alpha_f) = self.model.ay(x, &self.drive(u), self.p);
         let ice = self.ch.run.ice_temp_c;
-        let contact = if self.tread { [ice + x[10], ice + x[11]] } else { [u.contact_temp_c[0], u.contact_temp_c[1]] };
+        let contact = if self.tread {
+            [ice + x[ix::DT_F], ice + x[ix::DT_R]]
+        } else {
+            [u.contact_temp_c[0], u.contact_temp_c[1]]
+        };
         Observation {
             kin: self.kinematics(x),
             ay_mps2: ay,
@@ -239,7 +250,7 @@ impl VehicleModel<NS> for RunModel<'_> {
 
     fn lag_split(&self, x: &State, u: &Inputs, _env: &Environment) -> (State, [f64; MAX_LAGS]) {
         let (mut dx, target) = self.model.body(x, &self.drive(u), self.p);
-        dx[12] = self.vx_slope(u.t_s);
+        dx[ix::VX] = self.vx_slope(u.t_s);
         (dx, pad(target))
     }
 
@@ -250,10 +261,10 @@ impl VehicleModel<NS> for RunModel<'_> {
     fn project(&self, t_s: f64, x: &mut SVector<f64, NS>) {
         if self.tread {
             // The melting cap: heat beyond it melts ice, the contact stays at 0 degC.
-            x[10] = x[10].clamp(0.0, self.tread_cap);
-            x[11] = x[11].clamp(0.0, self.tread_cap);
+            x[ix::DT_F] = x[ix::DT_F].clamp(0.0, self.tread_cap);
+            x[ix::DT_R] = x[ix::DT_R].clamp(0.0, self.tread_cap);
         }
-        x[12] = self.ch.vx(t_s);
+        x[ix::VX] = self.ch.vx(t_s);
     }
 }
 
@@ -583,7 +594,7 @@ mod tests {
         let (mut r, mut ay) = (Vec::new(), Vec::new());
         for i in 0..run.t.len() {
             let t = (i * m) as f64 * h;
-            r.push(x[1]);
+            r.push(x[ix::R]);
             ay.push(rm.observe(&x, &u(t), &env).ay_mps2);
             for k in i * m..(i + 1) * m {
                 x = rk4_step_t(|ts, s| rm.derivatives(s, &u(ts), &env), k as f64 * h, &x, h).0;
