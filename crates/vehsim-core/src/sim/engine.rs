@@ -429,9 +429,31 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// (see the module docs). The derivative at `t` the prediction needs is the coming step's
     /// first stage: it is kept for [`Self::advance`] (with the observation when `record`).
     fn sample_controls(&mut self, t: f64, record: bool) {
-        let c = self.controls;
         let hc = self.hc;
-        // The inputs at t: the end of the previous ramps (the start's values at the first sample).
+        let mut u0 = self.commanded_inputs(t);
+        let previous = self.temps;
+        let evaluated = self.estimate_contact(&u0, record);
+        u0.contact_temp_c = self.temps;
+        let x_end = self.state_one_period_ahead(&u0, evaluated, record);
+        let kin = self.model.kinematics(&x_end);
+        let cmd = self.maneuver.command(t + hc, &kin);
+        let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
+        let steer = self.steer_command(t + hc, from.steer_rad, cmd.steer_rad);
+        let torque = self.torque_command(t + hc, cmd.speed_target_mps, kin.vx_mps);
+        let ahead = self.contact_ahead(from.contact_temp_c, &previous);
+        let to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: ahead };
+        (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
+        self.path_error = self.maneuver.path_error_m();
+        if let Some(e) = self.path_error {
+            self.st.max_dev = max_opt(self.st.max_dev, e.abs());
+        }
+    }
+
+    /// The inputs at sample time `t`: the end of the previous ramps (the start's values at the
+    /// first sample), the manoeuvre's prescribed steer, the external inputs and the slip
+    /// controllers' torque changes.
+    fn commanded_inputs(&self, t: f64) -> Inputs {
+        let c = self.controls;
         let u0 = Inputs { t_s: t, ..Ramped::lerp(&self.ramp_from, &self.ramp_to, 1.0) };
         let mut u0 = match self.maneuver.steer_at(t) {
             Some(d) => Inputs { steer_rad: d.clamp(-c.steer_max_rad, c.steer_max_rad), ..u0 },
@@ -441,19 +463,24 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         if let Some(s) = &self.slip {
             s.apply(t, &mut u0);
         }
-        // The contact-temperature estimate at t, advanced over the period behind (none at the
-        // first sample) from the tyres' conditions at t, taken at the contact temperatures it
-        // returns (the friction force depends on them: `update_coupled` solves for the consistent
-        // estimate). Each evaluation of the conditions is a full evaluation of the model; the
-        // last one, at the accepted temperatures, is the coming step's first stage.
+        u0
+    }
+
+    /// The contact-temperature estimate at the sample time of `u0`, advanced over the period
+    /// behind (none at the first sample) from the tyres' conditions then, taken at the contact
+    /// temperatures it returns (the friction force depends on them: `update_coupled` solves for
+    /// the consistent estimate); left in `self.temps`. Each evaluation of the conditions is a full
+    /// evaluation of the model; the last one, at the accepted temperatures, is the coming step's
+    /// first stage (in `pending_k1`). Returns the temperatures of that last evaluation (`None`
+    /// under [`Method::Rk4Lag`], whose conditions evaluate no derivative).
+    fn estimate_contact(&mut self, u0: &Inputs, record: bool) -> Option<[f64; 4]> {
         let previous = self.temps;
         let (model, env, x) = (self.model, &self.env, &self.x);
         let lag = self.method == Method::Rk4Lag;
-        // the temperatures of the last evaluation, whose result is left in `pending_k1`
         let mut evaluated: Option<[f64; 4]> = None;
         let pending = &mut self.pending_k1;
         let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
-            let mut u = u0;
+            let mut u = *u0;
             u.contact_temp_c[..temps.len()].copy_from_slice(temps);
             if lag {
                 model.tyre_contacts(x, &u, env, out);
@@ -463,7 +490,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             }
         };
         let n = M::TYRES;
-        let h_behind = if self.k == 0 { 0.0 } else { hc };
+        let h_behind = if self.k == 0 { 0.0 } else { self.hc };
         self.contact.update_coupled(
             h_behind,
             &previous[..n],
@@ -471,15 +498,20 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             &mut self.contacts[..n],
             &mut self.temps[..n],
         );
-        u0.contact_temp_c = self.temps;
-        // x(t + T_c) along the tangent at t (second order, like the ramp). Not the quadratic
-        // through the previous sample (x_{k-1} + 2 T_c k1, third order): that leapfrog
-        // extrapolation has a parasitic mode, which the driver loop turned into a 1 m/s^2 lateral
-        // oscillation at 10 ms on the 4-DOF model's slow constant-radius runs. Under
-        // [`Method::Rk4Lag`] the lag components follow their exact relaxation towards their
-        // inputs at t instead (a tangent would overshoot a lag faster than 1 / T_c).
-        let x_end = if lag {
-            let parts = self.lag_parts(&self.x, &u0);
+        evaluated
+    }
+
+    /// x(t + T_c) along the tangent at t (second order, like the ramp), with the first stage of
+    /// the coming step left in `pending_k1`. Not the quadratic through the previous sample
+    /// (x_{k-1} + 2 T_c k1, third order): that leapfrog extrapolation has a parasitic mode, which
+    /// the driver loop turned into a 1 m/s^2 lateral oscillation at 10 ms on the 4-DOF model's
+    /// slow constant-radius runs. Under [`Method::Rk4Lag`] the lag components follow their exact
+    /// relaxation towards their inputs at t instead (a tangent would overshoot a lag faster than
+    /// 1 / T_c). `evaluated`: the temperatures of the contact estimate's last evaluation.
+    fn state_one_period_ahead(&mut self, u0: &Inputs, evaluated: Option<[f64; 4]>, record: bool) -> SVector<f64, N> {
+        let hc = self.hc;
+        if self.method == Method::Rk4Lag {
+            let parts = self.lag_parts(&self.x, u0);
             let k1 = self.lag_derivative(&parts);
             let mut x_end = self.x + parts.0 * hc;
             for (j, &i) in self.model.lag_states().iter().enumerate() {
@@ -488,35 +520,45 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 }
             }
             self.pending_lag = Some(parts);
-            self.pending_k1 = Some((k1, record.then(|| self.model.observe(&self.x, &u0, &self.env))));
-            x_end
-        } else {
-            // the last evaluation is the first stage when it was at the estimate (bit for bit)
-            let at_estimate =
-                evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
-            if !at_estimate {
-                self.pending_k1 = Some(if record {
-                    let (d, o) = self.model.derivatives_observed(&self.x, &u0, &self.env);
-                    (d, Some(o))
-                } else {
-                    (self.model.derivatives(&self.x, &u0, &self.env), None)
-                });
-            }
-            self.pending_k1.as_ref().map_or(self.x, |(k1, _)| self.x + k1 * hc)
-        };
-        let kin = self.model.kinematics(&x_end);
-        let cmd = self.maneuver.command(t + hc, &kin);
-        let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
-        let steer = match self.maneuver.steer_at(t + hc) {
+            self.pending_k1 = Some((k1, record.then(|| self.model.observe(&self.x, u0, &self.env))));
+            return x_end;
+        }
+        // the last evaluation is the first stage when it was at the estimate (bit for bit)
+        let n = M::TYRES;
+        let at_estimate =
+            evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
+        if !at_estimate {
+            self.pending_k1 = Some(if record {
+                let (d, o) = self.model.derivatives_observed(&self.x, u0, &self.env);
+                (d, Some(o))
+            } else {
+                (self.model.derivatives(&self.x, u0, &self.env), None)
+            });
+        }
+        self.pending_k1.as_ref().map_or(self.x, |(k1, _)| self.x + k1 * hc)
+    }
+
+    /// The steer at the end of the coming period, rad: the manoeuvre's prescribed angle, or the
+    /// driver's command `cmd_rad` rate-limited from `from_rad` (the ramp's start).
+    fn steer_command(&mut self, t_end: f64, from_rad: f64, cmd_rad: f64) -> f64 {
+        let c = self.controls;
+        let steer = match self.maneuver.steer_at(t_end) {
             Some(d) => d.clamp(-c.steer_max_rad, c.steer_max_rad),
             None => {
-                let c0 = self.steer_cmd.unwrap_or(cmd.steer_rad);
-                rate_limited_steer(from.steer_rad, c0, cmd.steer_rad, c.steer_max_rad, c.steer_rate_max_radps, hc)
+                let c0 = self.steer_cmd.unwrap_or(cmd_rad);
+                rate_limited_steer(from_rad, c0, cmd_rad, c.steer_max_rad, c.steer_rate_max_radps, self.hc)
             }
         };
-        self.steer_cmd = Some(cmd.steer_rad);
-        let torque = match (self.maneuver.pedal(t + hc), cmd.speed_target_mps) {
-            // full throttle or full brake, asked for by the manoeuvre (launch, braking)
+        self.steer_cmd = Some(cmd_rad);
+        steer
+    }
+
+    /// The wheel torque at the end of the coming period, N m (drive > 0, brake < 0): the
+    /// manoeuvre's pedal (full throttle or brake: launch, braking), else the speed controller
+    /// tracking `target_mps` from the forward speed `vx_mps` one period ahead, else none (coasting).
+    fn torque_command(&mut self, t_end: f64, target_mps: Option<f64>, vx_mps: f64) -> f64 {
+        let c = self.controls;
+        match (self.maneuver.pedal(t_end), target_mps) {
             (Some(p), target) => {
                 self.pid_active = false;
                 self.speed_target = target.unwrap_or(f64::NAN);
@@ -531,20 +573,24 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                     self.pid.reset();
                     self.pid_active = true;
                 }
-                self.st.max_verr = max_opt(self.st.max_verr, (v - kin.vx_mps).abs());
+                self.st.max_verr = max_opt(self.st.max_verr, (v - vx_mps).abs());
                 self.speed_target = v;
-                self.pid.update(v, kin.vx_mps, hc)
+                self.pid.update(v, vx_mps, self.hc)
             }
             (None, None) => {
                 self.pid_active = false;
                 self.speed_target = f64::NAN;
                 0.0
             }
-        };
-        // The contact temperatures at t + T_c: the estimate carried on by its change over the
-        // period behind (held at the first sample), not past melting (second order in T_c, like
-        // the ramp; the next sample replaces it by the estimate at the state reached).
-        let mut ahead = from.contact_temp_c;
+        }
+    }
+
+    /// The contact temperatures at t + T_c, degC: the estimate `now` carried on by its change
+    /// over the period behind (from `previous`; held at the first sample), not past melting
+    /// (second order in T_c, like the ramp; the next sample replaces it by the estimate at the
+    /// state reached).
+    fn contact_ahead(&self, now: [f64; 4], previous: &[f64; 4]) -> [f64; 4] {
+        let mut ahead = now;
         if self.k > 0 {
             for (a, p) in ahead.iter_mut().zip(previous) {
                 let e = *a + (*a - p);
@@ -553,12 +599,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
                 }
             }
         }
-        let to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: ahead };
-        (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
-        self.path_error = self.maneuver.path_error_m();
-        if let Some(e) = self.path_error {
-            self.st.max_dev = max_opt(self.st.max_dev, e.abs());
-        }
+        ahead
     }
 
     /// The first stage of [`Method::Rk4Lag`] at state `x` under inputs `u`.
