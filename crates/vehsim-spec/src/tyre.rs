@@ -501,76 +501,10 @@ impl TyreFileSpec {
         let c = Checker::new(path);
         c.positive("pacejka.mu_reference", s.mu_reference)?;
         c.range("pacejka.stiffness_mu_exponent", s.stiffness_mu_exponent, 0.0, 2.0)?;
-        let combination = match s.combined.as_str() {
-            "auto" => None,
-            "magic_formula" => Some(Combination::MagicFormula),
-            "ellipse" => Some(Combination::Ellipse),
-            other => {
-                return Err(Error::key(
-                    path,
-                    "pacejka.combined",
-                    format!("unknown method '{other}'; allowed: auto, magic_formula, ellipse"),
-                ))
-            }
-        };
-        for k in s.overrides.keys() {
-            if !MfCoefficients::NAMES.contains(&k.as_str()) {
-                return Err(Error::key(
-                    path,
-                    &format!("pacejka.overrides.{k}"),
-                    "not a Magic Formula coefficient name",
-                ));
-            }
-        }
+        let combination = combination(path, &s.combined)?;
+        check_coefficient_names(path, "pacejka.overrides", s.overrides.keys())?;
         let mut warnings = Vec::new();
-        let mut side = TyreSide::Left;
-        let (source, base): (std::path::PathBuf, BTreeMap<String, f64>) = match (&s.tir_file, &s.coefficients) {
-            (Some(rel), None) => {
-                let tir_path = resolve(path, rel);
-                let f = super::tir::read_tir(&tir_path)
-                    .map_err(vehsim_core::error::referred_by(path, "pacejka.tir_file"))?;
-                warnings.extend(f.warnings.iter().cloned());
-                side = match f.string("TYRESIDE").map(|v| v.trim().to_ascii_uppercase()) {
-                    None if f.num("TYRESIDE").is_some() => {
-                        return Err(Error::key(&tir_path, "TYRESIDE", "expected 'LEFT' or 'RIGHT' (a quoted string)"))
-                    }
-                    None => TyreSide::Left,
-                    Some(v) if v == "LEFT" => TyreSide::Left,
-                    Some(v) if v == "RIGHT" => TyreSide::Right,
-                    Some(v) => {
-                        return Err(Error::key(
-                            &tir_path,
-                            "TYRESIDE",
-                            format!("unknown tyre side '{v}'; allowed: 'LEFT', 'RIGHT'"),
-                        ))
-                    }
-                };
-                let map = MfCoefficients::NAMES.iter().filter_map(|n| f.num(n).map(|v| (n.to_string(), v))).collect();
-                (tir_path, map)
-            }
-            (None, Some(map)) => {
-                for k in map.keys() {
-                    if !MfCoefficients::NAMES.contains(&k.as_str()) {
-                        return Err(Error::key(
-                            path,
-                            &format!("pacejka.coefficients.{k}"),
-                            "not a Magic Formula coefficient name",
-                        ));
-                    }
-                }
-                let mut m = map.clone();
-                m.entry("FNOMIN".into()).or_insert(self.nominal_load_n);
-                m.entry("UNLOADED_RADIUS".into()).or_insert(self.unloaded_radius_m);
-                (path.to_path_buf(), m)
-            }
-            _ => {
-                return Err(Error::key(
-                    path,
-                    "pacejka",
-                    "give exactly one of tir_file (a .tir property file) and coefficients (an inline table)",
-                ))
-            }
-        };
+        let (source, base, side) = self.coefficient_source(path, s, &mut warnings)?;
         let mut missing_names = Vec::new();
         let coeffs = MfCoefficients::from_lookup(
             |n| s.overrides.get(n).copied().or_else(|| base.get(n).copied()),
@@ -582,72 +516,154 @@ impl TyreFileSpec {
                 format!("missing required Magic Formula coefficient(s): {}", missing_names.join(", ")),
             ));
         }
-        let cs = Checker::new(&source);
-        cs.positive_up_to("FNOMIN", coeffs.fnomin, MAX_NOMINAL_LOAD_N, "N")?;
-        cs.positive_up_to("UNLOADED_RADIUS", coeffs.unloaded_radius, 2.0, "m")?;
-        cs.positive_up_to("LFZO", coeffs.lfzo, 10.0, "scale factor")?;
-        // The ranges a Magic Formula tyre has (PAC2002): shape factors C up to 3 (lateral about
-        // 1.3, longitudinal about 1.65), peak friction D/Fz up to 5 (racing slicks stay under 2),
-        // slip stiffness over load up to 100 (passenger tyres 15-30).
-        for (n, v, hi, what) in [
-            ("PCX1", coeffs.pcx1, 3.0, "shape factor"),
-            ("PDX1", coeffs.pdx1, 5.0, "peak friction"),
-            ("PCY1", coeffs.pcy1, 3.0, "shape factor"),
-            ("PDY1", coeffs.pdy1, 5.0, "peak friction"),
-            ("PKX1", coeffs.pkx1, 100.0, "slip stiffness over load"),
-        ] {
-            cs.positive_up_to(n, v, hi, what)?;
-        }
-        cs.require(
-            "PKY1",
-            coeffs.pky1,
-            coeffs.pky1 != 0.0 && coeffs.pky1.abs() <= 100.0,
-            "expected a non-zero cornering stiffness factor with |PKY1| <= 100 (Ky / Fz0'; ISO files -10 to -25)",
-        )?;
-        cs.require(
-            "PKY2",
-            coeffs.pky2,
-            coeffs.pky2 > 0.0 && coeffs.pky2 <= 10.0,
-            "expected 0 < PKY2 <= 10 (load at which Ky peaks, in Fz0')",
-        )?;
-        // The curvature factor E must stay <= 1 (PAC2002; above it the curve folds back). At the
-        // nominal load: Ex = PEX1 LEX (1 -/+ PEX4) for driving / braking, Ey = PEY1 LEY (1 -/+ PEY3).
-        for (n, e0, asym, lbl) in [
-            ("PEX1", coeffs.pex1 * coeffs.lex, coeffs.pex4, "PEX1 LEX (1 -/+ PEX4)"),
-            ("PEY1", coeffs.pey1 * coeffs.ley, coeffs.pey3, "PEY1 LEY (1 -/+ PEY3)"),
-        ] {
-            let e = (e0 * (1.0 - asym)).max(e0 * (1.0 + asym));
-            if e > 1.0 || e.is_nan() {
-                return Err(Error::key(
-                    &source,
-                    n,
-                    format!(
-                        "the curvature factor E = {lbl} reaches {} at the nominal load; the Magic Formula needs \
-                         E <= 1 (PAC2002)",
-                        vehsim_core::error::short_num(e)
-                    ),
-                ));
-            }
-        }
+        check_coefficients(&Checker::new(&source), &coeffs)?;
         let mut t = PacejkaTyre::new(coeffs, s.mu_reference, s.stiffness_mu_exponent, combination, s.aligning_moment);
         t.measured_side = side;
-        if t.combination == Combination::MagicFormula {
-            let c2 = &t.coeffs;
-            let absent: Vec<&str> = [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)]
-                .iter()
-                .filter(|(_, v)| *v == 0.0)
-                .map(|(n, _)| *n)
-                .collect();
-            if !absent.is_empty() {
-                warnings.push(format!(
-                    "{}: combined-slip coefficient(s) {} absent or 0; as in PAC2002 implementations the weighting function is 1 there (no combined-slip interaction: each force keeps its pure-slip value, a friction square). Add the R coefficients or set combined = \"ellipse\" for a friction ellipse",
-                    source.display(),
-                    absent.join(", ")
-                ));
-            }
-        }
+        warnings.extend(combined_slip_warning(&t, &source));
         Ok((t, warnings))
     }
+
+    /// Where the `[pacejka]` coefficients come from (the `.tir` file, or the spec file for an
+    /// inline table), the coefficients by name, and the side the tyre was measured on (a `.tir`
+    /// file's TYRESIDE; left otherwise). The `.tir` reader's warnings go to `warnings`.
+    fn coefficient_source(
+        &self,
+        path: &Path,
+        s: &PacejkaSection,
+        warnings: &mut Vec<String>,
+    ) -> Result<(std::path::PathBuf, BTreeMap<String, f64>, TyreSide)> {
+        match (&s.tir_file, &s.coefficients) {
+            (Some(rel), None) => {
+                let tir_path = resolve(path, rel);
+                let f = crate::tir::read_tir(&tir_path)
+                    .map_err(vehsim_core::error::referred_by(path, "pacejka.tir_file"))?;
+                warnings.extend(f.warnings.iter().cloned());
+                let side = tir_side(&f, &tir_path)?;
+                let map = MfCoefficients::NAMES.iter().filter_map(|n| f.num(n).map(|v| (n.to_string(), v))).collect();
+                Ok((tir_path, map, side))
+            }
+            (None, Some(map)) => {
+                check_coefficient_names(path, "pacejka.coefficients", map.keys())?;
+                let mut m = map.clone();
+                m.entry("FNOMIN".into()).or_insert(self.nominal_load_n);
+                m.entry("UNLOADED_RADIUS".into()).or_insert(self.unloaded_radius_m);
+                Ok((path.to_path_buf(), m, TyreSide::Left))
+            }
+            _ => Err(Error::key(
+                path,
+                "pacejka",
+                "give exactly one of tir_file (a .tir property file) and coefficients (an inline table)",
+            )),
+        }
+    }
+}
+
+/// The combined-slip method named by `pacejka.combined` (`None`: auto, the MF functions).
+fn combination(path: &Path, name: &str) -> Result<Option<Combination>> {
+    match name {
+        "auto" => Ok(None),
+        "magic_formula" => Ok(Some(Combination::MagicFormula)),
+        "ellipse" => Ok(Some(Combination::Ellipse)),
+        other => Err(Error::key(
+            path,
+            "pacejka.combined",
+            format!("unknown method '{other}'; allowed: auto, magic_formula, ellipse"),
+        )),
+    }
+}
+
+/// Every key of the table `table` (e.g. `pacejka.overrides`) names a Magic Formula coefficient.
+fn check_coefficient_names<'a>(path: &Path, table: &str, keys: impl Iterator<Item = &'a String>) -> Result<()> {
+    for k in keys {
+        if !MfCoefficients::NAMES.contains(&k.as_str()) {
+            return Err(Error::key(path, &format!("{table}.{k}"), "not a Magic Formula coefficient name"));
+        }
+    }
+    Ok(())
+}
+
+/// The side a `.tir` file's TYRESIDE names (left when absent).
+fn tir_side(f: &crate::tir::TirFile, tir_path: &Path) -> Result<TyreSide> {
+    match f.string("TYRESIDE").map(|v| v.trim().to_ascii_uppercase()) {
+        None if f.num("TYRESIDE").is_some() => {
+            Err(Error::key(tir_path, "TYRESIDE", "expected 'LEFT' or 'RIGHT' (a quoted string)"))
+        }
+        None => Ok(TyreSide::Left),
+        Some(v) if v == "LEFT" => Ok(TyreSide::Left),
+        Some(v) if v == "RIGHT" => Ok(TyreSide::Right),
+        Some(v) => Err(Error::key(tir_path, "TYRESIDE", format!("unknown tyre side '{v}'; allowed: 'LEFT', 'RIGHT'"))),
+    }
+}
+
+/// The coefficients within the ranges a Magic Formula tyre has (messages name the file `c` checks).
+fn check_coefficients(cs: &Checker, coeffs: &MfCoefficients) -> Result<()> {
+    cs.positive_up_to("FNOMIN", coeffs.fnomin, MAX_NOMINAL_LOAD_N, "N")?;
+    cs.positive_up_to("UNLOADED_RADIUS", coeffs.unloaded_radius, 2.0, "m")?;
+    cs.positive_up_to("LFZO", coeffs.lfzo, 10.0, "scale factor")?;
+    // The ranges a Magic Formula tyre has (PAC2002): shape factors C up to 3 (lateral about
+    // 1.3, longitudinal about 1.65), peak friction D/Fz up to 5 (racing slicks stay under 2),
+    // slip stiffness over load up to 100 (passenger tyres 15-30).
+    for (n, v, hi, what) in [
+        ("PCX1", coeffs.pcx1, 3.0, "shape factor"),
+        ("PDX1", coeffs.pdx1, 5.0, "peak friction"),
+        ("PCY1", coeffs.pcy1, 3.0, "shape factor"),
+        ("PDY1", coeffs.pdy1, 5.0, "peak friction"),
+        ("PKX1", coeffs.pkx1, 100.0, "slip stiffness over load"),
+    ] {
+        cs.positive_up_to(n, v, hi, what)?;
+    }
+    cs.require(
+        "PKY1",
+        coeffs.pky1,
+        coeffs.pky1 != 0.0 && coeffs.pky1.abs() <= 100.0,
+        "expected a non-zero cornering stiffness factor with |PKY1| <= 100 (Ky / Fz0'; ISO files -10 to -25)",
+    )?;
+    cs.require(
+        "PKY2",
+        coeffs.pky2,
+        coeffs.pky2 > 0.0 && coeffs.pky2 <= 10.0,
+        "expected 0 < PKY2 <= 10 (load at which Ky peaks, in Fz0')",
+    )?;
+    // The curvature factor E must stay <= 1 (PAC2002; above it the curve folds back). At the
+    // nominal load: Ex = PEX1 LEX (1 -/+ PEX4) for driving / braking, Ey = PEY1 LEY (1 -/+ PEY3).
+    for (n, e0, asym, lbl) in [
+        ("PEX1", coeffs.pex1 * coeffs.lex, coeffs.pex4, "PEX1 LEX (1 -/+ PEX4)"),
+        ("PEY1", coeffs.pey1 * coeffs.ley, coeffs.pey3, "PEY1 LEY (1 -/+ PEY3)"),
+    ] {
+        let e = (e0 * (1.0 - asym)).max(e0 * (1.0 + asym));
+        if e > 1.0 || e.is_nan() {
+            return Err(Error::key(
+                cs.file,
+                n,
+                format!(
+                    "the curvature factor E = {lbl} reaches {} at the nominal load; the Magic Formula needs \
+                     E <= 1 (PAC2002)",
+                    vehsim_core::error::short_num(e)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The warning for a Magic Formula combination whose R coefficients are absent or 0.
+fn combined_slip_warning(t: &PacejkaTyre, source: &Path) -> Option<String> {
+    if t.combination == Combination::MagicFormula {
+        let c2 = &t.coeffs;
+        let absent: Vec<&str> = [("RBX1", c2.rbx1), ("RCX1", c2.rcx1), ("RBY1", c2.rby1), ("RCY1", c2.rcy1)]
+            .iter()
+            .filter(|(_, v)| *v == 0.0)
+            .map(|(n, _)| *n)
+            .collect();
+        if !absent.is_empty() {
+            return Some(format!(
+                "{}: combined-slip coefficient(s) {} absent or 0; as in PAC2002 implementations the weighting function is 1 there (no combined-slip interaction: each force keeps its pure-slip value, a friction square). Add the R coefficients or set combined = \"ellipse\" for a friction ellipse",
+                source.display(),
+                absent.join(", ")
+            ));
+        }
+    }
+    None
 }
 
 /// Largest slip stiffness (cornering N/rad, longitudinal N per unit slip) at the nominal load:
