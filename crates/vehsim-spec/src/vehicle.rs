@@ -167,32 +167,7 @@ impl VehicleFile {
     /// Validate every value and build the tyre for provider `tyre_model`.
     pub fn build(&self, path: &Path, tyre_model: TyreModelKind) -> Result<Vehicle> {
         let c = Checker::new(path);
-        // Upper ends: beyond any road vehicle (a 40 t lorry, a bus) by a wide margin; they keep a
-        // mistyped unit or exponent from reaching the engine (where it makes a run take hours).
-        c.positive_up_to("mass_kg", self.mass_kg, 100_000.0, "kg")?;
-        c.positive_up_to("yaw_inertia_kgm2", self.yaw_inertia_kgm2, 1e6, "kg m^2")?;
-        c.positive_up_to("cg_to_front_axle_m", self.cg_to_front_axle_m, 10.0, "m")?;
-        c.positive_up_to("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 10.0, "m")?;
-        c.positive_up_to("track_m", self.track_m, 5.0, "m")?;
-        c.range("cg_height_m", self.cg_height_m, 0.0, 5.0)?;
-        c.positive_up_to("body_width_m", self.body_width_m, 5.0, "m")?;
-        c.range("front_overhang_m", self.front_overhang_m, 0.0, 5.0)?;
-        let wheelbase = self.cg_to_front_axle_m + self.cg_to_rear_axle_m;
-        c.require(
-            "body_length_m",
-            self.body_length_m,
-            self.body_length_m >= wheelbase + self.front_overhang_m && self.body_length_m <= 30.0,
-            "expected wheelbase + front_overhang_m <= body_length_m <= 30 (m)",
-        )?;
-        c.range("wheel_inertia_kgm2", self.wheel_inertia_kgm2, 0.01, 100.0)?;
-        c.range("front_drive_share", self.front_drive_share, 0.0, 1.0)?;
-        c.range("drive_torque_max_nm", self.drive_torque_max_nm, 0.0, 100_000.0)?;
-        c.positive_up_to("brake_torque_max_nm", self.brake_torque_max_nm, 100_000.0, "N m")?;
-        c.range("brake_front_share", self.brake_front_share, 0.0, 1.0)?;
-        c.range("steer_max_rad", self.steer_max_rad, 1e-3, 1.2)?;
-        c.positive_up_to("steer_rate_max_radps", self.steer_rate_max_radps, 20.0, "rad/s")?;
-        c.range("drag_area_m2", self.drag_area_m2, 0.0, 20.0)?;
-        c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
+        self.check_body(&c)?;
         let tyre_path = resolve(path, &self.tyre);
         let (tyre, tyre_warnings) = TyreFileSpec::load(&tyre_path)
             .and_then(|t| t.build_with_warnings(&tyre_path, tyre_model))
@@ -202,17 +177,7 @@ impl VehicleFile {
             None => None,
         };
         let lateral = match &self.lateral {
-            Some(l) => {
-                use lateral_bounds as b;
-                Lateral {
-                    steer_compliance_rad_per_kn: c.bound(&b::STEER_COMPLIANCE, l.steer_compliance_rad_per_kn)?,
-                    mu_scale: c.bound(&b::MU_SCALE, l.mu_scale)?,
-                    steer_lag_s: c.bound(&b::STEER_LAG, l.steer_lag_s)?,
-                    relaxation_length_y_m: c.bound(&b::RELAXATION_LENGTH, l.relaxation_length_y_m)?,
-                    load_transfer_height_m: c.bound(&b::LOAD_TRANSFER_HEIGHT, l.load_transfer_height_m)?,
-                    thermal_mu_per_k: c.bound(&b::THERMAL_MU, l.thermal_mu_per_k)?,
-                }
-            }
+            Some(l) => l.build(&c)?,
             None => Lateral::default(),
         };
         let powertrain = match &self.powertrain {
@@ -246,6 +211,52 @@ impl VehicleFile {
             roll,
             tyre,
             tyre_warnings,
+        })
+    }
+
+    /// The body, mass and actuator keys within their ranges. Upper ends: beyond any road
+    /// vehicle (a 40 t lorry, a bus) by a wide margin; they keep a mistyped unit or exponent
+    /// from reaching the engine (where it makes a run take hours).
+    fn check_body(&self, c: &Checker) -> Result<()> {
+        c.positive_up_to("mass_kg", self.mass_kg, 100_000.0, "kg")?;
+        c.positive_up_to("yaw_inertia_kgm2", self.yaw_inertia_kgm2, 1e6, "kg m^2")?;
+        c.positive_up_to("cg_to_front_axle_m", self.cg_to_front_axle_m, 10.0, "m")?;
+        c.positive_up_to("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 10.0, "m")?;
+        c.positive_up_to("track_m", self.track_m, 5.0, "m")?;
+        c.range("cg_height_m", self.cg_height_m, 0.0, 5.0)?;
+        c.positive_up_to("body_width_m", self.body_width_m, 5.0, "m")?;
+        c.range("front_overhang_m", self.front_overhang_m, 0.0, 5.0)?;
+        let wheelbase = self.cg_to_front_axle_m + self.cg_to_rear_axle_m;
+        c.require(
+            "body_length_m",
+            self.body_length_m,
+            self.body_length_m >= wheelbase + self.front_overhang_m && self.body_length_m <= 30.0,
+            "expected wheelbase + front_overhang_m <= body_length_m <= 30 (m)",
+        )?;
+        c.range("wheel_inertia_kgm2", self.wheel_inertia_kgm2, 0.01, 100.0)?;
+        c.range("front_drive_share", self.front_drive_share, 0.0, 1.0)?;
+        c.range("drive_torque_max_nm", self.drive_torque_max_nm, 0.0, 100_000.0)?;
+        c.positive_up_to("brake_torque_max_nm", self.brake_torque_max_nm, 100_000.0, "N m")?;
+        c.range("brake_front_share", self.brake_front_share, 0.0, 1.0)?;
+        c.range("steer_max_rad", self.steer_max_rad, 1e-3, 1.2)?;
+        c.positive_up_to("steer_rate_max_radps", self.steer_rate_max_radps, 20.0, "rad/s")?;
+        c.range("drag_area_m2", self.drag_area_m2, 0.0, 20.0)?;
+        c.range("rolling_resistance", self.rolling_resistance, 0.0, 0.1)?;
+        Ok(())
+    }
+}
+
+impl LateralSection {
+    /// The validated extensions, each within its bound ([`lateral_bounds`]).
+    fn build(&self, c: &Checker) -> Result<Lateral> {
+        use lateral_bounds as b;
+        Ok(Lateral {
+            steer_compliance_rad_per_kn: c.bound(&b::STEER_COMPLIANCE, self.steer_compliance_rad_per_kn)?,
+            mu_scale: c.bound(&b::MU_SCALE, self.mu_scale)?,
+            steer_lag_s: c.bound(&b::STEER_LAG, self.steer_lag_s)?,
+            relaxation_length_y_m: c.bound(&b::RELAXATION_LENGTH, self.relaxation_length_y_m)?,
+            load_transfer_height_m: c.bound(&b::LOAD_TRANSFER_HEIGHT, self.load_transfer_height_m)?,
+            thermal_mu_per_k: c.bound(&b::THERMAL_MU, self.thermal_mu_per_k)?,
         })
     }
 }
