@@ -10,9 +10,10 @@ use serde::{Deserialize, Serialize};
 use crate::files::{parse_toml, read_input, resolve};
 
 use crate::tyre::TyreFileSpec;
-use vehsim_core::error::{Checker, Result};
+use vehsim_core::error::{Checker, Error, Result};
 use vehsim_core::tyre::TyreModelKind;
 use vehsim_core::vehicle::params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, GRAVITY};
+use vehsim_core::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
 
 /// Raw vehicle file as written by the user. Every field: unit in the name, typical range in the docs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -403,79 +404,15 @@ pub mod powertrain_bounds {
     pub const TORQUE_BIAS_RATIO: Bound = Bound::closed("powertrain.torque_bias_ratio", 1.0, 20.0, "");
 }
 
+/// rad/s per rpm.
+const RPM: f64 = std::f64::consts::PI / 30.0;
+
 impl PowertrainSection {
     /// Validate into a [`vehsim_core::vehicle::powertrain::Powertrain`]; bad input names the key.
-    pub fn build(&self, c: &Checker) -> Result<vehsim_core::vehicle::powertrain::Powertrain> {
-        use powertrain_bounds as b;
-        use vehsim_core::error::Error;
-        use vehsim_core::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
-        let rpm = std::f64::consts::PI / 30.0;
-        let refuse = |key: &str, what: &str| {
-            Err(Error::key(c.file, &format!("powertrain.{key}"), format!("not used with kind = \"{what}\"; remove it")))
-        };
+    pub fn build(&self, c: &Checker) -> Result<Powertrain> {
         let source = match self.kind.as_str() {
-            "engine" => {
-                for (k, set) in
-                    [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())]
-                {
-                    if set {
-                        return refuse(k, "engine");
-                    }
-                }
-                let curve = self.torque_curve.as_ref().ok_or_else(|| {
-                    Error::key(
-                        c.file,
-                        "powertrain.torque_curve",
-                        "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]",
-                    )
-                })?;
-                if curve.len() < 2 {
-                    return Err(Error::key(
-                        c.file,
-                        "powertrain.torque_curve",
-                        "expected at least two [speed_rpm, torque_nm] points",
-                    ));
-                }
-                let mut prev = f64::NEG_INFINITY;
-                for (n, [w, t]) in curve.iter().enumerate() {
-                    let key = format!("powertrain.torque_curve[{n}]");
-                    c.require(
-                        &key,
-                        *w,
-                        b::SPEED_RPM.contains(*w) && *w > prev,
-                        "expected engine speeds in [0, 30000] rpm, strictly increasing",
-                    )?;
-                    c.require(&key, *t, b::TORQUE_NM.contains(*t), "expected a torque in [0, 5000] N m")?;
-                    prev = *w;
-                }
-                c.require(
-                    "powertrain.torque_curve",
-                    curve.iter().map(|p| p[1]).fold(0.0, f64::max),
-                    curve.iter().any(|p| p[1] > 0.0),
-                    "expected some torque > 0 on the curve",
-                )?;
-                let power_max_w = match self.power_max_kw {
-                    Some(p) => 1e3 * c.bound(&b::POWER_MAX_KW, p)?,
-                    None => f64::INFINITY,
-                };
-                TorqueSource::Engine { curve: curve.iter().map(|p| (p[0] * rpm, p[1])).collect(), power_max_w }
-            }
-            "motor" => {
-                if self.torque_curve.is_some() {
-                    return refuse("torque_curve", "motor");
-                }
-                let need = |k: &str, v: Option<f64>, bound: &vehsim_core::error::Bound| -> Result<f64> {
-                    let v = v.ok_or_else(|| {
-                        Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\"")
-                    })?;
-                    c.bound(bound, v)
-                };
-                TorqueSource::Motor {
-                    torque_max_nm: need("torque_max_nm", self.torque_max_nm, &b::TORQUE_MAX_NM)?,
-                    power_max_w: 1e3 * need("power_max_kw", self.power_max_kw, &b::POWER_MAX_KW)?,
-                    speed_max_radps: rpm * need("speed_max_rpm", self.speed_max_rpm, &b::SPEED_MAX_RPM)?,
-                }
-            }
+            "engine" => self.engine(c)?,
+            "motor" => self.motor(c)?,
             other => {
                 return Err(Error::key(
                     c.file,
@@ -484,6 +421,95 @@ impl PowertrainSection {
                 ))
             }
         };
+        self.check_gearbox(c)?;
+        Ok(Powertrain::new(
+            source,
+            self.gear_ratios.clone(),
+            self.final_drive_ratio,
+            self.efficiency,
+            self.engine_inertia_kgm2,
+            self.gear_mode(c)?,
+            self.differential(c)?,
+        ))
+    }
+
+    /// `powertrain.{key}` is not a key of the powertrain `kind` (bad input).
+    fn refuse<T>(c: &Checker, key: &str, kind: &str) -> Result<T> {
+        Err(Error::key(c.file, &format!("powertrain.{key}"), format!("not used with kind = \"{kind}\"; remove it")))
+    }
+
+    /// `kind = "engine"`: a torque curve over engine speed (rpm in the file, rad/s built), an
+    /// optional power limit.
+    fn engine(&self, c: &Checker) -> Result<TorqueSource> {
+        use powertrain_bounds as b;
+        for (k, set) in
+            [("torque_max_nm", self.torque_max_nm.is_some()), ("speed_max_rpm", self.speed_max_rpm.is_some())]
+        {
+            if set {
+                return Self::refuse(c, k, "engine");
+            }
+        }
+        let curve = self.torque_curve.as_ref().ok_or_else(|| {
+            Error::key(
+                c.file,
+                "powertrain.torque_curve",
+                "required with kind = \"engine\": [[speed_rpm, torque_nm], ...]",
+            )
+        })?;
+        if curve.len() < 2 {
+            return Err(Error::key(
+                c.file,
+                "powertrain.torque_curve",
+                "expected at least two [speed_rpm, torque_nm] points",
+            ));
+        }
+        let mut prev = f64::NEG_INFINITY;
+        for (n, [w, t]) in curve.iter().enumerate() {
+            let key = format!("powertrain.torque_curve[{n}]");
+            c.require(
+                &key,
+                *w,
+                b::SPEED_RPM.contains(*w) && *w > prev,
+                "expected engine speeds in [0, 30000] rpm, strictly increasing",
+            )?;
+            c.require(&key, *t, b::TORQUE_NM.contains(*t), "expected a torque in [0, 5000] N m")?;
+            prev = *w;
+        }
+        c.require(
+            "powertrain.torque_curve",
+            curve.iter().map(|p| p[1]).fold(0.0, f64::max),
+            curve.iter().any(|p| p[1] > 0.0),
+            "expected some torque > 0 on the curve",
+        )?;
+        let power_max_w = match self.power_max_kw {
+            Some(p) => 1e3 * c.bound(&b::POWER_MAX_KW, p)?,
+            None => f64::INFINITY,
+        };
+        Ok(TorqueSource::Engine { curve: curve.iter().map(|p| (p[0] * RPM, p[1])).collect(), power_max_w })
+    }
+
+    /// `kind = "motor"`: constant torque up to the power limit, then constant power, up to a
+    /// top speed.
+    fn motor(&self, c: &Checker) -> Result<TorqueSource> {
+        use powertrain_bounds as b;
+        if self.torque_curve.is_some() {
+            return Self::refuse(c, "torque_curve", "motor");
+        }
+        let need = |k: &str, v: Option<f64>, bound: &vehsim_core::error::Bound| -> Result<f64> {
+            let v =
+                v.ok_or_else(|| Error::key(c.file, &format!("powertrain.{k}"), "required with kind = \"motor\""))?;
+            c.bound(bound, v)
+        };
+        Ok(TorqueSource::Motor {
+            torque_max_nm: need("torque_max_nm", self.torque_max_nm, &b::TORQUE_MAX_NM)?,
+            power_max_w: 1e3 * need("power_max_kw", self.power_max_kw, &b::POWER_MAX_KW)?,
+            speed_max_radps: RPM * need("speed_max_rpm", self.speed_max_rpm, &b::SPEED_MAX_RPM)?,
+        })
+    }
+
+    /// Gear ratios, final drive, efficiency and engine inertia within their ranges.
+    fn check_gearbox(&self, c: &Checker) -> Result<()> {
+        use powertrain_bounds as b;
         if self.gear_ratios.is_empty() || self.gear_ratios.len() > 12 {
             return Err(Error::key(c.file, "powertrain.gear_ratios", "expected 1 to 12 ratios, first gear first"));
         }
@@ -498,7 +524,12 @@ impl PowertrainSection {
         c.bound(&b::FINAL_DRIVE, self.final_drive_ratio)?;
         c.bound(&b::EFFICIENCY, self.efficiency)?;
         c.bound(&b::ENGINE_INERTIA, self.engine_inertia_kgm2)?;
-        let gear = match self.fixed_gear {
+        Ok(())
+    }
+
+    /// Automatic shifting, or the gear `fixed_gear` names (1 = first).
+    fn gear_mode(&self, c: &Checker) -> Result<GearMode> {
+        Ok(match self.fixed_gear {
             None => GearMode::Auto,
             Some(g) => {
                 let n = self.gear_ratios.len();
@@ -510,8 +541,13 @@ impl PowertrainSection {
                 )?;
                 GearMode::Fixed(g as usize - 1)
             }
-        };
-        let differential = match (self.differential.as_deref().unwrap_or("open"), self.torque_bias_ratio) {
+        })
+    }
+
+    /// The differential between the driven wheels (default open).
+    fn differential(&self, c: &Checker) -> Result<Differential> {
+        use powertrain_bounds as b;
+        Ok(match (self.differential.as_deref().unwrap_or("open"), self.torque_bias_ratio) {
             ("open", None) => Differential::Open,
             ("locked", None) => Differential::Locked,
             ("limited_slip", Some(t)) => {
@@ -538,15 +574,6 @@ impl PowertrainSection {
                     format!("unknown differential '{other}'; allowed: open, locked, limited_slip"),
                 ))
             }
-        };
-        Ok(Powertrain::new(
-            source,
-            self.gear_ratios.clone(),
-            self.final_drive_ratio,
-            self.efficiency,
-            self.engine_inertia_kgm2,
-            gear,
-            differential,
-        ))
+        })
     }
 }
