@@ -689,6 +689,54 @@ impl ManeuverFile {
     /// per (file, tyre model) over the builds that share `cache` (a sweep's combinations).
     pub fn build_cached(&self, path: &Path, cache: &mut BuildCache) -> Result<RunConfig> {
         let c = Checker::new(path);
+        self.check_name(path)?;
+        let tyre_model: TyreModelKind =
+            self.tyre_model.parse().map_err(|e: String| Error::key(path, "tyre_model", e))?;
+        c.bound(&bounds::MU, self.surface.mu)?;
+        c.bound(&bounds::TEMPERATURE_C, self.surface.temperature_c)?;
+        self.check_controllers(&c)?;
+        let method = self.integrator_method(&c)?;
+        c.bound(&bounds::INTERVAL_S, self.output.interval_s)?;
+        let (maneuver, kind, default_duration) = self.build_maneuver(&c)?;
+        let duration_s = match self.duration_s {
+            Some(v) => c.bound(&bounds::DURATION_S, v)?,
+            None => default_duration
+                .ok_or_else(|| Error::key(path, "duration_s", "required for this manoeuvre kind (s)"))?,
+        };
+        // Validate the contact table now (builds and caches the ATIIM flash table once).
+        self.contact.build(path, 4, self.surface.temperature_c)?;
+        let vehicle_model = self.vehicle_model_kind(path)?;
+        let (vehicle_file, vehicle) = self.vehicle(path, tyre_model, vehicle_model, cache)?;
+        let (step_s, control_period_s, exp) =
+            self.step_and_period(path, &vehicle, vehicle_model, &maneuver, method == Method::Rk4)?;
+        let method = if exp { Method::Rk4Exp } else { method };
+        Ok(RunConfig {
+            spec_file: path.to_path_buf(),
+            name: self.name.clone(),
+            vehicle_file,
+            vehicle,
+            tyre_model,
+            vehicle_model,
+            env: Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c },
+            maneuver,
+            kind,
+            pid: self.speed_control,
+            driver: self.driver,
+            settings: SimSettings {
+                method,
+                step_s,
+                control_period_s,
+                duration_s,
+                output_interval_s: self.output.interval_s,
+            },
+            output: self.output.clone(),
+            contact: self.contact.clone(),
+            slip: self.slip_control(&c, step_s)?,
+        })
+    }
+
+    /// The run's name makes a usable folder name.
+    fn check_name(&self, path: &Path) -> Result<()> {
         if !valid_name(&self.name) {
             return Err(Error::key(
                 path,
@@ -699,10 +747,11 @@ impl ManeuverFile {
                 ),
             ));
         }
-        let tyre_model: TyreModelKind =
-            self.tyre_model.parse().map_err(|e: String| Error::key(path, "tyre_model", e))?;
-        c.bound(&bounds::MU, self.surface.mu)?;
-        c.bound(&bounds::TEMPERATURE_C, self.surface.temperature_c)?;
+        Ok(())
+    }
+
+    /// The speed controller's gains and the driver's preview and gain within their ranges.
+    fn check_controllers(&self, c: &Checker) -> Result<()> {
         let p = &self.speed_control;
         c.non_negative("speed_control.kp", p.kp)?;
         c.non_negative("speed_control.ki", p.ki)?;
@@ -711,6 +760,11 @@ impl ManeuverFile {
         c.bound(&bounds::PREVIEW_TIME_S, d.preview_time_s)?;
         c.bound(&bounds::PREVIEW_MIN_M, d.preview_min_m)?;
         c.bound(&bounds::GAIN, d.gain)?;
+        Ok(())
+    }
+
+    /// The integrator (with its step, control period and tolerances checked).
+    fn integrator_method(&self, c: &Checker) -> Result<Method> {
         let i = &self.integrator;
         if let Some(h) = i.step_s {
             c.bound(&bounds::STEP_S, h)?;
@@ -729,37 +783,41 @@ impl ManeuverFile {
         }
         let tolerances =
             || -> Result<(f64, f64)> { Ok((c.bound(&bounds::RTOL, i.rtol)?, c.bound(&bounds::ATOL, i.atol)?)) };
-        let method = match i.method.as_str() {
-            "rk4" => Method::Rk4,
-            "dopri5" => tolerances().map(|(rtol, atol)| Method::Dopri5 { rtol, atol })?,
-            "dop853" => tolerances().map(|(rtol, atol)| Method::Dop853 { rtol, atol })?,
-            other => {
-                return Err(Error::key(
-                    path,
-                    "integrator.method",
-                    format!("unknown method '{other}'; allowed: rk4, dopri5, dop853"),
-                ))
-            }
-        };
-        c.bound(&bounds::INTERVAL_S, self.output.interval_s)?;
-        let (maneuver, kind, default_duration) = self.build_maneuver(&c)?;
-        let duration_s = match self.duration_s {
-            Some(v) => c.bound(&bounds::DURATION_S, v)?,
-            None => default_duration
-                .ok_or_else(|| Error::key(path, "duration_s", "required for this manoeuvre kind (s)"))?,
-        };
-        // Validate the contact table now (builds and caches the ATIIM flash table once).
-        self.contact.build(path, 4, self.surface.temperature_c)?;
-        let vehicle_model = match self.vehicle_model.as_deref() {
-            None => VehicleModelKind::Bicycle,
+        match i.method.as_str() {
+            "rk4" => Ok(Method::Rk4),
+            "dopri5" => tolerances().map(|(rtol, atol)| Method::Dopri5 { rtol, atol }),
+            "dop853" => tolerances().map(|(rtol, atol)| Method::Dop853 { rtol, atol }),
+            other => Err(Error::key(
+                c.file,
+                "integrator.method",
+                format!("unknown method '{other}'; allowed: rk4, dopri5, dop853"),
+            )),
+        }
+    }
+
+    /// The vehicle model (`vehicle_model`; default the bicycle).
+    fn vehicle_model_kind(&self, path: &Path) -> Result<VehicleModelKind> {
+        match self.vehicle_model.as_deref() {
+            None => Ok(VehicleModelKind::Bicycle),
             Some(name) => VehicleModelKind::parse(name).ok_or_else(|| {
                 Error::key(
                     path,
                     "vehicle_model",
                     format!("unknown vehicle model '{name}'; allowed: {}", VehicleModelKind::allowed()),
                 )
-            })?,
-        };
+            }),
+        }
+    }
+
+    /// The vehicle file's path and the validated vehicle (built once per file and tyre model in
+    /// `cache`), checked against the vehicle model, its tyre on the surface's ice friction law.
+    fn vehicle(
+        &self,
+        path: &Path,
+        tyre_model: TyreModelKind,
+        vehicle_model: VehicleModelKind,
+        cache: &mut BuildCache,
+    ) -> Result<(PathBuf, Vehicle)> {
         let vehicle_file = resolve(path, &self.vehicle);
         let key = (vehicle_file.clone(), tyre_model);
         let vehicle = match cache.vehicles.get(&key) {
@@ -788,7 +846,7 @@ impl ManeuverFile {
                 key,
                 format!(
                     "the 4-DOF model (vehicle_model = \"roll4dof\" in {}) does not model [lateral]; remove the \
-                     section or use the bicycle model",
+                 section or use the bicycle model",
                     path.display()
                 ),
             ));
@@ -798,32 +856,7 @@ impl ManeuverFile {
         if let Some(law) = self.surface.friction(path)? {
             vehicle.tyre = vehicle.tyre.on_ice(&law);
         }
-        let (step_s, control_period_s, exp) =
-            self.step_and_period(path, &vehicle, vehicle_model, &maneuver, method == Method::Rk4)?;
-        let method = if exp { Method::Rk4Exp } else { method };
-        Ok(RunConfig {
-            spec_file: path.to_path_buf(),
-            name: self.name.clone(),
-            vehicle_file,
-            vehicle,
-            tyre_model,
-            vehicle_model,
-            env: Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c },
-            maneuver,
-            kind,
-            pid: *p,
-            driver: *d,
-            settings: SimSettings {
-                method,
-                step_s,
-                control_period_s,
-                duration_s,
-                output_interval_s: self.output.interval_s,
-            },
-            output: self.output.clone(),
-            contact: self.contact.clone(),
-            slip: self.slip_control(&c, step_s)?,
-        })
+        Ok((vehicle_file, vehicle))
     }
 
     /// The integration step and control period (see [`IntegratorSection`]), and whether RK4 is to
