@@ -580,93 +580,8 @@ impl ScenarioSpec {
         ck.range("operating.slip_angle_deg", o.slip_angle_deg, -30.0, 30.0)?;
         ck.range("operating.ice_temp_c", o.ice_temp_c, -40.0, 0.0)?;
         let params = self.tyre.params(file, "tyre.", o.ice_temp_c)?;
-        let p = &self.pressure;
-        let source = PressureSource::parse(&p.source).ok_or_else(|| {
-            Error::key(
-                file,
-                "pressure.source",
-                format!("unknown source '{}'; allowed: {}", p.source, PressureSource::allowed()),
-            )
-        })?;
-        let mut grid = match source {
-            PressureSource::Synth => {
-                let [rows, cols] = p.grid.unwrap_or([64, 48]);
-                // (named here: `synthesize` names its own fields, not the scenario's keys)
-                let ck = Checker::new(file);
-                ck.range("pressure.grid[0]", rows as f64, 4.0, 512.0)?;
-                ck.range("pressure.grid[1]", cols as f64, 4.0, 512.0)?;
-                let load = need(file, "pressure.load_n", p.load_n, "synth")?;
-                synthesize(
-                    file,
-                    &SynthInputs {
-                        load_n: load,
-                        inflation_pa: self.tyre.inflation_kpa * 1e3,
-                        tread_width_m: self.tyre.tread_width_m,
-                        rated_load_n: self.tyre.rated_load_n,
-                        camber_deg: p.camber_deg.unwrap_or(0.0),
-                        pattern: self.tyre.pattern(),
-                        rows,
-                        cols,
-                    },
-                )?
-            }
-            PressureSource::Csv | PressureSource::Image => {
-                let rel = p
-                    .file
-                    .as_deref()
-                    .ok_or_else(|| Error::key(file, "pressure.file", "required for csv and image sources"))?;
-                let path: PathBuf = resolve(file, rel);
-                let dx = ck.range(
-                    "pressure.pixel_length_m",
-                    need(file, "pressure.pixel_length_m", p.pixel_length_m, &p.source)?,
-                    1e-5,
-                    0.05,
-                )?;
-                let dy = ck.range(
-                    "pressure.pixel_width_m",
-                    need(file, "pressure.pixel_width_m", p.pixel_width_m, &p.source)?,
-                    1e-5,
-                    0.05,
-                )?;
-                if source == PressureSource::Csv {
-                    parse_csv(&path, &read_input(&path)?, dx, dy)?
-                } else {
-                    let bytes =
-                        std::fs::read(&path).map_err(|e| Error::input(&path, format!("cannot read image: {e}")))?;
-                    let lo = need(file, "pressure.bar_min_kpa", p.bar_min_kpa, "image")?;
-                    let hi = need(file, "pressure.bar_max_kpa", p.bar_max_kpa, "image")?;
-                    read_png_map(
-                        &path,
-                        &bytes,
-                        &ImageLayout {
-                            footprint: need(file, "pressure.footprint", p.footprint, "image")?,
-                            colour_bar: need(file, "pressure.colour_bar", p.colour_bar, "image")?,
-                            bar_min_pa: lo * 1e3,
-                            bar_max_pa: hi * 1e3,
-                            tolerance: ck.range("pressure.tolerance", p.tolerance.unwrap_or(60.0), 1.0, 442.0)?,
-                            dx_m: dx,
-                            dy_m: dy,
-                        },
-                    )?
-                }
-            }
-        };
-        if source == PressureSource::Synth {
-            tilt_for_slip_angle(&mut grid, o.slip_angle_deg.to_radians());
-        }
-        if grid.rows * grid.cols > 512 * 512 {
-            return Err(Error::key(file, "pressure", "grid larger than 512 x 512 pixels"));
-        }
-        let (slips, dspeed) = match &self.drawbar {
-            Some(d) => (
-                d.slips.clone().unwrap_or_else(default_slips),
-                ck.range("drawbar.speed_mps", d.speed_mps.unwrap_or(o.speed_mps), 0.01, 80.0)?,
-            ),
-            None => (default_slips(), o.speed_mps),
-        };
-        for (i, s) in slips.iter().enumerate() {
-            ck.range(&format!("drawbar.slips[{i}]"), *s, -1.0, 2.0)?;
-        }
+        let grid = self.pressure_grid(file)?;
+        let (slips, dspeed) = self.drawbar_slips(&ck)?;
         Ok(Scenario {
             name: self.name.clone(),
             title: self.title.clone(),
@@ -680,6 +595,113 @@ impl ScenarioSpec {
             drawbar_speed_mps: dspeed,
             spec: self,
         })
+    }
+
+    /// The contact-pressure grid of `[pressure]`: synthesized (and tilted for the slip angle),
+    /// or read from a CSV file or a PNG pressure map; at most 512 x 512 pixels.
+    fn pressure_grid(&self, file: &Path) -> Result<PressureGrid> {
+        let p = &self.pressure;
+        let source = PressureSource::parse(&p.source).ok_or_else(|| {
+            Error::key(
+                file,
+                "pressure.source",
+                format!("unknown source '{}'; allowed: {}", p.source, PressureSource::allowed()),
+            )
+        })?;
+        let grid = match source {
+            PressureSource::Synth => {
+                let mut grid = self.synthesized_grid(file)?;
+                tilt_for_slip_angle(&mut grid, self.operating.slip_angle_deg.to_radians());
+                grid
+            }
+            PressureSource::Csv | PressureSource::Image => self.grid_from_file(file, source)?,
+        };
+        if grid.rows * grid.cols > 512 * 512 {
+            return Err(Error::key(file, "pressure", "grid larger than 512 x 512 pixels"));
+        }
+        Ok(grid)
+    }
+
+    /// `source = "synth"`: a grid synthesized from the load and the tyre data.
+    fn synthesized_grid(&self, file: &Path) -> Result<PressureGrid> {
+        let p = &self.pressure;
+        let [rows, cols] = p.grid.unwrap_or([64, 48]);
+        // (named here: `synthesize` names its own fields, not the scenario's keys)
+        let ck = Checker::new(file);
+        ck.range("pressure.grid[0]", rows as f64, 4.0, 512.0)?;
+        ck.range("pressure.grid[1]", cols as f64, 4.0, 512.0)?;
+        let load = need(file, "pressure.load_n", p.load_n, "synth")?;
+        synthesize(
+            file,
+            &SynthInputs {
+                load_n: load,
+                inflation_pa: self.tyre.inflation_kpa * 1e3,
+                tread_width_m: self.tyre.tread_width_m,
+                rated_load_n: self.tyre.rated_load_n,
+                camber_deg: p.camber_deg.unwrap_or(0.0),
+                pattern: self.tyre.pattern(),
+                rows,
+                cols,
+            },
+        )
+    }
+
+    /// `source = "csv"` or `"image"`: a grid read from the file `pressure.file` names.
+    fn grid_from_file(&self, file: &Path, source: PressureSource) -> Result<PressureGrid> {
+        let p = &self.pressure;
+        let ck = Checker::new(file);
+        let rel =
+            p.file.as_deref().ok_or_else(|| Error::key(file, "pressure.file", "required for csv and image sources"))?;
+        let path: PathBuf = resolve(file, rel);
+        let dx = ck.range(
+            "pressure.pixel_length_m",
+            need(file, "pressure.pixel_length_m", p.pixel_length_m, &p.source)?,
+            1e-5,
+            0.05,
+        )?;
+        let dy = ck.range(
+            "pressure.pixel_width_m",
+            need(file, "pressure.pixel_width_m", p.pixel_width_m, &p.source)?,
+            1e-5,
+            0.05,
+        )?;
+        if source == PressureSource::Csv {
+            parse_csv(&path, &read_input(&path)?, dx, dy)
+        } else {
+            let bytes = std::fs::read(&path).map_err(|e| Error::input(&path, format!("cannot read image: {e}")))?;
+            let lo = need(file, "pressure.bar_min_kpa", p.bar_min_kpa, "image")?;
+            let hi = need(file, "pressure.bar_max_kpa", p.bar_max_kpa, "image")?;
+            read_png_map(
+                &path,
+                &bytes,
+                &ImageLayout {
+                    footprint: need(file, "pressure.footprint", p.footprint, "image")?,
+                    colour_bar: need(file, "pressure.colour_bar", p.colour_bar, "image")?,
+                    bar_min_pa: lo * 1e3,
+                    bar_max_pa: hi * 1e3,
+                    tolerance: ck.range("pressure.tolerance", p.tolerance.unwrap_or(60.0), 1.0, 442.0)?,
+                    dx_m: dx,
+                    dy_m: dy,
+                },
+            )
+        }
+    }
+
+    /// The slips of the drawbar-pull curve (default: fine near 0, 0.5 % steps to 40 %) and the
+    /// speed it is evaluated at, m/s (default the operating speed).
+    fn drawbar_slips(&self, ck: &Checker) -> Result<(Vec<f64>, f64)> {
+        let o = &self.operating;
+        let (slips, dspeed) = match &self.drawbar {
+            Some(d) => (
+                d.slips.clone().unwrap_or_else(default_slips),
+                ck.range("drawbar.speed_mps", d.speed_mps.unwrap_or(o.speed_mps), 0.01, 80.0)?,
+            ),
+            None => (default_slips(), o.speed_mps),
+        };
+        for (i, s) in slips.iter().enumerate() {
+            ck.range(&format!("drawbar.slips[{i}]"), *s, -1.0, 2.0)?;
+        }
+        Ok((slips, dspeed))
     }
 }
 
