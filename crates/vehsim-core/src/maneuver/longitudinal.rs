@@ -72,10 +72,12 @@ enum Mode {
 }
 
 impl Longitudinal {
+    /// Straight braking from `p.speed_mps` with the brake pedal at its stop from `p.brake_at_s`.
     pub fn braking(p: BrakingParams) -> Self {
         Self { mode: Mode::Braking(p), s_m: 0.0, last: None, marks: Marks::default() }
     }
 
+    /// Straight launch from standstill to `p.speed_mps` with the throttle at its stop.
     pub fn launch(p: LaunchParams) -> Self {
         Self { mode: Mode::Launch(p), s_m: 0.0, last: None, marks: Marks::default() }
     }
