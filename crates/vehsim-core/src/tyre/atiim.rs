@@ -55,7 +55,12 @@ pub enum KShift {
     /// Average of the three, eq. 5.17: 352/45 dT^2 + 17/24.
     Average,
     /// User quadratic a dT^2 + b (a in 1/K^2, a >= 0, b >= 0, a + b > 0).
-    Quadratic { a: f64, b: f64 },
+    Quadratic {
+        /// Coefficient of dT^2, 1/K^2 (>= 0).
+        a: f64,
+        /// Constant term, dimensionless (>= 0).
+        b: f64,
+    },
 }
 
 impl KShift {
