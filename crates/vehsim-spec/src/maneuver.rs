@@ -558,7 +558,7 @@ pub struct ManeuverFile {
     pub duration_s: Option<f64>,
     /// Road surface: friction coefficient, temperature and friction law (`[surface]`).
     pub surface: SurfaceSection,
-    /// The manoeuvre table; its `kind` selects the parameter set (see [`ManeuverSpec`]).
+    /// The manoeuvre table; its `kind` selects the parameter set (see `ManeuverSpec`).
     pub maneuver: toml::Table,
     /// Speed PID gains (`[speed_control]`; default kp 2000, ki 1000, kd 0, each >= 0).
     #[serde(default)]

@@ -797,7 +797,7 @@ impl ContactTemperature for AtiimEstimator {
     /// period by the change between the last two; `guess` before there is one: in smooth
     /// running it is already within the tolerance, one evaluation), then G
     /// at that value, which brackets the root when G falls, then regula falsi (Illinois) within
-    /// the bracket until |T - G(T)| <= [`coupled_tol_k`]`(h)`, at most [`COUPLED_MAX_EVALS`]
+    /// the bracket until |T - G(T)| <= `coupled_tol_k(h)`, at most `COUPLED_MAX_EVALS`
     /// evaluations. The estimate is the accepted trial point T itself, not G(T): the conditions
     /// left in `tyres` (and the caller's last evaluation, when the tyres converge together) are
     /// then exactly those at the estimate, and where G falls it is within the tolerance of the

@@ -30,7 +30,7 @@
 //! 4. If the interface would reach 0 degC by the pixel's end, the pixel is wet: the interface is
 //!    pinned at 0 degC, the conducted flux q_c keeps the Duhamel sum at (0 - T_ice) at the pixel end
 //!    (discrete Abel inversion, clamped >= 0), and the film grows from the friction heat of
-//!    [`WetFilm`] (eq. 2.1 with the viscous friction of eq. 4.13 as its floor) plus the rolling
+//!    `WetFilm` (eq. 2.1 with the viscous friction of eq. 4.13 as its floor) plus the rolling
 //!    heat minus q_c, and thins by squeeze-out (`film::advance_wet`). The stress is the pixel mean
 //!    of that law, so the heat is exactly tau v_s there as well.
 //!
@@ -136,7 +136,7 @@ impl PatchParams {
 pub const SRTT_CARCASS_N_PER_M: f64 = 3600e3;
 
 /// Carcass stiffness at inflation `inflation_pa` from its value `at_ref_n_per_m` at
-/// [`CARCASS_REF_INFLATION_PA`]: proportional to the inflation pressure (assumption: the
+/// `CARCASS_REF_INFLATION_PA`: proportional to the inflation pressure (assumption: the
 /// carcass's stiffness is the tension of the inflated membrane, which scales with pressure).
 pub fn carcass_stiffness_n_per_m(at_ref_n_per_m: f64, inflation_pa: f64) -> f64 {
     at_ref_n_per_m * inflation_pa / CARCASS_REF_INFLATION_PA
@@ -274,14 +274,14 @@ pub struct PatchSummary {
     pub max_film_m: f64,
     /// Mean film height over wet pixels, m (0 with none wet).
     pub mean_film_wet_m: f64,
-    /// Film height averaged over the wet part of the last [`TRAILING_AVERAGE_M`] of each track, m.
+    /// Film height averaged over the wet part of the last `TRAILING_AVERAGE_M` of each track, m.
     pub trailing_film_m: f64,
     /// Viscous friction (eq. 4.13), pressure-weighted: averaged over the first
-    /// [`LEADING_AVERAGE_M`] of each track's wet zone (time average of 1/h, which converges under
-    /// grid refinement), over the last [`TRAILING_AVERAGE_M`] of each track (trailing edge), and
+    /// `LEADING_AVERAGE_M` of each track's wet zone (time average of 1/h, which converges under
+    /// grid refinement), over the last `TRAILING_AVERAGE_M` of each track (trailing edge), and
     /// the plain mean over wet pixels.
     pub mu_visc_leading: f64,
-    /// Viscous friction averaged over the last [`TRAILING_AVERAGE_M`] of each track (trailing edge), pressure-weighted.
+    /// Viscous friction averaged over the last `TRAILING_AVERAGE_M` of each track (trailing edge), pressure-weighted.
     pub mu_visc_trailing: f64,
     /// Plain mean viscous friction over wet pixels (0 with none wet).
     pub mu_visc_mean: f64,

@@ -1,5 +1,5 @@
 //! Path-following driver: single-point predictive preview (MacAdam-type), with steering angle and
-//! rate limits applied by the engine ([`limit_steer`] over one step, [`rate_limited_steer`] over a
+//! rate limits applied by the engine (`limit_steer` over one step, `rate_limited_steer` over a
 //! control period with the command interpolated across it).
 //!
 //! The driver predicts where the CG will be one preview time T_p ahead if speed v and yaw rate r

@@ -11,7 +11,7 @@
 //! Results (`summary.json`'s `results`), positions along the path travelled (the sum of the CG's
 //! displacements over the steps, m), times in s, speeds in m/s, decelerations in m/s^2:
 //! - braking: the speed at brake onset v0, the braking distance d and time from onset until the
-//!   speed falls to the end speed (standstill: [`STOP_SPEED_MPS`], the last 5 mm or so; crossings
+//!   speed falls to the end speed (standstill: `STOP_SPEED_MPS`, the last 5 mm or so; crossings
 //!   interpolated linearly within the step), the mean deceleration (v0^2 - v_end^2) / (2 d) and
 //!   the mean fully developed deceleration of UN ECE R13-H (between 0.8 v0 and 0.1 v0:
 //!   (v_b^2 - v_e^2) / (2 (s_e - s_b))).

@@ -17,7 +17,7 @@
 //!    see a staircase steer; errors per provider: `super::stability`). The steer at the ramp's
 //!    end is that of a continuous rate limiter following the driver's command interpolated
 //!    linearly across the period (from the last sample's command to the new one) and clamped to
-//!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
+//!    the lock (`rate_limited_steer`: it leaves the lock when the command does, not up to a
 //!    period early); the PID integrates its error by the trapezoidal rule. The
 //!    contact-temperature estimate comes first: it is advanced over the period behind (none at
 //!    the first sample) to the tyres' operating conditions at t, taken at the contact

@@ -7,7 +7,7 @@
 //!   and k4 = f(t_k + h, x_k + h k3) (the derivative at the end, to O(h^3); the engine's predictor
 //!   uses it).
 //! - [`Method::Rk4Exp`]: RK4 with the stiff wheel-spin / transient-slip pairs integrated by their
-//!   exact exponential (a Lawson, or integrating-factor, RK4; [`rk4_exp_step_t`]): the pairs'
+//!   exact exponential (a Lawson, or integrating-factor, RK4; `rk4_exp_step_t`): the pairs'
 //!   2 x 2 linearisation L, taken at the step's start, is carried exactly by exp(h L / 2) and
 //!   exp(h L), and RK4 integrates only the remainder f(x) - L (x - x_k). Fourth order for smooth
 //!   right-hand sides (any fixed L leaves a consistent fourth-order method), the steady state of

@@ -13,8 +13,8 @@
 //!
 //! A window counts as steady when all of these hold (else it is left out of the gradient and the
 //! run's plausibility says why): the run reached the window's end; max |v_x - target| <=
-//! max([`SPEED_TOL_MPS`], [`SPEED_TOL_FRACTION`] x target); max a_y - min a_y <=
-//! max([`AY_RANGE_TOL_MPS2`], [`AY_RANGE_TOL_FRACTION`] x |nominal a_y|); and max |path error| <=
+//! max(`SPEED_TOL_MPS`, `SPEED_TOL_FRACTION` x target); max a_y - min a_y <=
+//! max(`AY_RANGE_TOL_MPS2`, `AY_RANGE_TOL_FRACTION` x |nominal a_y|); and max |path error| <=
 //! the manoeuvre's path tolerance (constant radius: max(1 m, 5 % of R)). With fewer than three
 //! steady windows no gradient is reported.
 

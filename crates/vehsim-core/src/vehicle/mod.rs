@@ -3,7 +3,7 @@
 //! A model owns no time, no controller and no I/O; the engine ([`crate::sim`]) integrates it.
 //! States are fixed-size `SVector`s. By convention every model's state starts with the rigid-body
 //! states X, Y (m), yaw (rad), vx, vy (m/s, body frame) and yaw rate r (rad/s), in that order;
-//! [`rigid_body`] reads them, so drivers, manoeuvres and output work with any model.
+//! `rigid_body` reads them, so drivers, manoeuvres and output work with any model.
 
 pub mod bicycle;
 pub mod condition;

@@ -22,7 +22,7 @@
 //! - **Reflected inertia**: the engine side J_e (engine, flywheel, gearbox input) appears at the
 //!   carrier as J_r = J_e i^2. With the carrier equation J_r d(omega_c)/dt = T_w - T_out, the
 //!   axles' mean equations I_i d(omega_i)/dt = s_i T_out - L_i (I_i the axle's spin inertia, L_i
-//!   its tyre and brake load torque) give the closed form of [`axle_accelerations`]. With J_e = 0
+//!   its tyre and brake load torque) give the closed form of `axle_accelerations`. With J_e = 0
 //!   it is I_i d(omega_i)/dt = s_i T_w - L_i, the model without a powertrain. The clutch is taken
 //!   as engaged for the inertia (a slipping clutch would decouple the engine; neglected).
 //! - **Differential** (per driven axle of a four-wheel model; a bicycle's axle has one spin speed,
@@ -47,7 +47,8 @@ pub enum TorqueSource {
     /// Combustion engine: the full-load curve as (engine speed rad/s, torque N m) points, speeds
     /// strictly increasing, and a power cap, W (infinite for none).
     Engine {
-        /// Full-load curve as (engine speed rad/s, torque N m) points, speeds strictly increasing; the last speed is the rev limit.
+        /// Full-load curve as (engine speed rad/s, torque N m) points, speeds strictly increasing;
+        /// the last speed is the rev limit.
         curve: Vec<(f64, f64)>,
         /// Power cap, W (infinite for none).
         power_max_w: f64,
