@@ -14,14 +14,26 @@ use std::path::{Path, PathBuf};
 pub enum Error {
     /// Bad input: a missing or malformed file, an unknown key, a non-physical value.
     #[error("{}: {message}", file.display())]
-    Input { file: PathBuf, message: String },
+    Input {
+        /// The spec or data file at fault.
+        file: PathBuf,
+        /// What is wrong: the key or line, the value and what is allowed.
+        message: String,
+    },
     /// A bad command-line flag value: the flag (`--jobs`) and what is allowed.
     #[error("{flag}: {message}")]
-    Usage { flag: String, message: String },
+    Usage {
+        /// The flag, e.g. `--jobs`.
+        flag: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// Reading or writing a file failed for a reason outside the user's input.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file that could not be read or written.
         path: PathBuf,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
@@ -31,7 +43,12 @@ pub enum Error {
     /// SIGINT or SIGTERM (`signal`, its number) stopped the work; nothing partial was written
     /// (`kept` says what was kept).
     #[error("interrupted: {kept}")]
-    Interrupted { signal: i32, kept: String },
+    Interrupted {
+        /// The signal number (2 SIGINT, 15 SIGTERM).
+        signal: i32,
+        /// What was kept of the work done before the signal.
+        kept: String,
+    },
 }
 
 impl Error {
@@ -118,8 +135,11 @@ pub enum Ends {
 pub struct Bound {
     /// Dotted key, e.g. `surface.mu`.
     pub key: &'static str,
+    /// Lower end of the range.
     pub lo: f64,
+    /// Upper end of the range.
     pub hi: f64,
+    /// Which ends belong to the range.
     pub ends: Ends,
     /// Unit as the docs write it (`s`, `m/s`, `1/K`; empty when dimensionless).
     pub unit: &'static str,
@@ -178,10 +198,12 @@ impl Bound {
 /// Checks on one spec file's numeric values. Each check returns the first violation as a
 /// bad-input error naming the file, the key, the value and what is allowed.
 pub struct Checker<'a> {
+    /// The spec file the checked values come from (named in every error).
     pub file: &'a Path,
 }
 
 impl<'a> Checker<'a> {
+    /// A checker whose errors name `file`.
     pub fn new(file: &'a Path) -> Self {
         Self { file }
     }

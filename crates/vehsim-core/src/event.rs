@@ -33,18 +33,23 @@ pub enum EventKind {
     EventsSuppressed,
     /// 4-DOF model: a wheel's normal load reached zero, and its return.
     WheelLift,
+    /// 4-DOF model: a lifted wheel's normal load became positive again.
     WheelContact,
     /// 4-DOF model: a normal load went negative before clamping, and its return.
     NegativeNormalLoad,
+    /// 4-DOF model: a normal load that went negative before clamping is positive again.
     NormalLoadRestored,
     /// Plausibility: a tyre force beyond the friction limit, and its return.
     TyreForceBeyondFriction,
+    /// Plausibility: the tyre force is back within the friction limit.
     TyreForceWithinFriction,
     /// Plausibility: lateral acceleration beyond mu g, and its return.
     AyBeyondFriction,
+    /// Plausibility: lateral acceleration is back within mu g.
     AyWithinFriction,
     /// Plausibility: the car beyond the path tolerance, and its return.
     PathExit,
+    /// Plausibility: the car is back within the path tolerance.
     PathReturn,
     /// The contact-temperature model could not be built; the run went on isothermal.
     ContactModelUnavailable,
@@ -53,10 +58,15 @@ pub enum EventKind {
     /// Plausibility by the tyre's range: an axle's slip ratio left the tyre file's declared
     /// range, and its return; likewise the slip angle and a wheel's normal load.
     SlipRatioBeyondRange,
+    /// Plausibility: the axle's slip ratio is back within the tyre file's declared range.
     SlipRatioWithinRange,
+    /// Plausibility: an axle's slip angle left the tyre file's declared range.
     SlipAngleBeyondRange,
+    /// Plausibility: the axle's slip angle is back within the tyre file's declared range.
     SlipAngleWithinRange,
+    /// Plausibility: a wheel's normal load left the tyre file's declared load range.
     LoadBeyondRange,
+    /// Plausibility: the wheel's normal load is back within the tyre file's declared load range.
     LoadWithinRange,
 }
 

@@ -14,6 +14,8 @@
 //!
 //! Feature `serde`: `Serialize`/`Deserialize` for the parameter and result types.
 
+#![warn(missing_docs)]
+
 /// The names of a closed set of choices (spec keywords, flag values, result strings), each written
 /// once: generates `ALL` (declaration order), `as_str`, `parse` and `allowed` (comma-separated, for
 /// messages) for a unit-variant enum from its `Variant => "name"` list.

@@ -73,6 +73,7 @@ impl RefPath {
         self.length
     }
 
+    /// Arc length at the path's start, m (always 0).
     pub fn start_s(&self) -> f64 {
         0.0
     }

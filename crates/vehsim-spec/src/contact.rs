@@ -295,7 +295,9 @@ pub struct ContactSpec {
     /// Table ranges: load N, sliding speed m/s, smallest slip fraction v_slide / (v_roll +
     /// v_slide) (1e-6 – 0.1). The ice temperature needs no range (see `FlashTable`).
     pub load_range_n: Option<[f64; 2]>,
+    /// Sliding-speed range of the table [lo, hi], m/s (lo in [1e-4, 10], lo < hi <= 200; default [0.01, 30]).
     pub slide_speed_range_mps: Option<[f64; 2]>,
+    /// Smallest slip fraction v_slide / (v_roll + v_slide) of the table, [1e-6, 0.1] (default 1e-4).
     pub slip_fraction_min: Option<f64>,
     /// Table nodes per axis [load, slide, slip fraction, melting-cap coordinate w] (each 2–32).
     pub table_nodes: Option<[usize; 4]>,
@@ -479,12 +481,15 @@ pub struct PressureSpec {
     pub file: Option<String>,
     /// csv / image: pixel length along travel and width across, m.
     pub pixel_length_m: Option<f64>,
+    /// csv / image: pixel width across the tread, m.
     pub pixel_width_m: Option<f64>,
     /// image: footprint and colour-bar boxes [x0, y0, x1, y1) in image pixels.
     pub footprint: Option<[u32; 4]>,
+    /// image: colour-bar box [x0, y0, x1, y1) in image pixels.
     pub colour_bar: Option<[u32; 4]>,
     /// image: pressures at the bar's bottom and top, kPa.
     pub bar_min_kpa: Option<f64>,
+    /// image: pressure at the bar's top, kPa.
     pub bar_max_kpa: Option<f64>,
     /// image: colour-matching tolerance (RGB distance, default 60).
     pub tolerance: Option<f64>,
@@ -527,27 +532,41 @@ pub struct ScenarioSpec {
     /// Free text shown in plot titles.
     #[serde(default)]
     pub title: String,
+    /// Contact-pressure source (`[pressure]`): synthesized, CSV or image.
     pub pressure: PressureSpec,
+    /// Operating point (`[operating]`): speed, slip ratio, slip angle, ice temperature.
     pub operating: OperatingSpec,
+    /// Tyre and interface parameters (`[tyre]`), all optional.
     #[serde(default)]
     pub tyre: TyreSpec,
+    /// Drawbar-pull sweep over slip ratio (`[drawbar]`; optional).
     pub drawbar: Option<DrawbarSpec>,
 }
 
 /// A validated scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
+    /// Output folder name.
     pub name: String,
+    /// Free text shown in plot titles.
     pub title: String,
+    /// The contact-pressure grid (for a synthesized patch, tilted for the slip angle).
     pub grid: PressureGrid,
+    /// Validated patch-model parameters at the scenario's ice temperature.
     pub params: PatchParams,
     /// Travel speed, slip ratio, slip angle (rad), ice temperature.
     pub speed_mps: f64,
+    /// Slip ratio (omega R - V_x) / V_x, in [-1, 2] (positive driving, -1 locked).
     pub slip_ratio: f64,
+    /// Slip angle, rad (from `slip_angle_deg`, [-30, 30] deg).
     pub slip_angle_rad: f64,
+    /// Ice temperature, degC, in [-40, 0].
     pub ice_temp_c: f64,
+    /// Slip ratios of the drawbar-pull sweep (< 0 braking).
     pub drawbar_slips: Vec<f64>,
+    /// Travel speed of the drawbar-pull sweep, m/s, in [0.01, 80].
     pub drawbar_speed_mps: f64,
+    /// The scenario file as read.
     pub spec: ScenarioSpec,
 }
 

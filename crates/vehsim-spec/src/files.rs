@@ -11,7 +11,7 @@ pub(crate) const MAX_SPEC_BYTES: u64 = 16 << 20;
 pub(crate) const MAX_DATA_BYTES: u64 = 256 << 20;
 
 /// Read a text file, mapping a missing or unreadable file to a bad-input error. Spec and `.tir`
-/// files above [`MAX_SPEC_BYTES`], others above [`MAX_DATA_BYTES`] are refused without reading
+/// files above `MAX_SPEC_BYTES`, others above `MAX_DATA_BYTES` are refused without reading
 /// further (so `/dev/zero` is no endless read).
 pub fn read_input(path: &Path) -> Result<String> {
     use std::io::Read as _;

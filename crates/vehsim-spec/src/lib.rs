@@ -61,6 +61,8 @@
 //! # }
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod contact;
 pub mod files;
 pub mod kind;

@@ -297,30 +297,55 @@ pub(crate) enum ManeuverSpec {
 pub mod bounds {
     use vehsim_core::error::Bound;
 
+    /// `surface.mu`: peak friction coefficient, (0, 2].
     pub const MU: Bound = Bound::left_open("surface.mu", 0.0, 2.0, "");
+    /// `surface.temperature_c`: surface (ice) temperature, [-60, 40] degC.
     pub const TEMPERATURE_C: Bound = Bound::closed("surface.temperature_c", -60.0, 40.0, "degC");
+    /// `driver.preview_time_s`: preview time of the path-following driver, [0, 5] s.
     pub const PREVIEW_TIME_S: Bound = Bound::closed("driver.preview_time_s", 0.0, 5.0, "s");
+    /// `driver.preview_min_m`: shortest preview distance, [0.5, 100] m.
     pub const PREVIEW_MIN_M: Bound = Bound::closed("driver.preview_min_m", 0.5, 100.0, "m");
+    /// `driver.gain`: gain on the preview correction, [0, 5], dimensionless.
     pub const GAIN: Bound = Bound::closed("driver.gain", 0.0, 5.0, "");
+    /// `integrator.step_s`: integration step, (0, 0.05] s.
     pub const STEP_S: Bound = Bound::left_open("integrator.step_s", 0.0, 0.05, "s");
+    /// `integrator.control_period_s`: controller sample period, (0, 1] s (a whole multiple of the step).
     pub const CONTROL_PERIOD_S: Bound = Bound::left_open("integrator.control_period_s", 0.0, 1.0, "s");
+    /// `integrator.rtol`: relative tolerance of the adaptive methods, (0, 1).
     pub const RTOL: Bound = Bound::open("integrator.rtol", 0.0, 1.0, "");
+    /// `integrator.atol`: absolute tolerance of the adaptive methods, (0, 1).
     pub const ATOL: Bound = Bound::open("integrator.atol", 0.0, 1.0, "");
+    /// `output.interval_s`: interval between timeseries rows, (0, 10] s.
     pub const INTERVAL_S: Bound = Bound::left_open("output.interval_s", 0.0, 10.0, "s");
+    /// `duration_s`: longest simulated time, (0, 3600] s.
     pub const DURATION_S: Bound = Bound::left_open("duration_s", 0.0, 3600.0, "s");
+    /// `maneuver.speed_mps`: entry, held or start speed, (0, 100] m/s.
     pub const SPEED_MPS: Bound = Bound::left_open("maneuver.speed_mps", 0.0, 100.0, "m/s");
+    /// `maneuver.steer_amplitude_deg`: road-wheel steer amplitude, [-60, 60] deg (positive left).
     pub const STEER_AMPLITUDE_DEG: Bound = Bound::closed("maneuver.steer_amplitude_deg", -60.0, 60.0, "deg");
+    /// `maneuver.approach_m`: ISO 3888-2 run-up before the entry gate, [5, 1000] m.
     pub const APPROACH_M: Bound = Bound::closed("maneuver.approach_m", 5.0, 1000.0, "m");
+    /// `maneuver.exit_m`: ISO 3888-2 distance after the exit gate, [0, 1000] m.
     pub const EXIT_M: Bound = Bound::closed("maneuver.exit_m", 0.0, 1000.0, "m");
+    /// `maneuver.lane5_min_width_m`: lower bound on the ISO 3888-2 lane-5 width, [0, 10] m.
     pub const LANE5_MIN_WIDTH_M: Bound = Bound::closed("maneuver.lane5_min_width_m", 0.0, 10.0, "m");
+    /// `maneuver.clearance_m`: clearance of the reference path from the gate boundaries, [0, 0.5] m.
     pub const CLEARANCE_M: Bound = Bound::closed("maneuver.clearance_m", 0.0, 0.5, "m");
+    /// `maneuver.period_s`: sine-steer period, [0.05, 1000] s.
     pub const PERIOD_S: Bound = Bound::closed("maneuver.period_s", 0.05, 1000.0, "s");
+    /// `maneuver.start_s`: start of the sine or of the steer ramp, [0, 3600] s.
     pub const START_S: Bound = Bound::closed("maneuver.start_s", 0.0, 3600.0, "s");
+    /// `maneuver.ramp_s`: step-steer ramp duration, [0, 100] s.
     pub const RAMP_S: Bound = Bound::closed("maneuver.ramp_s", 0.0, 100.0, "s");
+    /// `maneuver.radius_m`: circle radius, (0, 10000] m.
     pub const RADIUS_M: Bound = Bound::left_open("maneuver.radius_m", 0.0, 10_000.0, "m");
+    /// `maneuver.settle_s`: settling time at the start of each constant-radius step, [0, 3600] s.
     pub const SETTLE_S: Bound = Bound::closed("maneuver.settle_s", 0.0, 3600.0, "s");
+    /// `maneuver.window_s`: steady-state window at the end of each step, (0, 3600] s.
     pub const WINDOW_S: Bound = Bound::left_open("maneuver.window_s", 0.0, 3600.0, "s");
+    /// `maneuver.speed_ramp_mps2`: largest rate of the speed target between steps, (0, 20] m/s^2.
     pub const SPEED_RAMP_MPS2: Bound = Bound::left_open("maneuver.speed_ramp_mps2", 0.0, 20.0, "m/s^2");
+    /// `maneuver.ay_first_mps2`: nominal lateral acceleration of the first step, (0, 20] m/s^2.
     pub const AY_FIRST_MPS2: Bound = Bound::left_open("maneuver.ay_first_mps2", 0.0, 20.0, "m/s^2");
 
     /// Every bound above.
@@ -455,9 +480,10 @@ pub struct IntegratorSection {
     /// whole multiple of a given step_s nearest to it).
     #[serde(default)]
     pub control_period_s: Option<f64>,
-    /// Relative and absolute tolerance of the adaptive methods.
+    /// Relative tolerance of the adaptive methods, in (0, 1) (default 1e-8).
     #[serde(default = "rtol")]
     pub rtol: f64,
+    /// Absolute tolerance of the adaptive methods, in state units, in (0, 1) (default 1e-10).
     #[serde(default = "atol")]
     pub atol: f64,
 }
@@ -530,15 +556,20 @@ pub struct ManeuverFile {
     /// Longest simulated time, s (ISO 3888-2: default from the course length and speed).
     #[serde(default)]
     pub duration_s: Option<f64>,
+    /// Road surface: friction coefficient, temperature and friction law (`[surface]`).
     pub surface: SurfaceSection,
-    /// The manoeuvre table; its `kind` selects the parameter set (see [`ManeuverSpec`]).
+    /// The manoeuvre table; its `kind` selects the parameter set (see `ManeuverSpec`).
     pub maneuver: toml::Table,
+    /// Speed PID gains (`[speed_control]`; default kp 2000, ki 1000, kd 0, each >= 0).
     #[serde(default)]
     pub speed_control: PidParams,
+    /// Path-following driver (`[driver]`): preview time and distance, gain, understeer compensation.
     #[serde(default)]
     pub driver: DriverParams,
+    /// Integration method, step and controller period (`[integrator]`).
     #[serde(default)]
     pub integrator: IntegratorSection,
+    /// Output switches and row interval (`[output]`).
     #[serde(default)]
     pub output: OutputSection,
     /// Contact-temperature estimate: `model = "isothermal"` (default) or `"atiim"` with its
@@ -560,11 +591,22 @@ pub struct ManeuverFile {
 /// The validated manoeuvre, ready to instantiate.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ManeuverConfig {
+    /// ISO 3888-2 severe lane change.
     Iso3888_2(Iso3888_2Params),
-    OpenLoop { steer: SteerProfile, speed: SpeedSchedule },
+    /// Open loop (sine steer, step steer, straight): a steer profile and a speed schedule.
+    OpenLoop {
+        /// Road-wheel steer angle versus time (zero for `straight`).
+        steer: SteerProfile,
+        /// Speed target versus time (one point for a held speed).
+        speed: SpeedSchedule,
+    },
+    /// Constant radius (ISO 4138 method 1), held speed or lateral-acceleration steps.
     ConstantRadius(ConstantRadiusParams),
+    /// Straight-line braking with the pedal at its stop.
     Braking(vehsim_core::maneuver::longitudinal::BrakingParams),
+    /// Launch from standstill at full throttle.
     Launch(vehsim_core::maneuver::longitudinal::LaunchParams),
+    /// Braking in a turn (after ISO 7975).
     BrakingInTurn(vehsim_core::maneuver::brake_in_turn::BrakeInTurnParams),
 }
 
@@ -596,17 +638,29 @@ pub struct BuildCache {
 /// A fully validated run.
 #[derive(Debug, Clone)]
 pub struct RunConfig {
+    /// The manoeuvre file the run was built from.
     pub spec_file: PathBuf,
+    /// Run name (the results folder `results/<name>`).
     pub name: String,
+    /// The vehicle file, resolved against the spec file.
     pub vehicle_file: PathBuf,
+    /// The validated vehicle, its tyre built for `tyre_model` (and on the ice friction law when the surface has one).
     pub vehicle: Vehicle,
+    /// Tyre force provider.
     pub tyre_model: TyreModelKind,
+    /// Vehicle model: bicycle or 4-DOF roll.
     pub vehicle_model: VehicleModelKind,
+    /// Surface friction and temperature.
     pub env: Environment,
+    /// The validated manoeuvre.
     pub maneuver: ManeuverConfig,
+    /// The manoeuvre kind as written in the spec.
     pub kind: ManeuverKind,
+    /// Speed PID gains.
     pub pid: PidParams,
+    /// Path-following driver parameters.
     pub driver: DriverParams,
+    /// Time-stepping settings: method, step, control period, duration, output interval.
     pub settings: SimSettings,
     /// Output switches.
     pub output: OutputSection,
@@ -663,6 +717,7 @@ pub fn valid_name(name: &str) -> bool {
 }
 
 impl ManeuverFile {
+    /// Read and parse a manoeuvre file (refusing a spec of another command); nothing is validated yet.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_input(path)?;
         super::kind::expect_text(path, &text, super::kind::SpecKind::Run)?;
@@ -1244,16 +1299,27 @@ pub struct TcsSection {
 pub mod slip_bounds {
     use vehsim_core::error::Bound;
 
+    /// `abs.period_s`: ABS sample period, (0, 0.1] s.
     pub const ABS_PERIOD_S: Bound = Bound::left_open("abs.period_s", 0.0, 0.1, "s");
+    /// `abs.slip_dump`: slip magnitude beyond which the pressure is dumped, (0, 1).
     pub const SLIP_DUMP: Bound = Bound::open("abs.slip_dump", 0.0, 1.0, "");
+    /// `abs.slip_build`: slip magnitude below which the pressure builds again, (0, 1) (and below `slip_dump`).
     pub const SLIP_BUILD: Bound = Bound::open("abs.slip_build", 0.0, 1.0, "");
+    /// `abs.dump_rate_per_s`: pressure fall rate, (0, 1000] fractions of full pressure per s.
     pub const DUMP_RATE: Bound = Bound::left_open("abs.dump_rate_per_s", 0.0, 1000.0, "1/s");
+    /// `abs.build_rate_per_s`: pressure rise rate, (0, 1000] fractions of full pressure per s.
     pub const BUILD_RATE: Bound = Bound::left_open("abs.build_rate_per_s", 0.0, 1000.0, "1/s");
+    /// `abs.cutout_speed_mps`: speed below which the ABS stops modulating, [0, 10] m/s.
     pub const CUTOUT: Bound = Bound::closed("abs.cutout_speed_mps", 0.0, 10.0, "m/s");
+    /// `tcs.period_s`: traction-control sample period, (0, 0.1] s.
     pub const TCS_PERIOD_S: Bound = Bound::left_open("tcs.period_s", 0.0, 0.1, "s");
+    /// `tcs.slip_high`: slip above which the drive torque is reduced, (0, 1).
     pub const SLIP_HIGH: Bound = Bound::open("tcs.slip_high", 0.0, 1.0, "");
+    /// `tcs.slip_low`: slip below which the drive torque is restored, (0, 1) (and below `slip_high`).
     pub const SLIP_LOW: Bound = Bound::open("tcs.slip_low", 0.0, 1.0, "");
+    /// `tcs.reduction_rate_per_s`: torque reduction rate, (0, 1000] fractions of the largest drive torque per s.
     pub const REDUCTION_RATE: Bound = Bound::left_open("tcs.reduction_rate_per_s", 0.0, 1000.0, "1/s");
+    /// `tcs.restore_rate_per_s`: torque restore rate, (0, 1000] fractions of the largest drive torque per s.
     pub const RESTORE_RATE: Bound = Bound::left_open("tcs.restore_rate_per_s", 0.0, 1000.0, "1/s");
 }
 

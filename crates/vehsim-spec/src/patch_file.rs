@@ -72,12 +72,14 @@ pub struct ImageLayout {
     pub colour_bar: [u32; 4],
     /// Pressures at the bottom and top of the bar, Pa.
     pub bar_min_pa: f64,
+    /// Pressure at the top of the bar, Pa.
     pub bar_max_pa: f64,
     /// Largest RGB distance (Euclidean, 0–441) at which a footprint pixel still matches the bar;
     /// farther pixels are background (no contact). Typical 40–80.
     pub tolerance: f64,
     /// Physical pixel size along travel and across, m.
     pub dx_m: f64,
+    /// Physical pixel width across the tread, m.
     pub dy_m: f64,
 }
 

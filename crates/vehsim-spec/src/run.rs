@@ -24,6 +24,7 @@ use vehsim_core::vehicle::{Vehicle, AIR_DENSITY, GRAVITY};
 /// Everything a run produced.
 #[derive(Debug, Clone)]
 pub struct RunOutput {
+    /// The engine's figures of the run (the engine's part of `summary.json`).
     pub summary: Summary,
     /// Recorded rows (empty when the spec switches the time series off).
     pub rows: Vec<Row>,

@@ -238,20 +238,23 @@ impl StepRun {
         self.inner.time_s()
     }
 
-    /// Integration step, controller sample period and time limit, s.
+    /// Integration step, s.
     pub fn step_s(&self) -> f64 {
         self.step_s
     }
+    /// Controller sample period, s (a whole number of steps).
     pub fn control_period_s(&self) -> f64 {
         self.control_period_s
     }
+    /// Time limit of the run, s (`duration_s`).
     pub fn duration_s(&self) -> f64 {
         self.duration_s
     }
-    /// Steps taken, and the most the time limit allows.
+    /// Steps taken so far (time now / step).
     pub fn steps(&self) -> u64 {
         (self.time_s() / self.step_s).round() as u64
     }
+    /// Most steps the time limit allows.
     pub fn max_steps(&self) -> u64 {
         self.max_steps
     }

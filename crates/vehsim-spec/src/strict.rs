@@ -4,7 +4,7 @@
 //! serde's derived structs accept a sequence of their fields in order as well as a table, so
 //! through the toml crate `surface = [1.0, 2.0]` would read as `mu = 1.0, temperature_c = 2.0`
 //! and `integrator = ["rk4", 0.01]` as a method and a step. [`check`] deserializes the parsed
-//! value a second time through [`Strict`], a deserializer of `toml::Value` that hands a struct
+//! value a second time through `Strict`, a deserializer of `toml::Value` that hands a struct
 //! only a table, and reports a shape error with the key's dotted path. Every other question
 //! (types, ranges, unknown keys) is the first, ordinary parse's.
 

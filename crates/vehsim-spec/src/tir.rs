@@ -5,16 +5,16 @@
 //! (`1.2`, `-3.76e-005`) or quoted strings (`'PAC2002'`).
 //!
 //! What this reader does:
-//! - Parses the sections it knows ([`KNOWN_SECTIONS`]); sections holding tables rather than
+//! - Parses the sections it knows (`KNOWN_SECTIONS`); sections holding tables rather than
 //!   `KEY = value` lines (`[SHAPE]`) are skipped. An unknown section is skipped and reported as a
 //!   warning in [`TirFile::warnings`] (library code never prints).
 //! - A line it cannot read (no `=`, a bad key, an unquoted non-number, a duplicate key) is a
 //!   bad-input error naming the file and the 1-based line number.
-//! - Converts the dimensional parameters to SI according to `[UNITS]` ([`dimension_of`]): lengths,
+//! - Converts the dimensional parameters to SI according to `[UNITS]` (`dimension_of`): lengths,
 //!   forces, angles, speeds, stiffness and damping. The Magic Formula coefficients (P*, Q*, R*, L*)
 //!   are dimensionless by definition of the formula (angles inside them are radians) and are not
 //!   converted. A file without `[UNITS]` is read as SI, with a warning.
-//! - Checks `PROPERTY_FILE_FORMAT` in `[MODEL]` against [`SUPPORTED_FORMATS`].
+//! - Checks `PROPERTY_FILE_FORMAT` in `[MODEL]` against `SUPPORTED_FORMATS`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -65,7 +65,7 @@ pub enum TirValue {
 pub struct TirFile {
     /// Every `KEY = value` of the known sections, keys upper-cased, numbers in SI.
     pub values: BTreeMap<String, TirValue>,
-    /// `PROPERTY_FILE_FORMAT` as written (upper-cased), one of [`SUPPORTED_FORMATS`].
+    /// `PROPERTY_FILE_FORMAT` as written (upper-cased), one of `SUPPORTED_FORMATS`.
     pub format: String,
     /// Things the caller may want to show the user (unknown sections, missing `[UNITS]`).
     pub warnings: Vec<String>,

@@ -392,15 +392,25 @@ pub struct PowertrainSection {
 pub mod powertrain_bounds {
     use vehsim_core::error::Bound;
 
+    /// `powertrain.torque_curve` engine speeds: [0, 30000] rpm.
     pub const SPEED_RPM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 30_000.0, "rpm");
+    /// `powertrain.torque_curve` full-load torques: [0, 5000] N m.
     pub const TORQUE_NM: Bound = Bound::closed("powertrain.torque_curve", 0.0, 5_000.0, "N m");
+    /// `powertrain.power_max_kw`: power cap, (0, 2000] kW.
     pub const POWER_MAX_KW: Bound = Bound::left_open("powertrain.power_max_kw", 0.0, 2_000.0, "kW");
+    /// `powertrain.torque_max_nm`: motor torque up to the base speed, (0, 5000] N m.
     pub const TORQUE_MAX_NM: Bound = Bound::left_open("powertrain.torque_max_nm", 0.0, 5_000.0, "N m");
+    /// `powertrain.speed_max_rpm`: motor top speed, (0, 30000] rpm.
     pub const SPEED_MAX_RPM: Bound = Bound::left_open("powertrain.speed_max_rpm", 0.0, 30_000.0, "rpm");
+    /// `powertrain.gear_ratios`: each gearbox ratio, (0, 20].
     pub const GEAR_RATIO: Bound = Bound::left_open("powertrain.gear_ratios", 0.0, 20.0, "");
+    /// `powertrain.final_drive_ratio`: (0, 20].
     pub const FINAL_DRIVE: Bound = Bound::left_open("powertrain.final_drive_ratio", 0.0, 20.0, "");
+    /// `powertrain.efficiency`: driveline efficiency, (0, 1].
     pub const EFFICIENCY: Bound = Bound::left_open("powertrain.efficiency", 0.0, 1.0, "");
+    /// `powertrain.engine_inertia_kgm2`: engine-side rotating inertia, [0, 10] kg m^2.
     pub const ENGINE_INERTIA: Bound = Bound::closed("powertrain.engine_inertia_kgm2", 0.0, 10.0, "kg m^2");
+    /// `powertrain.torque_bias_ratio`: limited-slip torque bias ratio, [1, 20].
     pub const TORQUE_BIAS_RATIO: Bound = Bound::closed("powertrain.torque_bias_ratio", 1.0, 20.0, "");
 }
 

@@ -224,10 +224,15 @@ impl Default for TableRanges {
 /// What the table is built from: the tyre (synthesized patches) and the patch-model parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TyreBuild {
+    /// Inflation pressure, Pa (sets the synthesized patch area load / pressure).
     pub inflation_pa: f64,
+    /// Tread (contact) width at full load, m.
     pub tread_width_m: f64,
+    /// Rated load (100 % load index), N: sets the synthesized patch shape.
     pub rated_load_n: f64,
+    /// Tread pattern of the synthesized patches.
     pub pattern: TreadPattern,
+    /// Patch-model parameters the table nodes are solved with.
     pub params: PatchParams,
 }
 
@@ -565,7 +570,9 @@ pub const TREAD_HYSTERESIS_SHARE: f64 = 0.5;
 /// The ATIIM per-step estimator: one bulk state per tyre plus the flash table.
 #[derive(Debug, Clone)]
 pub struct AtiimEstimator {
+    /// The flash-rise table, built once per tyre and surface.
     pub table: FlashTable,
+    /// Bulk-state parameters, shared by every tyre.
     pub bulk: BulkParams,
     /// Bulk tread-surface temperature per tyre, degC (NaN until the first update).
     pub t_bulk_c: Vec<f64>,
@@ -790,7 +797,7 @@ impl ContactTemperature for AtiimEstimator {
     /// period by the change between the last two; `guess` before there is one: in smooth
     /// running it is already within the tolerance, one evaluation), then G
     /// at that value, which brackets the root when G falls, then regula falsi (Illinois) within
-    /// the bracket until |T - G(T)| <= [`coupled_tol_k`]`(h)`, at most [`COUPLED_MAX_EVALS`]
+    /// the bracket until |T - G(T)| <= `coupled_tol_k(h)`, at most `COUPLED_MAX_EVALS`
     /// evaluations. The estimate is the accepted trial point T itself, not G(T): the conditions
     /// left in `tyres` (and the caller's last evaluation, when the tyres converge together) are
     /// then exactly those at the estimate, and where G falls it is within the tolerance of the

@@ -1,6 +1,6 @@
 //! Water-film height under a sliding tread element (dissertation eq. 4.5–4.7, 4.10).
 //!
-//! The patch model uses [`advance_wet`]: the film grows from the heat of the pixel's own friction
+//! The patch model uses `advance_wet`: the film grows from the heat of the pixel's own friction
 //! law (`friction::WetFilm`, bounded as h -> 0) plus rolling heat, minus conduction, and thins by
 //! squeeze-out; it is integrated in h directly. [`advance`] below integrates eq. 4.10 as printed
 //! (viscous heat kappa eta v^2 / h, singular at h = 0) and is kept as the reference form with its
@@ -35,7 +35,7 @@
 //! non-finite result (only from non-finite input) falls back to 0. The film is solved only by the
 //! patch model (`vehsim atiim` and the flash table that `[contact] model = "atiim"` builds once per
 //! run); the engine's per-step estimator reads that table and computes no film of its own. The
-//! guards are tested below with hostile coefficients; [`advance_wet`] keeps h >= 0 the same way
+//! guards are tested below with hostile coefficients; `advance_wet` keeps h >= 0 the same way
 //! (a bracketed root on [0, h0 + dt q(0) / (rho L)]).
 
 use super::thermal::{ICE, LATENT_HEAT_J_KG, WATER_VISCOSITY_PA_S};

@@ -125,6 +125,7 @@ pub struct SynthInputs {
     pub pattern: TreadPattern,
     /// Grid size (rows along travel, cols across), each 4–512.
     pub rows: usize,
+    /// Grid pixels across the width, 4–512.
     pub cols: usize,
 }
 

@@ -59,8 +59,11 @@ impl Default for AbsParams {
 /// The phase a wheel's modulator is in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Phase {
+    /// Pressure rises at `build_rate_per_s` up to the driver's demand (slip above -`slip_build`).
     Build,
+    /// Pressure held (slip within the hysteresis band).
     Hold,
+    /// Pressure falls at `dump_rate_per_s` (slip below -`slip_dump`).
     Dump,
 }
 

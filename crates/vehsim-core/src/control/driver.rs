@@ -1,5 +1,5 @@
 //! Path-following driver: single-point predictive preview (MacAdam-type), with steering angle and
-//! rate limits applied by the engine ([`limit_steer`] over one step, [`rate_limited_steer`] over a
+//! rate limits applied by the engine (`limit_steer` over one step, `rate_limited_steer` over a
 //! control period with the command interpolated across it).
 //!
 //! The driver predicts where the CG will be one preview time T_p ahead if speed v and yaw rate r
@@ -62,6 +62,7 @@ impl Default for DriverParams {
 /// Driver state: where on the path it is, and the applied steer angle.
 #[derive(Debug, Clone)]
 pub struct Driver {
+    /// The driver's gains, preview and understeer compensation.
     pub params: DriverParams,
     /// Wheelbase L, m.
     pub wheelbase_m: f64,
@@ -74,6 +75,7 @@ pub struct Driver {
 }
 
 impl Driver {
+    /// A driver at the start of its path, for a vehicle of wheelbase `wheelbase_m` (m).
     pub fn new(params: DriverParams, wheelbase_m: f64) -> Self {
         Self { params, wheelbase_m, cursor: None, preview: 0, lateral_error_m: 0.0 }
     }

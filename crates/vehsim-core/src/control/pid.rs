@@ -29,8 +29,11 @@ impl Default for PidParams {
 /// PID state.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pid {
+    /// The gains.
     pub params: PidParams,
+    /// Lower output limit (speed control: the largest brake torque, negative), N m.
     pub out_min: f64,
+    /// Upper output limit (speed control: the largest drive torque), N m.
     pub out_max: f64,
     integral: f64,
     prev_measurement: Option<f64>,
@@ -39,6 +42,7 @@ pub struct Pid {
 }
 
 impl Pid {
+    /// A controller at rest (zero integral, no previous sample) with its output clamped to `out_min..=out_max`.
     pub fn new(params: PidParams, out_min: f64, out_max: f64) -> Self {
         Self { params, out_min, out_max, integral: 0.0, prev_measurement: None, prev_error: None }
     }

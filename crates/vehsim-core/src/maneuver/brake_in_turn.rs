@@ -59,6 +59,8 @@ pub struct BrakeInTurn {
 }
 
 impl BrakeInTurn {
+    /// The manoeuvre: the circle of `params.circle` driven by a driver for a car of wheelbase
+    /// `wheelbase_m` (m), braked at `brake_at_s`.
     pub fn new(params: BrakeInTurnParams, driver: DriverParams, wheelbase_m: f64) -> Self {
         let circle = ConstantRadius::new(params.circle.clone(), driver, wheelbase_m);
         Self { params, circle, last_steer: 0.0, held: None, onset: None, at_1s: None, ended_on_circle: false }

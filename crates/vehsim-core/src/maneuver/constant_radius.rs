@@ -20,7 +20,9 @@ use crate::vehicle::Kinematics;
 /// Turn direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {
+    /// Counter-clockwise seen from above (yaw rate and lateral acceleration positive).
     Left,
+    /// Clockwise seen from above (yaw rate and lateral acceleration negative).
     Right,
 }
 
@@ -39,6 +41,7 @@ impl Direction {
 pub struct ConstantRadiusParams {
     /// Circle radius, m.
     pub radius_m: f64,
+    /// Turn direction.
     pub direction: Direction,
     /// Speed of each step, m/s (one entry: speed held all the way).
     pub step_speeds_mps: Vec<f64>,
@@ -72,7 +75,9 @@ impl ConstantRadiusParams {
 /// The running manoeuvre.
 #[derive(Debug, Clone)]
 pub struct ConstantRadius {
+    /// The validated parameters.
     pub params: ConstantRadiusParams,
+    /// The circle the driver follows.
     pub path: RefPath,
     driver: Driver,
     laps_done: usize,

@@ -49,17 +49,22 @@ pub enum SpeedMode {
 pub struct Gate {
     /// Name used in events: `lane 1`, `lane 3`, `lane 5`.
     pub name: &'static str,
+    /// Start of the section along x, m from the entry gate (ground frame).
     pub x0_m: f64,
+    /// End of the section along x, m from the entry gate.
     pub x1_m: f64,
     /// Right (low y) and left (high y) boundaries, m.
     pub y_right_m: f64,
+    /// Left boundary (high y), m (ISO 8855: y positive left).
     pub y_left_m: f64,
 }
 
 impl Gate {
+    /// Lateral position of the lane centre, m.
     pub fn centre_m(&self) -> f64 {
         0.5 * (self.y_right_m + self.y_left_m)
     }
+    /// Lane width, left minus right boundary, m.
     pub fn width_m(&self) -> f64 {
         self.y_left_m - self.y_right_m
     }
@@ -85,7 +90,9 @@ pub(crate) const COURSE_LENGTH_M: f64 = 61.0;
 /// Parameters of the manoeuvre (validated by the spec layer).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Iso3888_2Params {
+    /// Entry speed, m/s (held up to the entry gate, then by [`SpeedMode`]).
     pub speed_mps: f64,
+    /// Speed behaviour through the course: hold or coast.
     pub mode: SpeedMode,
     /// Straight run-up before the entry gate, m.
     pub approach_m: f64,
@@ -113,11 +120,13 @@ impl Iso3888_2Params {
 /// Vehicle dimensions the manoeuvre needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Body {
+    /// Body width without mirrors, m; sets the lane widths.
     pub width_m: f64,
     /// CG to front bumper, m.
     pub front_m: f64,
     /// CG to rear bumper, m.
     pub rear_m: f64,
+    /// Wheelbase, m (for the path-following driver).
     pub wheelbase_m: f64,
 }
 
@@ -139,9 +148,13 @@ const QUINTIC_PEAK_CURVATURE: f64 = 5.773_502_691_896_258;
 /// A lateral transition of the CG path from y0 to y1 between x0 and x1 (ground frame, m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transition {
+    /// Start x of the transition, m.
     pub x0: f64,
+    /// End x of the transition, m.
     pub x1: f64,
+    /// Lateral position at the start, m (positive left).
     pub y0: f64,
+    /// Lateral position at the end, m (positive left).
     pub y1: f64,
 }
 
@@ -300,9 +313,13 @@ fn reference_path(x0: f64, x1: f64, (t1, t2): (Transition, Transition)) -> Arc<R
 /// The running manoeuvre.
 #[derive(Debug, Clone)]
 pub struct Iso3888_2 {
+    /// The validated parameters.
     pub params: Iso3888_2Params,
+    /// The three gates (lanes 1, 3 and 5), laid out for the body width.
     pub gates: [Gate; 3],
+    /// Vehicle dimensions checked against the gates.
     pub body: Body,
+    /// The reference path the driver follows, designed to clear the gates by `clearance_m`.
     pub path: Arc<RefPath>,
     /// The two lateral transitions of the reference path.
     pub transitions: (Transition, Transition),
@@ -375,6 +392,7 @@ fn crossing_time(t0: f64, t1: f64, v0: f64, v1: f64, level: f64) -> f64 {
 }
 
 impl Iso3888_2 {
+    /// The manoeuvre for `body`: lays out the gates, designs the reference path and builds the driver.
     pub fn new(params: Iso3888_2Params, body: Body, driver: DriverParams) -> Self {
         let gates = layout(body.width_m, params.lane5_min_width_m);
         let transitions = design_path(&gates, &body, params.clearance_m);

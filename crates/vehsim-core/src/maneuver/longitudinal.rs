@@ -11,7 +11,7 @@
 //! Results (`summary.json`'s `results`), positions along the path travelled (the sum of the CG's
 //! displacements over the steps, m), times in s, speeds in m/s, decelerations in m/s^2:
 //! - braking: the speed at brake onset v0, the braking distance d and time from onset until the
-//!   speed falls to the end speed (standstill: [`STOP_SPEED_MPS`], the last 5 mm or so; crossings
+//!   speed falls to the end speed (standstill: `STOP_SPEED_MPS`, the last 5 mm or so; crossings
 //!   interpolated linearly within the step), the mean deceleration (v0^2 - v_end^2) / (2 d) and
 //!   the mean fully developed deceleration of UN ECE R13-H (between 0.8 v0 and 0.1 v0:
 //!   (v_b^2 - v_e^2) / (2 (s_e - s_b))).
@@ -72,10 +72,12 @@ enum Mode {
 }
 
 impl Longitudinal {
+    /// Straight braking from `p.speed_mps` with the brake pedal at its stop from `p.brake_at_s`.
     pub fn braking(p: BrakingParams) -> Self {
         Self { mode: Mode::Braking(p), s_m: 0.0, last: None, marks: Marks::default() }
     }
 
+    /// Straight launch from standstill to `p.speed_mps` with the throttle at its stop.
     pub fn launch(p: LaunchParams) -> Self {
         Self { mode: Mode::Launch(p), s_m: 0.0, last: None, marks: Marks::default() }
     }

@@ -32,9 +32,13 @@ pub struct Outcome {
 /// Starting pose and speed: CG position (m), yaw (rad) and forward speed (m/s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Start {
+    /// Ground-frame X of the CG, m.
     pub x_m: f64,
+    /// Ground-frame Y of the CG, m (positive left).
     pub y_m: f64,
+    /// Yaw angle, rad, counter-clockwise from the ground x axis.
     pub yaw_rad: f64,
+    /// Forward speed, m/s (the wheels start rolling at it).
     pub speed_mps: f64,
 }
 
@@ -46,6 +50,7 @@ pub struct SteadyWindow {
     pub step: usize,
     /// Window start and end, s.
     pub t0_s: f64,
+    /// Window end, s.
     pub t1_s: f64,
     /// Speed target of the step, m/s.
     pub speed_target_mps: f64,

@@ -14,9 +14,23 @@ pub enum SteerProfile {
     /// No steering.
     Zero,
     /// A sin(2 pi (t - start) / period) after `start_s`, 0 before.
-    Sine { amplitude_rad: f64, period_s: f64, start_s: f64 },
+    Sine {
+        /// Amplitude A, rad (positive: the first half-period steers left).
+        amplitude_rad: f64,
+        /// Period, s (> 0).
+        period_s: f64,
+        /// Start time, s.
+        start_s: f64,
+    },
     /// Linear ramp from 0 at `start_s` to `amplitude_rad` at `start_s + ramp_s`, then held.
-    Step { amplitude_rad: f64, start_s: f64, ramp_s: f64 },
+    Step {
+        /// Final steer angle, rad (positive left).
+        amplitude_rad: f64,
+        /// Time the ramp starts, s.
+        start_s: f64,
+        /// Ramp duration, s (0: an ideal step).
+        ramp_s: f64,
+    },
 }
 
 impl SteerProfile {
@@ -40,6 +54,7 @@ impl SteerProfile {
         }
     }
 
+    /// Road-wheel steer angle at time `t` (s), rad (positive left).
     pub fn at(&self, t: f64) -> f64 {
         match *self {
             SteerProfile::Zero => 0.0,
@@ -68,14 +83,17 @@ impl SteerProfile {
 /// Speed target versus time: piecewise linear through (t, v) points, held beyond the ends.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpeedSchedule {
+    /// (time s, speed m/s) points, times strictly increasing.
     pub points: Vec<(f64, f64)>,
 }
 
 impl SpeedSchedule {
+    /// A single speed `v` (m/s) at all times.
     pub fn constant(v: f64) -> Self {
         Self { points: vec![(0.0, v)] }
     }
 
+    /// Target speed at time `t` (s), m/s.
     pub fn at(&self, t: f64) -> f64 {
         let p = &self.points;
         match p.iter().position(|&(ti, _)| ti > t) {
@@ -93,7 +111,9 @@ impl SpeedSchedule {
 /// An open-loop manoeuvre.
 #[derive(Debug, Clone)]
 pub struct OpenLoop {
+    /// Road-wheel steer angle versus time.
     pub steer: SteerProfile,
+    /// Target speed versus time, held by the PID.
     pub speed: SpeedSchedule,
     /// True when `steer` already respects the steering limits, so the engine evaluates it at every
     /// integration stage ([`Maneuver::steer_at`]); false to have it sampled and rate-limited.

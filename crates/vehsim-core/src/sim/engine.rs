@@ -17,7 +17,7 @@
 //!    see a staircase steer; errors per provider: `super::stability`). The steer at the ramp's
 //!    end is that of a continuous rate limiter following the driver's command interpolated
 //!    linearly across the period (from the last sample's command to the new one) and clamped to
-//!    the lock ([`rate_limited_steer`]: it leaves the lock when the command does, not up to a
+//!    the lock (`rate_limited_steer`: it leaves the lock when the command does, not up to a
 //!    period early); the PID integrates its error by the trapezoidal rule. The
 //!    contact-temperature estimate comes first: it is advanced over the period behind (none at
 //!    the first sample) to the tyres' operating conditions at t, taken at the contact
@@ -77,6 +77,7 @@ pub(crate) const SPIN_OUT_MIN_SPEED_MPS: f64 = 1.0;
 /// Time-stepping settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimSettings {
+    /// Integration method.
     pub method: Method,
     /// Integration step, s.
     pub step_s: f64,
@@ -92,14 +93,17 @@ pub struct SimSettings {
 /// Controller settings and actuator limits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Controls {
+    /// Gains of the speed PID.
     pub pid: PidParams,
     /// Largest total drive and brake torque, N m.
     pub drive_max_nm: f64,
+    /// Largest total brake torque, N m.
     pub brake_max_nm: f64,
     /// Torque that holds the start speed (drag and rolling resistance), N m; preloads the PID.
     pub preload_nm: f64,
     /// Steering lock, rad, and rate limit, rad/s.
     pub steer_max_rad: f64,
+    /// Steering rate limit, rad/s.
     pub steer_rate_max_radps: f64,
 }
 
@@ -109,25 +113,34 @@ pub struct Controls {
 pub struct Summary {
     /// Pass/fail where the manoeuvre has a rule, else null.
     pub passed: Option<bool>,
+    /// Number of distinct gate boundaries struck (ISO 3888-2; 0 otherwise).
     pub cones_hit: usize,
+    /// Largest |yaw rate| over every step, rad/s.
     pub peak_yaw_rate_radps: f64,
+    /// Largest |sideslip| atan2(|v_y|, v_x) over every step, rad (beyond pi/2 when sliding backwards).
     pub peak_sideslip_rad: f64,
+    /// Largest |body-frame lateral acceleration| over every step, m/s^2.
     pub peak_ay_mps2: f64,
     /// Largest |lateral deviation| of the CG from the reference path, m (null when open loop).
     pub max_path_deviation_m: Option<f64>,
+    /// Lowest CG speed over every step, m/s.
     pub min_speed_mps: f64,
+    /// Highest CG speed over every step, m/s.
     pub max_speed_mps: f64,
     /// Largest |speed target - vx| while the PID was active, m/s (null if never active).
     pub max_speed_error_mps: Option<f64>,
+    /// Number of integration steps taken.
     pub steps: u64,
     /// When the run ended, s: for a completed manoeuvre or a spin-out the instant of the end
     /// condition, interpolated within the last step; otherwise the end of the last step.
     pub end_time_s: f64,
     /// Why the run ended (serialised as `completed`, `duration`, `spin_out`, `diverged`, `left_path`).
     pub end_reason: EndReason,
+    /// Events in time order (gate strikes, condition changes, plausibility flags).
     pub events: Vec<Event>,
     /// False when a plausibility check failed ([`super::plausibility`]); the reasons follow.
     pub plausible: bool,
+    /// Why the run is implausible, one sentence per failed check (empty when plausible).
     pub implausible: Vec<String>,
 }
 

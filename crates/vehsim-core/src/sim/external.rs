@@ -46,7 +46,9 @@ pub struct SteerRate {
 /// Drive and brake torque set together, N m (both >= 0; both may act at once).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Torque {
+    /// Total drive torque at the wheels, N m (>= 0).
     pub drive_nm: f64,
+    /// Total brake torque at the wheels, N m (>= 0).
     pub brake_nm: f64,
 }
 
@@ -59,6 +61,7 @@ pub struct Limits {
     pub steer_rate_max_radps: f64,
     /// Largest total drive and brake torque, N m.
     pub drive_max_nm: f64,
+    /// Largest total brake torque, N m.
     pub brake_max_nm: f64,
 }
 

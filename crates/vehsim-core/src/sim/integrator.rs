@@ -7,7 +7,7 @@
 //!   and k4 = f(t_k + h, x_k + h k3) (the derivative at the end, to O(h^3); the engine's predictor
 //!   uses it).
 //! - [`Method::Rk4Exp`]: RK4 with the stiff wheel-spin / transient-slip pairs integrated by their
-//!   exact exponential (a Lawson, or integrating-factor, RK4; [`rk4_exp_step_t`]): the pairs'
+//!   exact exponential (a Lawson, or integrating-factor, RK4; `rk4_exp_step_t`): the pairs'
 //!   2 x 2 linearisation L, taken at the step's start, is carried exactly by exp(h L / 2) and
 //!   exp(h L), and RK4 integrates only the remainder f(x) - L (x - x_k). Fourth order for smooth
 //!   right-hand sides (any fixed L leaves a consistent fourth-order method), the steady state of
@@ -30,23 +30,31 @@ use ode_solvers::{Dop853, Dopri5, OutputType, System};
 /// Integration method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
+    /// Classical fixed-step fourth-order Runge–Kutta.
     Rk4,
     /// RK4 with the wheel-spin / transient-slip pairs integrated exponentially (see the module docs).
     Rk4Exp,
     /// RK4 with the model's first-order lag components relaxed exactly ([`rk4_lag_step`];
     /// `crate::vehicle::VehicleModel::lag_states`): the discovery replay's method.
     Rk4Lag,
+    /// Adaptive Dormand–Prince 5(4) of ode_solvers, between controller samples.
     Dopri5 {
+        /// Relative tolerance, in (0, 1) (spec default 1e-8).
         rtol: f64,
+        /// Absolute tolerance, in state units, in (0, 1) (spec default 1e-10).
         atol: f64,
     },
+    /// Adaptive Dormand–Prince 8(5,3) of ode_solvers, between controller samples.
     Dop853 {
+        /// Relative tolerance, in (0, 1) (spec default 1e-8).
         rtol: f64,
+        /// Absolute tolerance, in state units, in (0, 1) (spec default 1e-10).
         atol: f64,
     },
 }
 
 impl Method {
+    /// The method's name in spec and result files (`rk4`, `rk4_exp`, `rk4_lag`, `dopri5`, `dop853`).
     pub fn name(&self) -> &'static str {
         match self {
             Method::Rk4 => "rk4",

@@ -6,8 +6,11 @@ use crate::vehicle::{Inputs, Observation};
 /// One recorded instant: the state at `t_s` and the inputs held over the following step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Row {
+    /// Simulation time of the row, s.
     pub t_s: f64,
+    /// What the vehicle model reports at `t_s`.
     pub obs: Observation,
+    /// Driver and controller inputs held over the following step.
     pub inputs: Inputs,
     /// Speed target of the PID, m/s (NaN while coasting).
     pub speed_target_mps: f64,
@@ -17,6 +20,7 @@ pub struct Row {
 
 /// Receives recorded rows. All methods have no-op defaults.
 pub trait Observer {
+    /// Called after each recorded step with its row.
     fn record(&mut self, _row: &Row) {}
 }
 
@@ -27,6 +31,7 @@ impl Observer for NoOutput {}
 /// Keeps every recorded row in memory.
 #[derive(Debug, Default, Clone)]
 pub struct Recorder {
+    /// Every recorded row, in time order.
     pub rows: Vec<Row>,
 }
 

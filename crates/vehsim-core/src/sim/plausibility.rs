@@ -7,12 +7,12 @@
 //!   axle, N) against the bound sum(mu_i Fz_i) over the axle's tyres, with mu_i the provider's peak
 //!   friction coefficient at that tyre's load, slip, surface and contact temperature
 //!   ([`TyreModel::peak_friction`]); a provider without a bound (the unsaturated linear tyre) is
-//!   held to the surface's mu. Fails when |F| / bound > [`FORCE_RATIO_LIMIT`] (1.05): only an
+//!   held to the surface's mu. Fails when |F| / bound > `FORCE_RATIO_LIMIT` (1.05): only an
 //!   unsaturated tyre can get there.
 //! - **lateral acceleration beyond the surface's friction**: |a_y| against mu_eff g, with mu_eff =
 //!   (sum of the tyres' bounds) / (sum of their loads), the friction the provider realises on this
 //!   surface (the spec's mu for the unsaturated linear tyre). Fails when |a_y| / (mu_eff g) >
-//!   [`AY_RATIO_LIMIT`] (1.05).
+//!   `AY_RATIO_LIMIT` (1.05).
 //! - **leaving the path**: |lateral deviation of the CG from the reference path| beyond the
 //!   manoeuvre's tolerance (the spec layer's `run::path_tolerance_m`): constant radius max(1 m, 5 % of R); lane change
 //!   half the widest lane's width (the CG is then outside a lane-wide band around the path: the car
@@ -21,7 +21,7 @@
 //! After the run, [`Plausibility::finish`] also folds in a constant-radius run that ended by
 //! leaving the circle (end reason `left_path`) and the steady-state windows that were not steady
 //! ([`crate::sim::steady_state`]). Each check gives one onset event when it starts failing and
-//! one recovery event when it stops (the first [`super::watch::MAX_ONSETS`] times), so a summary
+//! one recovery event when it stops (the first `super::watch::MAX_ONSETS` times), so a summary
 //! never floods.
 
 use std::sync::Arc;

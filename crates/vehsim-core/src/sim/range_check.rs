@@ -8,7 +8,7 @@
 //! (the observation's axle values: the bicycle's, or the mean over a four-wheel model's axle) and
 //! each wheel's normal load. Each quantity gives one onset event when it first leaves the range,
 //! naming the axle or wheel, the value and the range, and one recovery event when it returns (at
-//! most [`super::watch::MAX_ONSETS`] onsets each); a run that left a range is implausible, with
+//! most `super::watch::MAX_ONSETS` onsets each); a run that left a range is implausible, with
 //! the first time, the worst value and where.
 
 use super::observer::Row;

@@ -12,7 +12,9 @@ use crate::vehicle::{Inputs, WheelSensor};
 /// Which slip controllers a run has (the manoeuvre's `[abs]` and `[tcs]` sections).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SlipControlParams {
+    /// ABS parameters (`None`: no ABS).
     pub abs: Option<AbsParams>,
+    /// Traction-control parameters (`None`: no TCS).
     pub tcs: Option<TcsParams>,
 }
 

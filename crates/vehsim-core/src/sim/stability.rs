@@ -6,7 +6,7 @@
 //! wheel spin coupled with transient slip (about 156 1/s on ice and 250 1/s on dry asphalt at
 //! 10 m/s); it grows with speed, so callers evaluate it over the manoeuvre's speed range.
 //!
-//! Classical RK4 is stable for h |lambda| up to [`RK4_REAL_BOUND`] on the negative real axis (the
+//! Classical RK4 is stable for h |lambda| up to 2.785 on the negative real axis (the
 //! wheel-spin mode is a lightly damped complex pair, |lambda| ~ sqrt(C_kappa R_e^2 / (I_w sigma)),
 //! near the imaginary axis, where RK4's bound is 2.83: the real-axis one is the smaller). The
 //! default step keeps h |lambda| <= [`DEFAULT_H_LAMBDA`], where RK4 still damps the mode and its
@@ -17,7 +17,7 @@
 //! carries the wheel-spin / transient-slip pairs exactly, so the pairs' own rate no longer bounds
 //! the step. What does is the stability of the whole split step (the pairs stay coupled to the
 //! body through the explicit part): [`Analysis::exp_stable`] applies one exponential RK4 step, the
-//! engine's own [`rk4_exp_step_t`], to the linearised model and asks for a spectral radius <= 1.
+//! engine's own `rk4_exp_step_t`, to the linearised model and asks for a spectral radius <= 1.
 //! The default takes the longest whole division of the control period that is stable with a
 //! margin of [`EXP_MARGIN`] on the step.
 

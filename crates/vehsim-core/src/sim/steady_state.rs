@@ -13,8 +13,8 @@
 //!
 //! A window counts as steady when all of these hold (else it is left out of the gradient and the
 //! run's plausibility says why): the run reached the window's end; max |v_x - target| <=
-//! max([`SPEED_TOL_MPS`], [`SPEED_TOL_FRACTION`] x target); max a_y - min a_y <=
-//! max([`AY_RANGE_TOL_MPS2`], [`AY_RANGE_TOL_FRACTION`] x |nominal a_y|); and max |path error| <=
+//! max(`SPEED_TOL_MPS`, `SPEED_TOL_FRACTION` x target); max a_y - min a_y <=
+//! max(`AY_RANGE_TOL_MPS2`, `AY_RANGE_TOL_FRACTION` x |nominal a_y|); and max |path error| <=
 //! the manoeuvre's path tolerance (constant radius: max(1 m, 5 % of R)). With fewer than three
 //! steady windows no gradient is reported.
 
@@ -33,24 +33,37 @@ pub(crate) const AY_RANGE_TOL_FRACTION: f64 = 0.1;
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct SteadyState {
+    /// Step number of the window, from 1.
     pub step: usize,
+    /// Window start, s.
     pub t0_s: f64,
+    /// Window end, s.
     pub t1_s: f64,
     /// Number of recorded rows averaged.
     pub samples: usize,
+    /// Speed target of the step, m/s.
     pub speed_target_mps: f64,
+    /// Nominal lateral acceleration v^2 / R of the step, m/s^2 (positive left).
     pub nominal_ay_mps2: f64,
+    /// Mean body-frame forward speed v_x, m/s.
     pub vx_mps: f64,
+    /// Mean body-frame lateral acceleration a_y, m/s^2 (positive left).
     pub ay_mps2: f64,
     /// Mean road-wheel steer angle (the input), rad.
     pub steer_rad: f64,
+    /// Mean yaw rate, rad/s (positive turning left).
     pub yaw_rate_radps: f64,
+    /// Mean vehicle sideslip angle atan2(v_y, v_x), rad.
     pub sideslip_rad: f64,
+    /// Mean roll angle, rad (positive: body leans right; 0 for models without roll).
     pub roll_rad: f64,
     /// Normal loads FL, FR, RL, RR, N.
     pub fz_fl_n: f64,
+    /// Mean normal load on the front-right wheel, N.
     pub fz_fr_n: f64,
+    /// Mean normal load on the rear-left wheel, N.
     pub fz_rl_n: f64,
+    /// Mean normal load on the rear-right wheel, N.
     pub fz_rr_n: f64,
     /// Path curvature r / v_x, 1/m.
     pub curvature_1pm: f64,
@@ -72,13 +85,17 @@ pub struct SteadyState {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct LinearFit {
+    /// Slope of the fit, in units of y per unit of x.
     pub slope: f64,
+    /// Value of the fit at x = 0.
     pub intercept: f64,
     /// Standard error of the slope.
     pub slope_std_error: f64,
     /// 95 % confidence interval of the slope.
     pub slope_ci95: [f64; 2],
+    /// Coefficient of determination R^2 of the fit, in [0, 1].
     pub r_squared: f64,
+    /// Number of points fitted.
     pub n: usize,
 }
 
@@ -206,11 +223,13 @@ pub struct UndersteerGradient {
     pub rad_per_mps2: f64,
     /// The same in degrees of road-wheel angle per g.
     pub deg_per_g: f64,
+    /// Standard error of the gradient, rad per m/s^2.
     pub std_error_rad_per_mps2: f64,
     /// 95 % confidence interval, rad per m/s^2.
     pub ci95_rad_per_mps2: [f64; 2],
     /// Fitted steer at zero lateral acceleration, rad (about L / R).
     pub intercept_rad: f64,
+    /// Coefficient of determination R^2 of the fit.
     pub r_squared: f64,
     /// Number of steady states fitted.
     pub steps: usize,
@@ -218,6 +237,7 @@ pub struct UndersteerGradient {
     pub slip_angle_gradient_rad_per_mps2: f64,
     /// 95 % confidence interval of that slope, rad per m/s^2.
     pub slip_angle_gradient_ci95_rad_per_mps2: [f64; 2],
+    /// How the gradient was computed, in words (for the summary).
     pub method: &'static str,
 }
 

@@ -5,7 +5,7 @@
 //! and a recovery event (kind `Condition::recovery`) when it stops, each at the time of the state
 //! that first shows the change (step resolution) with the condition's detail. A condition that
 //! holds for many steps gives one onset, not one event per step. A condition that flaps (starts
-//! more than [`MAX_ONSETS`] times in a run) is then reported once more as `events_suppressed` and
+//! more than `MAX_ONSETS` times in a run) is then reported once more as `events_suppressed` and
 //! no longer, so a summary never floods.
 //!
 //! The model's one-off notes ([`VehicleModel::notes`], e.g. a tyre clamping its published law) are

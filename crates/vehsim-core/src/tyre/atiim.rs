@@ -10,7 +10,7 @@
 //! - T_c contact (tread/ice interface) temperature, `TyreInput::contact_temp_c`;
 //! - T_i bulk ice temperature, `TyreInput::surface_temp_c`;
 //! - Delta-T = T_c - T_i >= 0, the rise; the melting point 0 degC caps T_c, so the largest
-//!   reachable rise is the melting margin M = -T_i (taken >= [`MIN_MARGIN_K`]).
+//!   reachable rise is the melting margin M = -T_i (taken >= `MIN_MARGIN_K`).
 //!
 //! ```text
 //! w(dT)  = k_shift(dT) dT = (a dT^2 + b) dT                (the dissertation's eq. 5.14–5.17 shape)
@@ -25,7 +25,7 @@
 //! same rise colder ice gives a smaller p (w is increasing, M larger), so colder ice never gives
 //! a lower peak. The spec's mu (the surface friction `mu_surface` and the base curve's peak) is
 //! the friction with the contact at the ice temperature, no frictional heating. On an ice surface
-//! with the friction law on (the default), [`super::ice::IceSurfaceTyre`] applies this law on top
+//! with the friction law on (the default), `super::ice::IceSurfaceTyre` applies this law on top
 //! of the rubber-ice friction law taken at the contact temperature.
 //!
 //! k_shift families (a in 1/K^2, b dimensionless): srtt 25/3, 5/3 (eq. 5.14); all_season 7/3, 1/3
@@ -55,7 +55,12 @@ pub enum KShift {
     /// Average of the three, eq. 5.17: 352/45 dT^2 + 17/24.
     Average,
     /// User quadratic a dT^2 + b (a in 1/K^2, a >= 0, b >= 0, a + b > 0).
-    Quadratic { a: f64, b: f64 },
+    Quadratic {
+        /// Coefficient of dT^2, 1/K^2 (>= 0).
+        a: f64,
+        /// Constant term, dimensionless (>= 0).
+        b: f64,
+    },
 }
 
 impl KShift {

@@ -1,6 +1,6 @@
 //! Shared pieces of the providers: the Magic Formula sine curve and its slope, the
 //! normalised-slip friction-ellipse combination of two pure-slip curves, and the memoised load
-//! factor power [`powf_memo`].
+//! factor power `powf_memo`.
 //!
 //! Normalised-slip combination (the "similarity" idea of Pacejka, Tyre and Vehicle Dynamics,
 //! section 4.3): with reference slips kappa_r and alpha_r, define s_x = kappa / kappa_r,

@@ -1,7 +1,7 @@
 //! Friction laws of the patch model, pure functions in SI units:
 //! - [`IceFriction`]: the rubber-ice friction law mu(T, v_slide, p) with an adhesion peak, used by
 //!   the contact patch and by the car's tyre alike;
-//! - [`WetFilm`]: one friction law for a pixel carrying a water film of height h, from which both the
+//! - `WetFilm`: one friction law for a pixel carrying a water film of height h, from which both the
 //!   shear stress tau = mu p and the frictional heat q = tau v_slide follow (eq. 2.1 with the viscous
 //!   friction of eq. 4.13 as its floor);
 //! - viscous film friction (eq. 4.11–4.13), friction versus film height (eq. 2.1), the brush stress
@@ -27,7 +27,7 @@ pub(crate) const COLD_PLATEAU_C: f64 = -12.0;
 /// Phi = exp(-c_T clamp(T, T_cold, 0)) * S(v) * (1 + v / v_c)^(-n_v) * max(p, p_min)^(-n_p),
 /// S(v) = 1 + g exp(-ln^2(v / v_pk(p)) / (2 w^2)),  v_pk(p) = v_pk (max(p, p_min) / p_ref)^(-n_p),
 ///
-/// with T the interface (contact) temperature, degC, T_cold = [`COLD_PLATEAU_C`], and v clamped to
+/// with T the interface (contact) temperature, degC, T_cold = `COLD_PLATEAU_C`, and v clamped to
 /// at least 1e-6 m/s. Trends (the dissertation's 2.2, Fig. 2.4 and Fig. 2.14): the friction is higher on
 /// colder ice down to a plateau, falls toward melting, falls with sliding speed above the adhesion
 /// peak (Fig. 2.14 and 2.5.4: 'a decrease in rubber friction with increasing sliding velocity for
@@ -36,7 +36,7 @@ pub(crate) const COLD_PLATEAU_C: f64 = -12.0;
 /// peak at 5-10 % slip; the power (1 + v/v_c)^(-n_v) is its fall at road sliding speeds. A tread
 /// element sticks until its stress reaches the peak value ([`IceFriction::static_mu`]). The water
 /// film (the contact at 0 degC) is not in this law: the patch adds it pixel by pixel
-/// ([`WetFilm`]), the car's ATIIM-Pacejka tyre through its melt law.
+/// (`WetFilm`), the car's ATIIM-Pacejka tyre through its melt law.
 ///
 /// Parameters (defaults in [`IceFriction::srtt`]; each a source or a stated assumption):
 /// - `mu_ref`: the friction at the reference conditions (T_ref, v_ref, p_ref), which the caller

@@ -12,7 +12,7 @@
 //!
 //! `mu_spec` is the manoeuvre's `surface.mu`, now stated as the friction at the reference
 //! conditions: ice (interface) temperature T_ref (`surface.mu_reference_temperature_c`, default
-//! [`DEFAULT_REFERENCE_C`]) and sliding speed v_ref = [`REFERENCE_SLIDING_MPS`] (about the sliding
+//! [`DEFAULT_REFERENCE_C`]) and sliding speed v_ref = `REFERENCE_SLIDING_MPS` (about the sliding
 //! speed at a car tyre's friction peak on ice: 10 % slip at 10 m/s). The law's pressure factor is
 //! not applied: a Magic Formula tyre carries its own load sensitivity of friction (PDX2, PDY2),
 //! fitted with the pressure that load gives; applying the law's pressure fall on top would count
@@ -91,7 +91,7 @@ pub struct SurfaceFriction {
 
 impl SurfaceFriction {
     /// The law with the default parameters ([`IceFriction::srtt`]) and reference conditions
-    /// (`t_ref_c`, [`REFERENCE_SLIDING_MPS`]), built for a run on ice at `ice_c`.
+    /// (`t_ref_c`, `REFERENCE_SLIDING_MPS`), built for a run on ice at `ice_c`.
     pub fn new(t_ref_c: f64, ice_c: f64) -> Self {
         let law = IceFriction { t_ref_c, v_ref_mps: REFERENCE_SLIDING_MPS, ..IceFriction::srtt(1.0) };
         Self::with_law(law, ice_c)

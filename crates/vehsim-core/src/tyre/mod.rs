@@ -185,7 +185,7 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// This provider on an ice surface whose friction follows `law` ([`ice::IceSurfaceTyre`]), or
+    /// This provider on an ice surface whose friction follows `law` (`ice::IceSurfaceTyre`), or
     /// `None` for a provider that keeps its `mu` fixed. Default: `None`.
     fn on_ice(&self, _law: &ice::SurfaceFriction) -> Option<std::sync::Arc<dyn TyreModel>> {
         None

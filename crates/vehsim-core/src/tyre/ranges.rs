@@ -5,8 +5,11 @@
 /// (kappa, positive driving), slip angle rad (positive giving positive F_y), load N.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TyreRanges {
+    /// Slip-ratio range (min, max), dimensionless (positive driving).
     pub kappa: Option<(f64, f64)>,
+    /// Slip-angle range (min, max), rad (positive giving positive F_y).
     pub alpha_rad: Option<(f64, f64)>,
+    /// Normal-load range (min, max), N.
     pub fz_n: Option<(f64, f64)>,
 }
 

@@ -46,24 +46,38 @@ use crate::vehicle::{Vehicle, AIR_DENSITY};
 pub const N: usize = 13;
 /// State indices.
 pub mod ix {
+    /// Ground-frame X position of the CG, m.
     pub const X: usize = 0;
+    /// Ground-frame Y position of the CG, m (positive left of the start heading).
     pub const Y: usize = 1;
+    /// Yaw angle psi, rad (positive counter-clockwise seen from above).
     pub const YAW: usize = 2;
+    /// Body-frame longitudinal velocity vx, m/s (positive forward).
     pub const VX: usize = 3;
+    /// Body-frame lateral velocity vy, m/s (positive left).
     pub const VY: usize = 4;
+    /// Yaw rate r, rad/s (positive turning left).
     pub const R: usize = 5;
+    /// Front wheel spin omega_f, rad/s (positive rolling forward).
     pub const OMEGA_F: usize = 6;
+    /// Rear wheel spin omega_r, rad/s (positive rolling forward).
     pub const OMEGA_R: usize = 7;
+    /// Front relaxed slip ratio, dimensionless (positive driving).
     pub const KAPPA_F: usize = 8;
+    /// Rear relaxed slip ratio, dimensionless (positive driving).
     pub const KAPPA_R: usize = 9;
+    /// Front relaxed axle lateral force, N (positive left; used only with a lateral relaxation length).
     pub const FY_F: usize = 10;
+    /// Rear relaxed axle lateral force, N (positive left; used only with a lateral relaxation length).
     pub const FY_R: usize = 11;
+    /// Lagged road-wheel angle delta_l, rad (positive left; used only with a steering lag).
     pub const DELTA_L: usize = 12;
 }
 
 /// The bicycle model: a validated vehicle plus precomputed constants.
 #[derive(Debug, Clone)]
 pub struct Bicycle {
+    /// The validated vehicle the model reads.
     pub vehicle: Vehicle,
     /// Static load per tyre (front, rear), N.
     fz_tyre: [f64; 2],
@@ -91,6 +105,7 @@ struct Axles {
 }
 
 impl Bicycle {
+    /// The model for `vehicle`, with its static tyre loads, axle inertia and rolling-resistance torques precomputed.
     pub fn new(vehicle: Vehicle) -> Self {
         let (ff, fr) = vehicle.static_axle_loads_n();
         let fz_tyre = [ff / 2.0, fr / 2.0];

@@ -39,7 +39,7 @@ pub(crate) fn tyre_loads(fz_tyre_n: f64, transfer_n: f64) -> [(TyreSide, f64); 2
 }
 
 /// Force of an axle's two tyres (wheel axes, N and N m, summed): each tyre at its own load from
-/// [`tyre_loads`], the right one first; `tyre(side, fz)` evaluates the tyre on `side` at load
+/// `tyre_loads`, the right one first; `tyre(side, fz)` evaluates the tyre on `side` at load
 /// `fz` (N, > 0). A lifted tyre (load 0) carries nothing and is not evaluated.
 pub fn axle_forces(fz_tyre_n: f64, transfer_n: f64, mut tyre: impl FnMut(TyreSide, f64) -> TyreForces) -> TyreForces {
     let mut sum = TyreForces::default();
@@ -66,7 +66,7 @@ pub fn effective_steer(delta_rad: f64, c_rad_per_n: f64, fy_front_n: f64) -> f64
 /// Steer compliance with the steady-state front force: the fixed point delta_e = delta - c F(delta_e)
 /// ([`effective_steer`]), where `at(delta_e)` evaluates the front axle at road-wheel angle delta_e
 /// (rad) and `fy_front(&value)` reads its lateral force F (N). Damped iteration from F_0 = F(delta):
-/// F_(k+1) = (F_k + F(delta - c F_k)) / 2, [`COMPLIANCE_ITERATIONS`] times (it converges for
+/// F_(k+1) = (F_k + F(delta - c F_k)) / 2, `COMPLIANCE_ITERATIONS` times (it converges for
 /// c dF/d(delta) < 3; the damping halves the error at c dF/d(delta) = 1 and more below), then
 /// delta_e = delta - c F_4. Returns delta_e and the front axle evaluated at it, so the force that
 /// acts is the one at the steer it is reported with (not the damped iterate). c = 0 gives delta
@@ -89,7 +89,7 @@ pub fn compliant_steer<T>(
     (delta_e, at(delta_e))
 }
 
-/// Friction factor from contact heating: max(1 + k_T dT, [`THERMAL_FLOOR`]), with k_T in 1/K
+/// Friction factor from contact heating: max(1 + k_T dT, `THERMAL_FLOOR`), with k_T in 1/K
 /// (negative: friction falls) and dT the contact-temperature rise above the surface, K.
 pub fn thermal_friction_factor(mu_per_k: f64, rise_k: f64) -> f64 {
     (1.0 + mu_per_k * rise_k).max(THERMAL_FLOOR)

@@ -3,7 +3,7 @@
 //! A model owns no time, no controller and no I/O; the engine ([`crate::sim`]) integrates it.
 //! States are fixed-size `SVector`s. By convention every model's state starts with the rigid-body
 //! states X, Y (m), yaw (rad), vx, vy (m/s, body frame) and yaw rate r (rad/s), in that order;
-//! [`rigid_body`] reads them, so drivers, manoeuvres and output work with any model.
+//! `rigid_body` reads them, so drivers, manoeuvres and output work with any model.
 
 pub mod bicycle;
 pub mod condition;
@@ -90,11 +90,13 @@ pub struct Environment {
 pub struct Kinematics {
     /// CG position, m.
     pub x_m: f64,
+    /// CG position Y, m (ground frame, positive left of the start heading).
     pub y_m: f64,
     /// Yaw angle, rad, counter-clockwise from the ground x axis.
     pub yaw_rad: f64,
     /// Body-frame velocity of the CG, m/s (vx forward, vy left).
     pub vx_mps: f64,
+    /// Body-frame lateral velocity of the CG, m/s (positive left).
     pub vy_mps: f64,
     /// Yaw rate, rad/s.
     pub yaw_rate_radps: f64,
@@ -138,9 +140,11 @@ pub(crate) fn set_rigid_body(x: &mut [f64], x_m: f64, y_m: f64, yaw_rad: f64, sp
 /// hold FL, FR, RL, RR.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Observation {
+    /// Rigid-body pose and velocities of the CG.
     pub kin: Kinematics,
     /// Body-frame accelerations of the CG (including the centripetal part), m/s^2.
     pub ax_mps2: f64,
+    /// Body-frame lateral acceleration of the CG, m/s^2 (positive left).
     pub ay_mps2: f64,
     /// Slip angle per axle (front, rear), rad (mean over an axle's wheels).
     pub alpha_rad: [f64; 2],
@@ -148,6 +152,7 @@ pub struct Observation {
     pub kappa: [f64; 2],
     /// Longitudinal and lateral tyre force per axle in wheel axes, N (sum over the axle).
     pub fx_n: [f64; 2],
+    /// Lateral tyre force per axle (front, rear) in wheel axes, N (positive left; sum over the axle).
     pub fy_n: [f64; 2],
     /// Wheel spin speed per axle (front, rear), rad/s (mean over the axle).
     pub omega_radps: [f64; 2],

@@ -11,8 +11,11 @@ use crate::tyre::Tyre;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum DriveLayout {
+    /// Front-wheel drive: all drive torque to the front axle.
     Front,
+    /// Rear-wheel drive: all drive torque to the rear axle.
     Rear,
+    /// All-wheel drive: split by [`Vehicle::front_drive_share`].
     All,
 }
 
@@ -21,11 +24,17 @@ pub enum DriveLayout {
 pub mod lateral_bounds {
     use crate::error::Bound;
 
+    /// `lateral.steer_compliance_rad_per_kn`: [0, 0.1] rad/kN.
     pub const STEER_COMPLIANCE: Bound = Bound::closed("lateral.steer_compliance_rad_per_kn", 0.0, 0.1, "rad/kN");
+    /// `lateral.mu_scale`: [0.05, 3], dimensionless.
     pub const MU_SCALE: Bound = Bound::closed("lateral.mu_scale", 0.05, 3.0, "");
+    /// `lateral.steer_lag_s`: [0, 2] s.
     pub const STEER_LAG: Bound = Bound::closed("lateral.steer_lag_s", 0.0, 2.0, "s");
+    /// `lateral.relaxation_length_y_m`: [0, 10] m.
     pub const RELAXATION_LENGTH: Bound = Bound::closed("lateral.relaxation_length_y_m", 0.0, 10.0, "m");
+    /// `lateral.load_transfer_height_m`: [0, 2] m.
     pub const LOAD_TRANSFER_HEIGHT: Bound = Bound::closed("lateral.load_transfer_height_m", 0.0, 2.0, "m");
+    /// `lateral.thermal_mu_per_k`: [-2, 0] 1/K (friction may only fall as the contact warms).
     pub const THERMAL_MU: Bound = Bound::closed("lateral.thermal_mu_per_k", -2.0, 0.0, "1/K");
 
     /// Every bound above, in the order of [`super::Lateral::values`].
@@ -135,27 +144,45 @@ pub const GRAVITY: f64 = 9.80665;
 /// A validated vehicle with its tyre built for one provider.
 #[derive(Debug, Clone)]
 pub struct Vehicle {
+    /// Name from the vehicle file.
     pub name: String,
+    /// Total mass, kg (> 0).
     pub mass_kg: f64,
+    /// Yaw moment of inertia about the z axis through the CG, kg m^2 (> 0).
     pub yaw_inertia_kgm2: f64,
     /// CG to front axle a, m.
     pub a_m: f64,
     /// CG to rear axle b, m.
     pub b_m: f64,
+    /// Track width (average of front and rear), m (> 0).
     pub track_m: f64,
+    /// CG height above ground, m.
     pub cg_height_m: f64,
+    /// Body width without mirrors, m; sets the ISO 3888-2 lane widths.
     pub body_width_m: f64,
+    /// Body length, bumper to bumper, m.
     pub body_length_m: f64,
+    /// Front overhang: front axle to front bumper, m.
     pub front_overhang_m: f64,
+    /// Spin inertia of one wheel with tyre, brake and its share of the driveline, kg m^2.
     pub wheel_inertia_kgm2: f64,
+    /// Driven axle(s).
     pub drive: DriveLayout,
+    /// Front share of drive torque for [`DriveLayout::All`], in [0, 1] (ignored otherwise).
     pub front_drive_share: f64,
+    /// Largest total drive torque at the wheels, N m (>= 0).
     pub drive_torque_max_nm: f64,
+    /// Largest total brake torque at the wheels, N m (> 0).
     pub brake_torque_max_nm: f64,
+    /// Front share of brake torque, in [0, 1].
     pub brake_front_share: f64,
+    /// Largest road-wheel steer angle, rad (magnitude; steer is positive to the left).
     pub steer_max_rad: f64,
+    /// Largest road-wheel steer rate, rad/s (magnitude).
     pub steer_rate_max_radps: f64,
+    /// Aerodynamic drag area C_d A, m^2 (0: no drag); see [`AIR_DENSITY`].
     pub drag_area_m2: f64,
+    /// Rolling-resistance coefficient, dimensionless (0: none); torque = coefficient x load x radius.
     pub rolling_resistance: f64,
     /// Roll data for the 4-DOF model (`None` when the file has no `[roll]` section).
     pub roll: Option<Roll>,
@@ -165,6 +192,7 @@ pub struct Vehicle {
     pub tyre_ranges: crate::tyre::ranges::TyreRanges,
     /// The powertrain (`None`: the single torque limit, the models' unchanged path).
     pub powertrain: Option<crate::vehicle::powertrain::Powertrain>,
+    /// The tyre on all four corners: geometry and the built force provider.
     pub tyre: Tyre,
     /// Warnings from reading the tyre data (e.g. `.tir` sections ignored), for the CLI to print.
     pub tyre_warnings: Vec<String>,

@@ -22,7 +22,7 @@
 //! - **Reflected inertia**: the engine side J_e (engine, flywheel, gearbox input) appears at the
 //!   carrier as J_r = J_e i^2. With the carrier equation J_r d(omega_c)/dt = T_w - T_out, the
 //!   axles' mean equations I_i d(omega_i)/dt = s_i T_out - L_i (I_i the axle's spin inertia, L_i
-//!   its tyre and brake load torque) give the closed form of [`axle_accelerations`]. With J_e = 0
+//!   its tyre and brake load torque) give the closed form of `axle_accelerations`. With J_e = 0
 //!   it is I_i d(omega_i)/dt = s_i T_w - L_i, the model without a powertrain. The clutch is taken
 //!   as engaged for the inertia (a slipping clutch would decouple the engine; neglected).
 //! - **Differential** (per driven axle of a four-wheel model; a bicycle's axle has one spin speed,
@@ -46,10 +46,23 @@ use super::wheel::TORQUE_RATE_MAX;
 pub enum TorqueSource {
     /// Combustion engine: the full-load curve as (engine speed rad/s, torque N m) points, speeds
     /// strictly increasing, and a power cap, W (infinite for none).
-    Engine { curve: Vec<(f64, f64)>, power_max_w: f64 },
+    Engine {
+        /// Full-load curve as (engine speed rad/s, torque N m) points, speeds strictly increasing;
+        /// the last speed is the rev limit.
+        curve: Vec<(f64, f64)>,
+        /// Power cap, W (infinite for none).
+        power_max_w: f64,
+    },
     /// Electric motor: constant torque up to the base speed P / T, then constant power, up to
     /// the top speed (rad/s).
-    Motor { torque_max_nm: f64, power_max_w: f64, speed_max_radps: f64 },
+    Motor {
+        /// Torque up to the base speed, N m (> 0).
+        torque_max_nm: f64,
+        /// Power above the base speed, W (> 0).
+        power_max_w: f64,
+        /// Top speed, rad/s; no torque above it.
+        speed_max_radps: f64,
+    },
 }
 
 /// Gear selection.
@@ -64,10 +77,13 @@ pub enum GearMode {
 /// Differential of a driven axle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Differential {
+    /// Open: the wheels of the axle share its torque equally and may turn at different speeds.
     Open,
+    /// Locked: both wheels of the axle turn at the same speed.
     Locked,
     /// Torque-sensing limited slip with the torque bias ratio TBR >= 1.
     LimitedSlip {
+        /// Torque bias ratio TBR: the slower wheel gets up to TBR times the faster one's torque (>= 1).
         torque_bias_ratio: f64,
     },
 }
@@ -75,15 +91,19 @@ pub enum Differential {
 /// A validated powertrain.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Powertrain {
+    /// The torque source: engine curve or electric motor.
     pub source: TorqueSource,
     /// Gearbox ratios, first gear first (> 0); a motor with a single reduction has one.
     pub gear_ratios: Vec<f64>,
+    /// Final-drive ratio (> 0); the overall ratio is gear ratio x final-drive ratio.
     pub final_drive_ratio: f64,
     /// Driveline efficiency from the engine to the wheels, (0, 1].
     pub efficiency: f64,
     /// Engine-side rotating inertia (engine, flywheel, gearbox input), kg m^2.
     pub engine_inertia_kgm2: f64,
+    /// Gear selection: a fixed gear or the automatic schedule.
     pub gear: GearMode,
+    /// Differential of each driven axle.
     pub differential: Differential,
     /// The automatic schedule as (carrier speed from which it holds, rad/s; gear), ascending;
     /// computed once by [`Powertrain::new`] (one entry for a fixed gear).

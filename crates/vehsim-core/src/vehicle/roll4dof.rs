@@ -70,11 +70,17 @@ use crate::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
 pub const N: usize = 18;
 /// State indices. Wheels are ordered FL, FR, RL, RR.
 pub mod ix {
+    /// Ground-frame X position of O (the unrolled CG), m.
     pub const X: usize = 0;
+    /// Ground-frame Y position of O, m (positive left of the start heading).
     pub const Y: usize = 1;
+    /// Yaw angle psi, rad (positive counter-clockwise seen from above).
     pub const YAW: usize = 2;
+    /// Longitudinal velocity of O in the yaw frame, m/s (positive forward).
     pub const VX: usize = 3;
+    /// Lateral velocity of O in the yaw frame, m/s (positive left).
     pub const VY: usize = 4;
+    /// Yaw rate r, rad/s (positive turning left).
     pub const R: usize = 5;
     /// Roll angle phi, rad (positive: body leans to the right, as in a left turn).
     pub const PHI: usize = 6;
@@ -82,6 +88,7 @@ pub mod ix {
     pub const P: usize = 7;
     /// Lagged body-frame longitudinal and lateral acceleration of O, m/s^2 (drive load transfer).
     pub const AX_LAG: usize = 8;
+    /// Lagged body-frame lateral acceleration of O, m/s^2 (positive left; the lateral load transfer).
     pub const AY_LAG: usize = 9;
     /// Wheel spin speeds FL, FR, RL, RR, rad/s.
     pub const OMEGA: usize = 10;
@@ -99,7 +106,9 @@ const AXLE_SUBJECTS: [&str; 2] = ["front axle", "rear axle"];
 /// The 4-DOF roll model: a validated vehicle with roll data plus precomputed constants.
 #[derive(Debug, Clone)]
 pub struct Roll4Dof {
+    /// The validated vehicle the model reads.
     pub vehicle: Vehicle,
+    /// The vehicle's roll data (the `[roll]` section), with the derived sprung-mass geometry.
     pub roll: Roll,
     /// Static axle loads (front, rear), N.
     axle_load0: [f64; 2],
