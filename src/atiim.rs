@@ -5,7 +5,7 @@
 //! `friction.csv` (tau / p), `mu_visc.csv` (eq. 4.13, wet pixels), each row one grid row along
 //! travel (leading edge first); a heat map `<same stem>.png/.svg` of each; `drawbar.csv` and
 //! `drawbar.png/.svg`; `summary.json` (with `tread_bulk`, the tread band over a run at the
-//! operating point, [`super::tread_bulk`]).
+//! operating point, [`vehsim_core::contact::tread_bulk`]).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
