@@ -265,14 +265,7 @@ impl LateralSection {
 impl RollSection {
     /// Validate the section against its vehicle (`unloaded_radius` is the tyre's, m).
     fn build(&self, c: &Checker, v: &VehicleFile, unloaded_radius: f64) -> Result<Roll> {
-        c.range("roll.roll_centre_height_front_m", self.roll_centre_height_front_m, -0.5, 2.0)?;
-        c.range("roll.roll_centre_height_rear_m", self.roll_centre_height_rear_m, -0.5, 2.0)?;
-        c.positive_up_to("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad, 1e7, "N m/rad")?;
-        c.positive_up_to("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad, 1e7, "N m/rad")?;
-        c.range("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad, 0.0, 1e6)?;
-        c.range("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad, 0.0, 1e6)?;
-        c.non_negative("roll.unsprung_mass_front_kg", self.unsprung_mass_front_kg)?;
-        c.non_negative("roll.unsprung_mass_rear_kg", self.unsprung_mass_rear_kg)?;
+        self.check_axle_ranges(c)?;
         let m_u = self.unsprung_mass_front_kg + self.unsprung_mass_rear_kg;
         c.require(
             "roll.unsprung_mass_rear_kg",
@@ -344,6 +337,20 @@ impl RollSection {
             roll_axis_height_m: h_ra,
             h_prime_m: h_prime,
         })
+    }
+
+    /// Roll-centre heights, roll stiffness and damping and unsprung masses, per axle, within
+    /// their ranges.
+    fn check_axle_ranges(&self, c: &Checker) -> Result<()> {
+        c.range("roll.roll_centre_height_front_m", self.roll_centre_height_front_m, -0.5, 2.0)?;
+        c.range("roll.roll_centre_height_rear_m", self.roll_centre_height_rear_m, -0.5, 2.0)?;
+        c.positive_up_to("roll.roll_stiffness_front_nm_per_rad", self.roll_stiffness_front_nm_per_rad, 1e7, "N m/rad")?;
+        c.positive_up_to("roll.roll_stiffness_rear_nm_per_rad", self.roll_stiffness_rear_nm_per_rad, 1e7, "N m/rad")?;
+        c.range("roll.roll_damping_front_nms_per_rad", self.roll_damping_front_nms_per_rad, 0.0, 1e6)?;
+        c.range("roll.roll_damping_rear_nms_per_rad", self.roll_damping_rear_nms_per_rad, 0.0, 1e6)?;
+        c.non_negative("roll.unsprung_mass_front_kg", self.unsprung_mass_front_kg)?;
+        c.non_negative("roll.unsprung_mass_rear_kg", self.unsprung_mass_rear_kg)?;
+        Ok(())
     }
 }
 

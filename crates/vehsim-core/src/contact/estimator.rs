@@ -40,7 +40,7 @@
 
 use super::heat::effective_effusivity;
 use super::model::{solve_patch, Operating, PatchParams};
-use super::patch::{synthesize, SynthInputs, TreadPattern};
+use super::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
 use super::thermal::{ICE, MELT_C};
 use super::{ContactTemperature, TyreContact};
 use crate::error::Result;
@@ -370,22 +370,7 @@ impl FlashTable {
                 (r0.ln(), g)
             })
             .collect();
-        // Grid correction: the table grid is coarse (cost); its patch-average rise is biased low by
-        // partly covered edge pixels. Per load node, the dry rise at a reference point (1 m/s
-        // sliding at 20 m/s rolling) on the 64 x 48 reference grid over that on the table grid
-        // rescales every R0 of that load (the melting-cap ratio G is left as is).
-        let corr: Vec<f64> = (0..load.n())
-            .into_par_iter()
-            .map(|il| {
-                let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
-                let fine = grid_at(il, REFERENCE_GRID);
-                let coarse = rg.statistic.of(&solve_patch(&grids[il], &op, &params).summary);
-                match fine {
-                    Ok(g) if coarse > 0.0 => (rg.statistic.of(&solve_patch(&g, &op, &params).summary) / coarse).ln(),
-                    _ => 0.0,
-                }
-            })
-            .collect();
+        let corr = grid_corrections(&grids, &grid_at, &params, rg);
         let mut ln_r0 = Vec::with_capacity(cells.len());
         let mut ln_g = Vec::with_capacity(cells.len() * w.n());
         for (k, (r, g)) in cells.into_iter().enumerate() {
@@ -536,6 +521,28 @@ impl FlashTable {
             0.0
         }
     }
+}
+
+/// Grid correction, ln per load node: the table grid is coarse (cost); its patch-average rise is biased low by
+/// partly covered edge pixels. Per load node, the dry rise at a reference point (1 m/s
+/// sliding at 20 m/s rolling) on the 64 x 48 reference grid over that on the table grid
+/// rescales every R0 of that load (the melting-cap ratio G is left as is).
+fn grid_corrections<F>(grids: &[PressureGrid], grid_at: &F, params: &PatchParams, rg: &TableRanges) -> Vec<f64>
+where
+    F: Fn(usize, (usize, usize)) -> Result<PressureGrid> + Sync,
+{
+    (0..grids.len())
+        .into_par_iter()
+        .map(|il| {
+            let op = Operating { roll_speed_mps: 20.0, slide_speed_mps: 1.0, ice_temp_c: DRY_ICE_C };
+            let fine = grid_at(il, REFERENCE_GRID);
+            let coarse = rg.statistic.of(&solve_patch(&grids[il], &op, params).summary);
+            match fine {
+                Ok(g) if coarse > 0.0 => (rg.statistic.of(&solve_patch(&g, &op, params).summary) / coarse).ln(),
+                _ => 0.0,
+            }
+        })
+        .collect()
 }
 
 /// Bulk-state parameters (per tyre).
