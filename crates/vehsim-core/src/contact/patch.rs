@@ -153,16 +153,7 @@ fn superellipse_area(n: f64) -> f64 {
 /// - finally scaled so that sum(p) * pixel area = load exactly.
 pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
     let ck = crate::error::Checker::new(file);
-    ck.range("load_n", s.load_n, 100.0, 50_000.0)?;
-    ck.range("inflation_kpa", s.inflation_pa * 1e-3, 50.0, 1000.0)?;
-    ck.range("tread_width_m", s.tread_width_m, 0.03, 0.6)?;
-    ck.range("rated_load_n", s.rated_load_n, 100.0, 100_000.0)?;
-    ck.range("camber_deg", s.camber_deg, -15.0, 15.0)?;
-    ck.range("void_ratio", s.pattern.void_ratio, 0.0, 0.7)?;
-    ck.non_negative("block_pitch_m", s.pattern.block_pitch_m)?;
-    ck.range("ribs", s.pattern.ribs as f64, 1.0, 12.0)?;
-    ck.range("rows", s.rows as f64, 4.0, 512.0)?;
-    ck.range("cols", s.cols as f64, 4.0, 512.0)?;
+    check_synth_inputs(&ck, s)?;
     let rho = s.load_n / s.rated_load_n;
     let b = 0.5 * s.tread_width_m * (0.85 + 0.15 * rho).clamp(0.6, 1.0);
     let n = 2.0 + 4.0 * ((rho - 0.4) / 0.8).clamp(0.0, 1.0);
@@ -176,35 +167,7 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
     let dy = wid / s.cols as f64;
     let edge = 1.5 * ((rho - 0.6) / 0.6).clamp(0.0, 1.0);
     let crown = 0.35 * (1.0 - rho).clamp(0.0, 1.0);
-    let ribs = s.pattern.ribs.max(1);
-    let (void_long, void_trans) = match (ribs > 1, s.pattern.block_pitch_m > 0.0) {
-        (true, true) => (0.5 * s.pattern.void_ratio, 0.5 * s.pattern.void_ratio),
-        (true, false) => (s.pattern.void_ratio, 0.0),
-        (false, true) => (0.0, s.pattern.void_ratio),
-        (false, false) => (0.0, 0.0),
-    };
-    let groove_w = if ribs > 1 { void_long * 2.0 * b / (ribs - 1) as f64 } else { 0.0 };
-    let pitch = 2.0 * b / ribs as f64;
-    let rubber = |x: f64, y: f64| -> bool {
-        // y measured from the right edge of the tread (0..2b).
-        let yy = y + b;
-        if ribs > 1 {
-            for k in 1..ribs {
-                if (yy - k as f64 * pitch).abs() < 0.5 * groove_w {
-                    return false;
-                }
-            }
-        }
-        if s.pattern.block_pitch_m > 0.0 && void_trans > 0.0 {
-            let rib = ((yy / pitch).floor().max(0.0)) as usize;
-            let shift = if rib % 2 == 1 { 0.5 * s.pattern.block_pitch_m } else { 0.0 };
-            let ph = (x + shift).rem_euclid(s.pattern.block_pitch_m) / s.pattern.block_pitch_m;
-            if ph < void_trans {
-                return false;
-            }
-        }
-        true
-    };
+    let tread = Tread::of(s, b);
     let shape = |x: f64, y: f64| -> f64 {
         let eta = y / b;
         if eta.abs() >= 1.0 {
@@ -231,7 +194,7 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
                     // x positive toward the leading edge (row 0).
                     let x = len / 2.0 - (r as f64 + (i as f64 + 0.5) / sub as f64) * dx;
                     let y = -wid / 2.0 + (c as f64 + (j as f64 + 0.5) / sub as f64) * dy;
-                    if rubber(x, y) {
+                    if tread.rubber(x, y) {
                         acc += shape(x, y);
                     }
                 }
@@ -246,6 +209,75 @@ pub fn synthesize(file: &Path, s: &SynthInputs) -> Result<PressureGrid> {
     let k = s.load_n / total;
     p.iter_mut().for_each(|v| *v *= k);
     Ok(PressureGrid { rows: s.rows, cols: s.cols, dx_m: dx, dy_m: dy, p_pa: p })
+}
+
+/// Where a synthesized tread has rubber: longitudinal grooves between `ribs` ribs and, with a
+/// block pitch, transverse grooves (staggered rib to rib) taking the void ratio's share.
+struct Tread {
+    /// Half the contact width, m.
+    b: f64,
+    ribs: usize,
+    /// Rib pitch across the width, m.
+    pitch: f64,
+    /// Longitudinal groove width, m.
+    groove_w: f64,
+    /// Fraction of each block pitch that is transverse groove.
+    void_trans: f64,
+    /// Block pitch along travel, m (0: no transverse grooves).
+    block_pitch_m: f64,
+}
+
+impl Tread {
+    /// The tread of `s` over a contact half-width `b` (m).
+    fn of(s: &SynthInputs, b: f64) -> Self {
+        let ribs = s.pattern.ribs.max(1);
+        let (void_long, void_trans) = match (ribs > 1, s.pattern.block_pitch_m > 0.0) {
+            (true, true) => (0.5 * s.pattern.void_ratio, 0.5 * s.pattern.void_ratio),
+            (true, false) => (s.pattern.void_ratio, 0.0),
+            (false, true) => (0.0, s.pattern.void_ratio),
+            (false, false) => (0.0, 0.0),
+        };
+        let groove_w = if ribs > 1 { void_long * 2.0 * b / (ribs - 1) as f64 } else { 0.0 };
+        let pitch = 2.0 * b / ribs as f64;
+        Tread { b, ribs, pitch, groove_w, void_trans, block_pitch_m: s.pattern.block_pitch_m }
+    }
+
+    /// Whether (x, y) is rubber (not a groove); x along travel, y across from the centre, m.
+    fn rubber(&self, x: f64, y: f64) -> bool {
+        // y measured from the right edge of the tread (0..2b).
+        let yy = y + self.b;
+        if self.ribs > 1 {
+            for k in 1..self.ribs {
+                if (yy - k as f64 * self.pitch).abs() < 0.5 * self.groove_w {
+                    return false;
+                }
+            }
+        }
+        if self.block_pitch_m > 0.0 && self.void_trans > 0.0 {
+            let rib = ((yy / self.pitch).floor().max(0.0)) as usize;
+            let shift = if rib % 2 == 1 { 0.5 * self.block_pitch_m } else { 0.0 };
+            let ph = (x + shift).rem_euclid(self.block_pitch_m) / self.block_pitch_m;
+            if ph < self.void_trans {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// The synthesis inputs within their ranges (messages name the inputs' own fields).
+fn check_synth_inputs(ck: &crate::error::Checker, s: &SynthInputs) -> Result<()> {
+    ck.range("load_n", s.load_n, 100.0, 50_000.0)?;
+    ck.range("inflation_kpa", s.inflation_pa * 1e-3, 50.0, 1000.0)?;
+    ck.range("tread_width_m", s.tread_width_m, 0.03, 0.6)?;
+    ck.range("rated_load_n", s.rated_load_n, 100.0, 100_000.0)?;
+    ck.range("camber_deg", s.camber_deg, -15.0, 15.0)?;
+    ck.range("void_ratio", s.pattern.void_ratio, 0.0, 0.7)?;
+    ck.non_negative("block_pitch_m", s.pattern.block_pitch_m)?;
+    ck.range("ribs", s.pattern.ribs as f64, 1.0, 12.0)?;
+    ck.range("rows", s.rows as f64, 4.0, 512.0)?;
+    ck.range("cols", s.cols as f64, 4.0, 512.0)?;
+    Ok(())
 }
 
 /// Lateral pressure tilt per unit sin(slip angle): the pressure across the patch is multiplied by
