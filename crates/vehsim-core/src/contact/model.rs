@@ -317,82 +317,177 @@ pub fn solve_patch_at(grid: &PressureGrid, kin: &Kinematics, pp: &PatchParams) -
     // a grid whose shape does not match its data (possible only when built by hand, since every
     // reader validates) is treated as empty
     let (rows, cols) = if grid.p_pa.len() == grid.rows * grid.cols { (grid.rows, grid.cols) } else { (0, 0) };
-    let n = rows * cols;
     let (vr, sx, sy) = kin.speeds();
     let vs = sx.hypot(sy);
-    let v = if kin.travel_speed_mps.is_finite() { kin.travel_speed_mps.max(0.0) } else { 0.0 };
-    let mut r = PatchResult {
-        rows,
-        cols,
-        rise_k: vec![0.0; n],
-        wet: vec![false; n],
-        sliding: vec![false; n],
-        film_m: vec![0.0; n],
-        mu_visc: vec![0.0; n],
-        mu: vec![0.0; n],
-        mu_slide: vec![0.0; n],
-        q_gen: vec![0.0; n],
-        q_roll: vec![0.0; n],
-        q_tread: vec![0.0; n],
-        q_ice: vec![0.0; n],
-        q_melt: vec![0.0; n],
-        slide_speed_mps: vs,
-        // the stress on the tyre opposes the tread's sliding over the ice: longitudinal + for
-        // driving; lateral against the wheel's sideways travel
-        force_dir: if vs > 0.0 { (sx / vs, -sy / vs) } else { (1.0, 0.0) },
-        summary: PatchSummary::default(),
-    };
-    let tice = if kin.ice_temp_c.is_finite() { kin.ice_temp_c } else { MELT_C };
-    let lock = pp.lock_time_s.max(1e-6);
-    // ice transit speed: the travel speed, but the ice stays at most the lock time under the patch
-    let vg = v.max(rows as f64 * grid.dx_m / lock);
-    let dtm = (MELT_C - tice).max(0.0);
-    let e_t = pp.compound.solid.effusivity();
-    let e_i = ICE.effusivity();
-    let kb = pp.series_stiffness_pa_per_m(grid.contact_area_m2());
-    let slip = if vr > 1e-9 { vs / vr } else { f64::INFINITY };
-    let beta = beta_from_critical_height(pp.critical_film_m);
-    let f_rr = pp.rolling_resistance.max(0.0);
-    let heating = vg > 1e-9 && (vs > 0.0 || (f_rr > 0.0 && v > 0.0));
-    let dt = if heating { grid.dx_m / vg } else { 0.0 };
-    let wend = duhamel_weights(rows + 1);
-    let wc = centre_weights(rows + 1);
-    // Effective effusivity and tread share per row (same for every track).
-    let mut e_row = vec![e_t + e_i; rows];
-    let mut ft_row = vec![e_t / (e_t + e_i); rows];
-    let mut roll_row = vec![0.0; rows];
-    if heating {
-        for i in 0..rows {
-            let x = (i as f64 + 0.5) * grid.dx_m;
-            let ti = x / vg;
-            let tt = if vr > 1e-12 { (x / vr).min(lock) } else { lock };
-            e_row[i] = effective_effusivity(e_t, e_i, ti, tt);
-            ft_row[i] = (e_row[i] - e_i) / e_row[i];
-            roll_row[i] = f_rr * v * rolling_heat_share(&pp.compound, pp.tread_depth_m, tt);
-        }
-    }
-    let k_rise = 2.0 * dt.sqrt() / PI.sqrt();
+    let mut r = PatchResult::cold(rows, cols, sx, sy);
+    let t = TrackSetup::new(grid, kin, pp, (rows, cols), vr, vs);
     let mut q = vec![0.0; rows];
-    let eta = WATER_VISCOSITY_PA_S;
-    let kappa = pp.film.kappa;
     for c in 0..cols {
         q.iter_mut().for_each(|v| *v = 0.0);
+        t.solve_track(c, &mut q, &mut r);
+    }
+    summarize(grid, &mut r);
+    r
+}
+
+impl PatchResult {
+    /// A cold, dry patch of `rows` x `cols` pixels for the sliding velocity (sx, sy), m/s.
+    fn cold(rows: usize, cols: usize, sx: f64, sy: f64) -> Self {
+        let n = rows * cols;
+        let vs = sx.hypot(sy);
+        PatchResult {
+            rows,
+            cols,
+            rise_k: vec![0.0; n],
+            wet: vec![false; n],
+            sliding: vec![false; n],
+            film_m: vec![0.0; n],
+            mu_visc: vec![0.0; n],
+            mu: vec![0.0; n],
+            mu_slide: vec![0.0; n],
+            q_gen: vec![0.0; n],
+            q_roll: vec![0.0; n],
+            q_tread: vec![0.0; n],
+            q_ice: vec![0.0; n],
+            q_melt: vec![0.0; n],
+            slide_speed_mps: vs,
+            // the stress on the tyre opposes the tread's sliding over the ice: longitudinal + for
+            // driving; lateral against the wheel's sideways travel
+            force_dir: if vs > 0.0 { (sx / vs, -sy / vs) } else { (1.0, 0.0) },
+            summary: PatchSummary::default(),
+        }
+    }
+}
+
+/// What every track (one column of pixels along travel) of one patch solve shares: the
+/// operating point, the heating's time step and weights, and per row the effective effusivity
+/// of tread + ice (W s^0.5/(m^2 K)), the tread's share of the interface flux and the rolling
+/// heat per unit pressure (W/m^2 per Pa).
+struct TrackSetup<'a> {
+    grid: &'a PressureGrid,
+    pp: &'a PatchParams,
+    rows: usize,
+    cols: usize,
+    heating: bool,
+    /// Pixel transit time, s.
+    dt: f64,
+    /// 2 sqrt(dt / pi), s^0.5.
+    k_rise: f64,
+    /// Ice temperature and its margin to melting, degC and K.
+    tice: f64,
+    dtm: f64,
+    /// Sliding speed, m/s; slip = sliding / rolling speed.
+    vs: f64,
+    slip: f64,
+    /// Series (tread + carcass) shear stiffness, Pa/m.
+    kb: f64,
+    /// Film law's decay constant, 1/m.
+    beta: f64,
+    wend: Vec<f64>,
+    wc: Vec<f64>,
+    e_row: Vec<f64>,
+    ft_row: Vec<f64>,
+    roll_row: Vec<f64>,
+}
+
+/// One contact pixel of a track: its index in the grid, its row, pressure (Pa), sliding
+/// fraction, adhesion stress (Pa) and rolling heat (W/m^2).
+struct Pixel {
+    idx: usize,
+    row: usize,
+    p: f64,
+    frac: f64,
+    tau_adh: f64,
+    q_roll: f64,
+}
+
+impl<'a> TrackSetup<'a> {
+    /// The shared part of a solve on `grid` (`rows` x `cols` used) at rolling speed `vr` and
+    /// sliding speed `vs`, m/s.
+    fn new(
+        grid: &'a PressureGrid,
+        kin: &Kinematics,
+        pp: &'a PatchParams,
+        (rows, cols): (usize, usize),
+        vr: f64,
+        vs: f64,
+    ) -> Self {
+        let v = if kin.travel_speed_mps.is_finite() { kin.travel_speed_mps.max(0.0) } else { 0.0 };
+        let tice = if kin.ice_temp_c.is_finite() { kin.ice_temp_c } else { MELT_C };
+        let lock = pp.lock_time_s.max(1e-6);
+        // ice transit speed: the travel speed, but the ice stays at most the lock time under the patch
+        let vg = v.max(rows as f64 * grid.dx_m / lock);
+        let dtm = (MELT_C - tice).max(0.0);
+        let e_t = pp.compound.solid.effusivity();
+        let e_i = ICE.effusivity();
+        let kb = pp.series_stiffness_pa_per_m(grid.contact_area_m2());
+        let slip = if vr > 1e-9 { vs / vr } else { f64::INFINITY };
+        let beta = beta_from_critical_height(pp.critical_film_m);
+        let f_rr = pp.rolling_resistance.max(0.0);
+        let heating = vg > 1e-9 && (vs > 0.0 || (f_rr > 0.0 && v > 0.0));
+        let dt = if heating { grid.dx_m / vg } else { 0.0 };
+        let wend = duhamel_weights(rows + 1);
+        let wc = centre_weights(rows + 1);
+        // Effective effusivity and tread share per row (same for every track).
+        let mut e_row = vec![e_t + e_i; rows];
+        let mut ft_row = vec![e_t / (e_t + e_i); rows];
+        let mut roll_row = vec![0.0; rows];
+        if heating {
+            for i in 0..rows {
+                let x = (i as f64 + 0.5) * grid.dx_m;
+                let ti = x / vg;
+                let tt = if vr > 1e-12 { (x / vr).min(lock) } else { lock };
+                e_row[i] = effective_effusivity(e_t, e_i, ti, tt);
+                ft_row[i] = (e_row[i] - e_i) / e_row[i];
+                roll_row[i] = f_rr * v * rolling_heat_share(&pp.compound, pp.tread_depth_m, tt);
+            }
+        }
+        let k_rise = 2.0 * dt.sqrt() / PI.sqrt();
+        TrackSetup {
+            grid,
+            pp,
+            rows,
+            cols,
+            heating,
+            dt,
+            k_rise,
+            tice,
+            dtm,
+            vs,
+            slip,
+            kb,
+            beta,
+            wend,
+            wc,
+            e_row,
+            ft_row,
+            roll_row,
+        }
+    }
+
+    /// Solve track `c` from the leading edge, writing its pixels into `r`; `q` (W/m^2 per row,
+    /// zeroed) collects the interface fluxes whose history heats the pixels behind. (The history
+    /// sums index three arrays at k and i - k: a range loop.)
+    #[allow(clippy::needless_range_loop)]
+    fn solve_track(&self, c: usize, q: &mut [f64], r: &mut PatchResult) {
+        let (grid, pp, cols) = (self.grid, self.pp, self.cols);
+        let (heating, k_rise, tice, dtm, vs) = (self.heating, self.k_rise, self.tice, self.dtm, self.vs);
         let mut first: Option<usize> = None;
         let mut sliding = !pp.brush;
         let mut h = 0.0f64;
         let mut wet_prev = false;
-        for i in 0..rows {
+        for i in 0..self.rows {
             let idx = i * cols + c;
             let p = grid.p_pa[i * grid.cols + c];
             // history sums of earlier pixels: at this pixel's end and centre
             let (mut s_end, mut s_mid) = (0.0, 0.0);
             if heating {
                 for k in 0..i {
-                    s_end += q[k] * wend[i - k];
-                    s_mid += q[k] * wc[i - k];
+                    s_end += q[k] * self.wend[i - k];
+                    s_mid += q[k] * self.wc[i - k];
                 }
             }
-            let e = e_row[i];
+            let e = self.e_row[i];
             if p <= 0.0 {
                 // groove or outside: no contact, no heat; water stays in place
                 r.rise_k[idx] = if heating { (k_rise * s_mid / e).min(dtm) } else { 0.0 };
@@ -408,61 +503,86 @@ pub fn solve_patch_at(grid: &PressureGrid, kin: &Kinematics, pp: &PatchParams) -
             let mut frac = 1.0;
             let mut tau_adh = 0.0;
             if !sliding {
-                let mu_s = pp.dry.static_mu(t_loc, p);
-                let xi_s = if slip.is_finite() && slip > 0.0 { mu_s * p / (kb * slip) } else { f64::INFINITY };
-                let x_lo = xi - 0.5 * grid.dx_m;
-                let xi_end = xi + 0.5 * grid.dx_m;
-                frac = if slip.is_finite() { ((xi_end - xi_s) / grid.dx_m).clamp(0.0, 1.0) } else { 1.0 };
-                // mean adhesion stress over the adhering part of the pixel
-                let xa = 0.5 * (x_lo + xi_end.min(xi_s.max(x_lo)));
-                tau_adh = (kb * slip.min(1e6) * xa.max(0.0)).min(mu_s * p);
-                if frac > 0.0 {
-                    sliding = true;
-                }
+                (frac, tau_adh) = self.adhesion(t_loc, p, xi);
+                sliding = frac > 0.0;
             }
-            let q_roll = roll_row[i] * p;
+            let q_roll = self.roll_row[i] * p;
             r.q_roll[idx] = q_roll;
             r.sliding[idx] = frac > 0.0;
             let mu_k = pp.dry.mu(t_loc, vs, p);
             let q_dry = frac * mu_k * p * vs + q_roll;
-            let rise_end_dry = k_rise * (s_end + q_dry * wend[0]) / e;
+            let rise_end_dry = k_rise * (s_end + q_dry * self.wend[0]) / e;
             if !heating || (!(wet_prev || h > 0.0) && rise_end_dry < dtm) || frac == 0.0 && h <= 0.0 {
                 q[i] = q_dry;
-                r.rise_k[idx] = if heating { (k_rise * (s_mid + q_dry * wc[0]) / e).min(dtm) } else { 0.0 };
+                r.rise_k[idx] = if heating { (k_rise * (s_mid + q_dry * self.wc[0]) / e).min(dtm) } else { 0.0 };
                 r.mu_slide[idx] = frac * mu_k;
                 r.mu[idx] = (frac * mu_k * p + (1.0 - frac) * tau_adh) / p;
                 if heating {
                     r.q_gen[idx] = q_dry;
-                    r.q_tread[idx] = ft_row[i] * q_dry;
+                    r.q_tread[idx] = self.ft_row[i] * q_dry;
                     r.q_ice[idx] = q_dry - r.q_tread[idx];
                 }
                 continue;
             }
             // wet: pin the interface at the melting point at the pixel end
-            let qc = ((dtm * e / k_rise - s_end) / wend[0]).max(0.0);
-            let law = WetFilm { pv: frac * p * vs, mu_d: pp.dry.mu(MELT_C, vs, p), beta, visc_m: kappa * eta * vs / p };
-            let c_sq = FilmCoeffs::new(&pp.film, vs, qc, p).c;
-            let st = advance_wet(h, dt, pp.film.substeps, &law, q_roll, qc, c_sq);
-            let q_f = st.friction_j_m2 / dt;
-            let q_cond = st.conducted_j_m2 / dt;
+            let px = Pixel { idx, row: i, p, frac, tau_adh, q_roll };
+            let (q_cond, h_end) = self.wet_pixel(&px, h, s_end, r);
             q[i] = q_cond;
-            r.wet[idx] = true;
-            r.rise_k[idx] = dtm;
-            r.film_m[idx] = st.h_end_m;
-            r.mu_visc[idx] = st.viscous_mu_integral / dt;
-            let mu_wet = if vs > 0.0 { q_f / (p * vs) } else { 0.0 };
-            r.mu_slide[idx] = mu_wet;
-            r.mu[idx] = mu_wet + (1.0 - frac) * tau_adh / p;
-            r.q_gen[idx] = q_f + q_roll;
-            r.q_tread[idx] = ft_row[i] * q_cond;
-            r.q_ice[idx] = q_cond - r.q_tread[idx];
-            r.q_melt[idx] = r.q_gen[idx] - q_cond;
-            h = st.h_end_m;
+            h = h_end;
             wet_prev = h > 0.0;
         }
     }
-    summarize(grid, &mut r);
-    r
+
+    /// Fraction of a pixel's length that slides, and the mean adhesion stress over the part
+    /// that adheres, Pa, for a pixel centred `xi` (m) behind the track's first contact at
+    /// interface temperature `t_loc` (degC) and pressure `p` (Pa). The brush's sliding onset
+    /// xi_s = mu_s p / (k s) may fall inside the pixel (the sub-pixel onset keeps the result
+    /// continuous in the slip).
+    fn adhesion(&self, t_loc: f64, p: f64, xi: f64) -> (f64, f64) {
+        let dx = self.grid.dx_m;
+        let mu_s = self.pp.dry.static_mu(t_loc, p);
+        let xi_s =
+            if self.slip.is_finite() && self.slip > 0.0 { mu_s * p / (self.kb * self.slip) } else { f64::INFINITY };
+        let x_lo = xi - 0.5 * dx;
+        let xi_end = xi + 0.5 * dx;
+        let frac = if self.slip.is_finite() { ((xi_end - xi_s) / dx).clamp(0.0, 1.0) } else { 1.0 };
+        // mean adhesion stress over the adhering part of the pixel
+        let xa = 0.5 * (x_lo + xi_end.min(xi_s.max(x_lo)));
+        let tau_adh = (self.kb * self.slip.min(1e6) * xa.max(0.0)).min(mu_s * p);
+        (frac, tau_adh)
+    }
+
+    /// A pixel whose interface reaches melting: the water film over the pixel's transit with the
+    /// interface pinned at 0 degC at the pixel end; writes the pixel into `r` and returns the
+    /// flux conducted into tread and ice (W/m^2) and the film thickness at the pixel end (m).
+    /// `h`: film thickness at entry, m; `s_end`: the history sum at the pixel end.
+    fn wet_pixel(&self, px: &Pixel, h: f64, s_end: f64, r: &mut PatchResult) -> (f64, f64) {
+        let (pp, vs, dtm, k_rise) = (self.pp, self.vs, self.dtm, self.k_rise);
+        let e = self.e_row[px.row];
+        let qc = ((dtm * e / k_rise - s_end) / self.wend[0]).max(0.0);
+        let law = WetFilm {
+            pv: px.frac * px.p * vs,
+            mu_d: pp.dry.mu(MELT_C, vs, px.p),
+            beta: self.beta,
+            visc_m: pp.film.kappa * WATER_VISCOSITY_PA_S * vs / px.p,
+        };
+        let c_sq = FilmCoeffs::new(&pp.film, vs, qc, px.p).c;
+        let st = advance_wet(h, self.dt, pp.film.substeps, &law, px.q_roll, qc, c_sq);
+        let q_f = st.friction_j_m2 / self.dt;
+        let q_cond = st.conducted_j_m2 / self.dt;
+        r.wet[px.idx] = true;
+        r.rise_k[px.idx] = dtm;
+        r.film_m[px.idx] = st.h_end_m;
+        r.mu_visc[px.idx] = st.viscous_mu_integral / self.dt;
+        let mu_wet = if vs > 0.0 { q_f / (px.p * vs) } else { 0.0 };
+        r.mu_slide[px.idx] = mu_wet;
+        r.mu[px.idx] = mu_wet + (1.0 - px.frac) * px.tau_adh / px.p;
+        r.q_gen[px.idx] = q_f + px.q_roll;
+        r.q_tread[px.idx] = self.ft_row[px.row] * q_cond;
+        r.q_ice[px.idx] = q_cond - r.q_tread[px.idx];
+        r.q_melt[px.idx] = r.q_gen[px.idx] - q_cond;
+        (q_cond, st.h_end_m)
+    }
 }
 
 fn summarize(grid: &PressureGrid, r: &mut PatchResult) {
