@@ -1035,6 +1035,21 @@ mod tests {
     /// conditions at T, where the lagged iteration T_next = G(T_prev) (the plain update at the
     /// previous estimate) does not converge; with a friction that does not depend on the contact
     /// temperature it is the plain update, bit for bit.
+    /// The root of T - G(T) for tyre `i` by bisection on [-3, 0] degC (T - G(T) rises with T),
+    /// every tyre at the same trial temperature.
+    fn bisect_root(g: impl Fn([f64; 4]) -> [f64; 4], i: usize) -> f64 {
+        let (mut lo, mut hi) = (-3.0, 0.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if mid - g([mid; 4])[i] > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
     #[test]
     fn coupled_update_is_the_consistent_fixed_point() {
         let steep = [0.05, 0.3, f64::INFINITY, 0.02];
@@ -1071,22 +1086,7 @@ mod tests {
         let mut left = [TyreContact::default(); 4];
         let mut res = [0.0; 4];
         coupled.update_coupled(h, &guess, &mut cond, &mut left, &mut res);
-        // the root of T - G(T) by bisection on [-3, 0] (T - G(T) rises with T)
-        let mut root = [0.0; 4];
-        for (i, r) in root.iter_mut().enumerate() {
-            let (mut lo, mut hi) = (-3.0, 0.0);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                let mut t = [mid; 4];
-                t[i] = mid;
-                if mid - g(t).0[i] > 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            *r = 0.5 * (lo + hi);
-        }
+        let root: [f64; 4] = std::array::from_fn(|i| bisect_root(|t| g(t).0, i));
         for i in 0..4 {
             assert!(res[i] < 0.0 && res[i] > -3.0, "tyre {i}: {}", res[i]);
             assert!((root[i] - res[i]).abs() <= COUPLED_TOL_K, "tyre {i}: {} but the root is {}", res[i], root[i]);
