@@ -666,22 +666,6 @@ impl AtiimEstimator {
             self.table.rise_k_for_force(t.fz_n, t.slide_speed_mps, t.roll_speed_mps, t_start, t.friction_force_n);
         (t_start + flash).min(MELT_C)
     }
-
-    /// Each tyre's first trial temperature, degC: the last G accepted (closer to its root than
-    /// the estimate) carried on over the period `h` by the change between the last two; the
-    /// guess where there are none.
-    fn starting_points(&self, n: usize, h: f64, guess: &[f64], tyres: &[TyreContact]) -> [f64; MAX_TYRES] {
-        let mut x = [0.0; MAX_TYRES];
-        for i in 0..n {
-            let r = &self.recent;
-            x[i] = finite_or(r.latest[i], finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C)));
-            let ext = x[i] + (r.latest[i] - r.before[i]) * (h / r.period_s);
-            if ext.is_finite() {
-                x[i] = ext;
-            }
-        }
-        x
-    }
 }
 
 fn finite_or(v: f64, d: f64) -> f64 {
@@ -794,53 +778,6 @@ pub(crate) fn coupled_tol_k(h_s: f64) -> f64 {
 /// temperature = output, G, the tyre's conditions, forcing), degC and K as in the solve.
 type Accepted = (f64, f64, f64, f64, TyreContact, [f64; 2]);
 
-/// Most tyres the coupled contact update solves together (a four-wheel model's).
-const MAX_TYRES: usize = 4;
-
-/// One tyre's bracket of the coupled update's root: trial temperatures with residual < 0
-/// (`neg`) and > 0 (`pos`), each (T, residual), and the Illinois side marker (-1 / +1: the end
-/// kept last time).
-#[derive(Debug, Clone, Copy, Default)]
-struct Bracket {
-    neg: Option<(f64, f64)>,
-    pos: Option<(f64, f64)>,
-    side: i8,
-}
-
-impl Bracket {
-    /// The next trial temperature after trial `x` gave residual `r` (not within tolerance) and
-    /// the plain iteration's value `g`: Illinois regula falsi inside the bracket once both ends
-    /// exist, `g` after the first trial, `None` when two trials gave no bracket (done).
-    fn next(&mut self, x: f64, r: f64, g: f64, first: bool) -> Option<f64> {
-        if r < 0.0 {
-            self.neg = Some((x, r));
-        } else {
-            self.pos = Some((x, r));
-        }
-        match (self.neg, self.pos) {
-            (Some((a, ra)), Some((b, rb))) => {
-                // Illinois: halve the residual of the end kept twice in a row
-                let kept = if r < 0.0 { 1 } else { -1 };
-                let (ra, rb) = match (kept, self.side) {
-                    (1, 1) => (ra, 0.5 * rb),
-                    (-1, -1) => (0.5 * ra, rb),
-                    _ => (ra, rb),
-                };
-                if kept == 1 {
-                    self.pos = Some((b, rb));
-                } else {
-                    self.neg = Some((a, ra));
-                }
-                self.side = kept;
-                let s = a - ra * (b - a) / (rb - ra);
-                Some(if s.is_finite() && s > a.min(b) && s < a.max(b) { s } else { 0.5 * (a + b) })
-            }
-            _ if first => Some(g), // the plain iteration's next point
-            _ => None,
-        }
-    }
-}
-
 impl ContactTemperature for AtiimEstimator {
     fn update(&mut self, h: f64, tyres: &[TyreContact], out: &mut [f64]) {
         let k = self.bulk_constants();
@@ -883,6 +820,7 @@ impl ContactTemperature for AtiimEstimator {
         tyres: &mut [TyreContact],
         out: &mut [f64],
     ) {
+        const MAX_TYRES: usize = 4;
         let n = tyres.len().min(out.len()).min(guess.len());
         if n > MAX_TYRES {
             return super::update_at_guess(self, h, guess, conditions, tyres, out);
@@ -895,10 +833,22 @@ impl ContactTemperature for AtiimEstimator {
         // per tyre: trial temperature, bracket ends (T, residual) with residual < 0 and > 0,
         // the accepted point (|residual|, bulk, trial temperature = output, G, conditions),
         // whether it is done, and the Illinois side marker (-1 / +1: the end kept last time)
-        let mut x = self.starting_points(n, h, guess, tyres);
-        let mut bracket = [Bracket::default(); MAX_TYRES];
+        let mut x = [0.0; MAX_TYRES];
+        for i in 0..n {
+            // the last G accepted (closer to its root than the estimate) carried on over the
+            // period by the change between the last two; the guess where there are none
+            let r = &self.recent;
+            x[i] = finite_or(r.latest[i], finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C)));
+            let ext = x[i] + (r.latest[i] - r.before[i]) * (h / r.period_s);
+            if ext.is_finite() {
+                x[i] = ext;
+            }
+        }
+        let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
+        let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
         let mut best: [Option<Accepted>; MAX_TYRES] = [None; MAX_TYRES];
         let mut done = [false; MAX_TYRES];
+        let mut side = [0i8; MAX_TYRES];
         for eval in 0..COUPLED_MAX_EVALS {
             conditions(&x[..n], &mut tyres[..n]);
             for i in 0..n {
@@ -914,10 +864,39 @@ impl ContactTemperature for AtiimEstimator {
                     done[i] = true;
                     continue;
                 }
-                match bracket[i].next(x[i], r, g, eval == 0) {
-                    Some(next) => x[i] = next,
-                    None => done[i] = true, // no bracket from two points: keep the plain value
+                if r < 0.0 {
+                    neg[i] = Some((x[i], r));
+                } else {
+                    pos[i] = Some((x[i], r));
                 }
+                x[i] = match (neg[i], pos[i]) {
+                    (Some((a, ra)), Some((b, rb))) => {
+                        // Illinois: halve the residual of the end kept twice in a row
+                        let kept = if r < 0.0 { 1 } else { -1 };
+                        let (ra, rb) = match (kept, side[i]) {
+                            (1, 1) => (ra, 0.5 * rb),
+                            (-1, -1) => (0.5 * ra, rb),
+                            _ => (ra, rb),
+                        };
+                        if kept == 1 {
+                            pos[i] = Some((b, rb));
+                        } else {
+                            neg[i] = Some((a, ra));
+                        }
+                        side[i] = kept;
+                        let s = a - ra * (b - a) / (rb - ra);
+                        if s.is_finite() && s > a.min(b) && s < a.max(b) {
+                            s
+                        } else {
+                            0.5 * (a + b)
+                        }
+                    }
+                    _ if eval == 0 => g, // the plain iteration's next point
+                    _ => {
+                        done[i] = true; // no bracket from two points: keep the plain value
+                        x[i]
+                    }
+                };
             }
             if done[..n].iter().all(|d| *d) {
                 break;
