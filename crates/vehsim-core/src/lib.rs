@@ -7,9 +7,11 @@
 //! - [`tyre`]: tyre-force providers behind [`tyre::TyreModel`], the ice friction law.
 //! - [`contact`]: the per-step contact-temperature estimate (ATIIM) and the contact-patch model.
 //! - [`control`]: PID speed controller, path-following driver, ABS and traction control.
-//! - [`maneuver`]: ISO 3888-2, constant radius and open-loop manoeuvres, reference paths,
-//!   steady-state analysis; run events.
-//! - [`sim`]: integrators and the steppable engine that owns time ([`sim::Simulation`]).
+//! - [`maneuver`]: ISO 3888-2, constant radius, open-loop, braking and launch manoeuvres;
+//!   [`path`]: the reference paths the driver follows.
+//! - [`event`]: what happens during a run and why it ends.
+//! - [`sim`]: integrators and the steppable engine that owns time ([`sim::Simulation`]), recorded
+//!   rows, plausibility checks, steady-state analysis.
 //! - [`error`]: the error type shared by the vehsim crates, and the bound checks.
 //!
 //! Feature `serde`: `Serialize`/`Deserialize` for the parameter and result types.
