@@ -5,5 +5,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT="${1:-target/vehsim.fmu}"
-CARGO_TARGET_DIR="$PWD/target" cargo build --release --manifest-path fmu/Cargo.toml
+cargo build --release --locked -p vehsim-fmu
 "${PYTHON:-python3}" fmu/package.py --lib target/release/libvehsim_fmu.so --out "$OUT"

@@ -14,11 +14,9 @@ cargo build --release --bin vehsim
 # The FMI 2.0 co-simulation FMU the FMPy tests import (fmu/: built into ./target, packaged into
 # target/vehsim.fmu with the venv's Python).
 PYTHON="$VENV/bin/python" bash fmu/build.sh target/vehsim.fmu
-# python/Cargo.lock pins the extension's crates; not --locked, so that a crate the library gains
-# later is resolved instead of failing the build (refresh the lock file then).
-# Built into the project's target/ as well, so the crates it shares with the workspace (the
-# vehsim crates and their dependencies, same versions and features) are compiled once.
-CARGO_TARGET_DIR="$PWD/target" "$VENV/bin/maturin" build --release --manifest-path python/Cargo.toml \
+# python/ is a member of the project's workspace: the root Cargo.lock pins its crates and the build
+# goes into the project's target/, reusing what the Rust suite compiled where features agree.
+"$VENV/bin/maturin" build --release --locked --manifest-path python/Cargo.toml \
     --interpreter "$VENV/bin/python" --out python/target/wheels
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps python/target/wheels/vehsim-*.whl
 # From the project root, where no folder shadows the installed wheel. VEHSIM_REQUIRE_SLURM=1:

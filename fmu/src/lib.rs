@@ -20,11 +20,11 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use vehsim_spec::files::{parse_toml, read_input};
 use vehsim_core::sim::external::{ExternalInputs, Torque};
+use vehsim_core::Error;
+use vehsim_spec::files::{parse_toml, read_input};
 use vehsim_spec::step::StepRun;
 use vehsim_spec::RunConfig;
-use vehsim_core::Error;
 
 mod variables;
 use variables::{BOOL_IN, OUTPUT_VR0, REAL_IN, STRING_IN};

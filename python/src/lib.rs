@@ -25,18 +25,18 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueEr
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use rayon::prelude::*;
-use vehsim::batch::{self, BatchRun};
 use vehsim::atiim::operating;
+use vehsim::batch::{self, BatchRun};
 use vehsim_core::contact::model::{drawbar_curve, solve_patch_at};
-use vehsim_spec::contact::ScenarioSpec;
-use vehsim_spec::files::{parse_toml, read_input};
 use vehsim_core::error::Checker;
-use vehsim_spec::run::{self, RunOutput};
-use vehsim_spec::RunConfig;
-use vehsim_spec::tyre::TyreFileSpec;
 use vehsim_core::tyre::TyreModelKind;
 use vehsim_core::tyre::{TyreInput, TyreModel};
 use vehsim_core::Error;
+use vehsim_spec::contact::ScenarioSpec;
+use vehsim_spec::files::{parse_toml, read_input};
+use vehsim_spec::run::{self, RunOutput};
+use vehsim_spec::tyre::TyreFileSpec;
+use vehsim_spec::RunConfig;
 
 mod simulation;
 use simulation::NativeSimulation;
@@ -548,6 +548,9 @@ fn contiguous<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a 
 /// Points per parallel chunk of a vectorised call; smaller calls run on the calling thread.
 const CHUNK: usize = 8192;
 
+/// Fx, Fy and Mz arrays (N, N, N m) of a vectorised tyre evaluation.
+type ForceArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 #[pymethods]
 impl NativeTyre {
     /// Read a tyre file and build provider `provider` (the names of the spec files' `tyre_model`).
@@ -586,7 +589,7 @@ impl NativeTyre {
         surface_temp: PyReadonlyArray1<'py, f64>,
         contact_temp: PyReadonlyArray1<'py, f64>,
         offset: usize,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<ForceArrays<'py>> {
         let inp = Inputs {
             fz: contiguous(&fz, "fz")?,
             kappa: contiguous(&kappa, "kappa")?,

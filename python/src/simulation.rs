@@ -13,11 +13,11 @@ use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use vehsim_spec::step::OBSERVATION;
 use vehsim_core::sim::external::{ExternalInputs, SteerRate, Torque};
-use vehsim_spec::step::StepRun;
-use vehsim_spec::RunConfig;
 use vehsim_core::Error;
+use vehsim_spec::step::StepRun;
+use vehsim_spec::step::OBSERVATION;
+use vehsim_spec::RunConfig;
 
 use crate::{load_batch, py_err};
 
