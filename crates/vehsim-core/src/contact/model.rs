@@ -319,7 +319,7 @@ pub fn solve_patch_at(grid: &PressureGrid, kin: &Kinematics, pp: &PatchParams) -
     let (rows, cols) = if grid.p_pa.len() == grid.rows * grid.cols { (grid.rows, grid.cols) } else { (0, 0) };
     let (vr, sx, sy) = kin.speeds();
     let vs = sx.hypot(sy);
-    let mut r = PatchResult::cold(rows, cols, sx, sy);
+    let mut r = PatchResult::cold(rows, cols, (sx, sy), vs);
     let t = TrackSetup::new(grid, kin, pp, (rows, cols), vr, vs);
     let mut q = vec![0.0; rows];
     for c in 0..cols {
@@ -331,10 +331,10 @@ pub fn solve_patch_at(grid: &PressureGrid, kin: &Kinematics, pp: &PatchParams) -
 }
 
 impl PatchResult {
-    /// A cold, dry patch of `rows` x `cols` pixels for the sliding velocity (sx, sy), m/s.
-    fn cold(rows: usize, cols: usize, sx: f64, sy: f64) -> Self {
+    /// A cold, dry patch of `rows` x `cols` pixels for the sliding velocity (sx, sy), m/s, of
+    /// magnitude `vs`.
+    fn cold(rows: usize, cols: usize, (sx, sy): (f64, f64), vs: f64) -> Self {
         let n = rows * cols;
-        let vs = sx.hypot(sy);
         PatchResult {
             rows,
             cols,

@@ -445,7 +445,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let hc = self.hc;
         let mut u0 = self.commanded_inputs(t);
         let previous = self.temps;
-        let evaluated = self.estimate_contact(&u0, record);
+        let evaluated = self.estimate_contact(&u0, &previous, record);
         u0.contact_temp_c = self.temps;
         let x_end = self.state_one_period_ahead(&u0, evaluated, record);
         let kin = self.model.kinematics(&x_end);
@@ -480,14 +480,14 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     }
 
     /// The contact-temperature estimate at the sample time of `u0`, advanced over the period
-    /// behind (none at the first sample) from the tyres' conditions then, taken at the contact
-    /// temperatures it returns (the friction force depends on them: `update_coupled` solves for
-    /// the consistent estimate); left in `self.temps`. Each evaluation of the conditions is a full
+    /// behind from `previous` (the estimate at the last sample; none at the first sample) and the
+    /// tyres' conditions then, taken at the contact temperatures it returns (the friction force
+    /// depends on them: `update_coupled` solves for the consistent estimate); left in
+    /// `self.temps`. Each evaluation of the conditions is a full
     /// evaluation of the model; the last one, at the accepted temperatures, is the coming step's
     /// first stage (in `pending_k1`). Returns the temperatures of that last evaluation (`None`
     /// under [`Method::Rk4Lag`], whose conditions evaluate no derivative).
-    fn estimate_contact(&mut self, u0: &Inputs, record: bool) -> Option<[f64; 4]> {
-        let previous = self.temps;
+    fn estimate_contact(&mut self, u0: &Inputs, previous: &[f64; 4], record: bool) -> Option<[f64; 4]> {
         let (model, env, x) = (self.model, &self.env, &self.x);
         let lag = self.method == Method::Rk4Lag;
         let mut evaluated: Option<[f64; 4]> = None;
