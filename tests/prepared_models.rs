@@ -12,7 +12,7 @@ mod bicycle {
     /// The prepared model (Magic Formula coefficients of the static loads) gives the same
     /// derivative and observation bit for bit as the unprepared one, on the prepared path
     /// (isothermal) and on the fallback (a heated contact, a thermal friction law); and
-    /// `derivatives_contacts` gives the separate calls' values bit for bit.
+    /// one evaluation asking for more gives the same values bit for bit.
     #[test]
     fn prepared_tyres_change_no_bit() {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
@@ -31,9 +31,9 @@ mod bicycle {
                     contact_temp_c: [temp, -3.0, temp, temp],
                     ..Inputs::default()
                 };
-                assert_eq!(plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
+                assert_eq!(crate::everything(&plain, &x, &u, &env), crate::everything(&prepared, &x, &u, &env));
                 assert_eq!(plain.derivatives(&x, &u, &env), prepared.derivatives(&x, &u, &env));
-                assert_eq!(plain.observe(&x, &u, &env), plain.derivatives_observed(&x, &u, &env).1);
+                assert_eq!(plain.observe(&x, &u, &env), prepared.observe(&x, &u, &env));
                 // the engine's shared evaluation: the separate calls' values, bit for bit
                 for m in [&plain, &prepared] {
                     crate::assert_shared_evaluation(m, &x, &u, &env);
@@ -103,8 +103,8 @@ mod roll4dof {
 
     /// The prepared model gives the same derivative and observation bit for bit as the
     /// unprepared one, with load transfer (every wheel off its static load, one lifted), a heated
-    /// contact, for the Magic Formula and its ATIIM modification; and `derivatives_contacts`
-    /// gives the separate calls' values bit for bit.
+    /// contact, for the Magic Formula and its ATIIM modification; and one evaluation asking
+    /// for more gives the same values bit for bit.
     #[test]
     fn prepared_tyres_change_no_bit() {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sedan.toml");
@@ -126,8 +126,7 @@ mod roll4dof {
                         contact_temp_c: [temp, -3.0, temp, -2.0],
                         ..Inputs::default()
                     };
-                    let (a, b) =
-                        (plain.derivatives_observed(&x, &u, &env), prepared.derivatives_observed(&x, &u, &env));
+                    let (a, b) = (crate::everything(&plain, &x, &u, &env), crate::everything(&prepared, &x, &u, &env));
                     assert_eq!(a, b, "{kind:?} ay {ay} temp {temp}");
                     assert!(a.0.iter().all(|v| v.is_finite()));
                     // the engine's shared evaluation: the separate calls' values, bit for bit
@@ -165,22 +164,36 @@ mod roll4dof {
 
 use nalgebra::SVector;
 use vehsim_core::contact::TyreContact;
-use vehsim_core::vehicle::{Environment, Inputs, VehicleModel};
+use vehsim_core::vehicle::{Environment, Extras, Inputs, Observation, VehicleModel};
 
-/// Test helper: `VehicleModel::derivatives_contacts` gives what the separate calls give, bit for
-/// bit, with and without the observation (the engine's contact estimate relies on it).
+/// Test helper: one evaluation asking for everything: the derivative, the observation and the
+/// contact conditions.
+fn everything<const N: usize, M: VehicleModel<N>>(
+    m: &M,
+    x: &SVector<f64, N>,
+    u: &Inputs,
+    env: &Environment,
+) -> (SVector<f64, N>, Observation, [TyreContact; 4]) {
+    let (mut o, mut c) = (Observation::default(), [TyreContact::default(); 4]);
+    let d = m.evaluate(x, u, env, Extras { observation: Some(&mut o), contacts: Some(&mut c[..M::TYRES]) });
+    (d, o, c)
+}
+
+/// Test helper: `VehicleModel::evaluate` gives the same derivative, observation and contact
+/// conditions bit for bit whatever it is asked for (the engine's contact estimate and output
+/// rows rely on it).
 fn assert_shared_evaluation<const N: usize, M: VehicleModel<N>>(
     m: &M,
     x: &SVector<f64, N>,
     u: &Inputs,
     env: &Environment,
 ) {
-    let (mut c, mut d) = ([TyreContact::default(); 4], [TyreContact::default(); 4]);
-    m.tyre_contacts(x, u, env, &mut c[..M::TYRES]);
-    let (k, o) = m.derivatives_observed(x, u, env);
-    assert_eq!(m.derivatives_contacts(x, u, env, true, &mut d[..M::TYRES]), (k, Some(o)));
+    let (k, o, c) = everything(m, x, u, env);
+    assert_eq!(m.derivatives(x, u, env), k);
+    assert_eq!(m.observe(x, u, env), o);
+    let mut d = [TyreContact::default(); 4];
+    assert_eq!(m.evaluate(x, u, env, Extras { observation: None, contacts: Some(&mut d[..M::TYRES]) }), k);
     assert_eq!(c, d);
-    assert_eq!(m.derivatives_contacts(x, u, env, false, &mut d[..M::TYRES]), (k, None));
     // not trivially empty (a lifted wheel transmits nothing, so not every tyre)
     assert!(c[..M::TYRES].iter().any(|t| t.friction_force_n > 0.0 && t.slide_speed_mps > 0.0), "{c:?}");
 }

@@ -30,7 +30,7 @@
 //!   runs; on an uneven run the driver would sample every step (control period h), and the steer
 //!   returned is interpolated to the samples like the other channels.
 //! - State: the replay model's 12 states and the measured vx at index 12, which the model's
-//!   projection ([`VehicleModel::project`]) sets at every step's end (its derivative, the measured
+//!   projection ([`Prescribed::project`]) sets at every step's end (its derivative, the measured
 //!   vx's slope, serves the controller's prediction); the kinematics report it. The projection
 //!   also caps the tread-temperature rises at melting.
 //! - Rules: the engine's divergence (a non-finite state) and the replay's own (|vy| > 1e3 m/s or
@@ -57,7 +57,8 @@ use vehsim_core::event::Event;
 use vehsim_core::maneuver::{Command, Maneuver, Outcome, Start};
 use vehsim_core::path::RefPath;
 use vehsim_core::sim::{Controls, Method, Observer, Row, SimSettings, Simulation};
-use vehsim_core::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
+use vehsim_core::vehicle::capability::{Lagged, Prescribed};
+use vehsim_core::vehicle::{Environment, Extras, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Largest |vy| (m/s) and |r| (rad/s) of a replay that has not diverged.
 const VY_LIMIT: f64 = 1e3;
@@ -187,16 +188,53 @@ fn pad(a: [f64; LAGS.len()]) -> [f64; MAX_LAGS] {
     out
 }
 
+impl RunModel<'_> {
+    /// The observation of state `x` under inputs `u` (drive `d`): the replay's channels.
+    fn observation_of(&self, x: &State, u: &Inputs, d: &Drive) -> Observation {
+        let (ay, alpha_f) = self.model.ay(x, d, self.p);
+        let ice = self.ch.run.ice_temp_c;
+        let contact = if self.tread {
+            [ice + x[ix::DT_F], ice + x[ix::DT_R]]
+        } else {
+            [u.contact_temp_c[0], u.contact_temp_c[1]]
+        };
+        Observation {
+            kin: self.kinematics(x),
+            ay_mps2: ay,
+            alpha_rad: [alpha_f, 0.0],
+            contact_temp_axle_c: contact,
+            ..Observation::default()
+        }
+    }
+}
+
 impl VehicleModel<NS> for RunModel<'_> {
     const TYRES: usize = 2;
-    const SPIN_OUT: bool = false;
 
     fn state_names(&self) -> [&'static str; NS] {
         ["vy", "r", "fy_f", "fy_r", "delta_e", "x", "y", "psi", "alpha_f", "alpha_r", "dT_f", "dT_r", "vx"]
     }
 
-    fn derivatives(&self, x: &State, u: &Inputs, _env: &Environment) -> State {
-        let mut dx = self.model.derivatives(x, &self.drive(u), self.p);
+    /// The run's state at its first sample (the pose and speed given are the run's own).
+    fn initial_state(&self, _x_m: f64, _y_m: f64, _yaw_rad: f64, _speed_mps: f64) -> State {
+        let run = self.ch.run;
+        let u = Inputs { steer_rad: run.steer[0], contact_temp_c: [run.ice_temp_c; 4], ..Inputs::default() };
+        self.model.initial_state(run, self.p, &self.drive(&u))
+    }
+
+    fn body_acceleration(&self, x: &State, dx: &State) -> (f64, f64) {
+        (dx[ix::VX], dx[ix::VY] + x[ix::R] * x[ix::VX])
+    }
+
+    fn evaluate(&self, x: &State, u: &Inputs, _env: &Environment, extras: Extras<'_>) -> State {
+        let d = self.drive(u);
+        if let Some(out) = extras.contacts {
+            out[..2].copy_from_slice(&self.model.contacts(x, &d, self.p));
+        }
+        if let Some(o) = extras.observation {
+            *o = self.observation_of(x, u, &d);
+        }
+        let mut dx = self.model.derivatives(x, &d, self.p);
         dx[ix::VX] = self.vx_slope(u.t_s);
         dx
     }
@@ -212,44 +250,34 @@ impl VehicleModel<NS> for RunModel<'_> {
         }
     }
 
-    /// The run's state at its first sample (the pose and speed given are the run's own).
-    fn initial_state(&self, _x_m: f64, _y_m: f64, _yaw_rad: f64, _speed_mps: f64) -> State {
-        let run = self.ch.run;
-        let u = Inputs { steer_rad: run.steer[0], contact_temp_c: [run.ice_temp_c; 4], ..Inputs::default() };
-        self.model.initial_state(run, self.p, &self.drive(&u))
+    fn lags(&self) -> Option<&dyn Lagged<NS>> {
+        Some(self)
     }
 
-    fn body_acceleration(&self, x: &State, dx: &State) -> (f64, f64) {
-        (dx[ix::VX], dx[ix::VY] + x[ix::R] * x[ix::VX])
+    /// Prescribed: the measured speed, and the tread rise's melting cap. So a spin-out does not
+    /// end the replay, which follows a measured run to its end whatever its sideslip.
+    fn prescribed(&self) -> Option<&dyn Prescribed<NS>> {
+        Some(self)
     }
+}
 
-    fn observe(&self, x: &State, u: &Inputs, _env: &Environment) -> Observation {
-        let (ay, alpha_f) = self.model.ay(x, &self.drive(u), self.p);
-        let ice = self.ch.run.ice_temp_c;
-        let contact = if self.tread {
-            [ice + x[ix::DT_F], ice + x[ix::DT_R]]
-        } else {
-            [u.contact_temp_c[0], u.contact_temp_c[1]]
-        };
-        Observation {
-            kin: self.kinematics(x),
-            ay_mps2: ay,
-            alpha_rad: [alpha_f, 0.0],
-            contact_temp_axle_c: contact,
-            ..Observation::default()
-        }
-    }
-
-    fn tyre_contacts(&self, x: &State, u: &Inputs, _env: &Environment, out: &mut [TyreContact]) {
-        out[..2].copy_from_slice(&self.model.contacts(x, &self.drive(u), self.p));
-    }
-
+impl Lagged<NS> for RunModel<'_> {
     fn lag_states(&self) -> &[usize] {
         &LAGS
     }
 
-    fn lag_split(&self, x: &State, u: &Inputs, _env: &Environment) -> (State, [f64; MAX_LAGS]) {
-        let (mut dx, target) = self.model.body(x, &self.drive(u), self.p);
+    fn lag_split(
+        &self,
+        x: &State,
+        u: &Inputs,
+        _env: &Environment,
+        contacts: Option<&mut [TyreContact]>,
+    ) -> (State, [f64; MAX_LAGS]) {
+        let d = self.drive(u);
+        if let Some(out) = contacts {
+            out[..2].copy_from_slice(&self.model.contacts(x, &d, self.p));
+        }
+        let (mut dx, target) = self.model.body(x, &d, self.p);
         dx[ix::VX] = self.vx_slope(u.t_s);
         (dx, pad(target))
     }
@@ -257,7 +285,9 @@ impl VehicleModel<NS> for RunModel<'_> {
     fn lag_rates(&self, x: &State, u: &Inputs, _env: &Environment) -> [f64; MAX_LAGS] {
         pad(self.model.lag_rates(x, &self.drive(u), self.p))
     }
+}
 
+impl Prescribed<NS> for RunModel<'_> {
     fn project(&self, t_s: f64, x: &mut SVector<f64, NS>) {
         if self.tread {
             // The melting cap: heat beyond it melts ice, the contact stays at 0 degC.

@@ -23,7 +23,7 @@
 //!    the first sample) to the tyres' operating conditions at t, taken at the contact
 //!    temperatures it returns (the friction force depends on them:
 //!    [`ContactTemperature::update_coupled`] solves for the consistent estimate). Each trial
-//!    evaluates the whole model ([`VehicleModel::derivatives_contacts`]); the last one, at the
+//!    evaluates the whole model ([`VehicleModel::evaluate`] with the contact conditions); the last one, at the
 //!    accepted temperatures, is the coming step's first stage, so an estimate that converges at
 //!    its first trial costs no model evaluation of its own. Its ramp runs from the estimate at t
 //!    to the estimate carried on by its change over the period behind (second order in T_c like
@@ -36,12 +36,15 @@
 //!    profile, [`Maneuver::steer_at`]) are evaluated at every stage, and every stage's inputs carry
 //!    its time ([`Inputs::t_s`]: a model with prescribed channels reads them by it). An output
 //!    row, when one is due, is recorded from the first stage's model evaluation (no evaluation of
-//!    its own; under [`Method::Rk4Lag`] the observation is the model's own call).
+//!    its own; under [`Method::Rk4Lag`] the observation is the model's own call). Every method is
+//!    entered through [`Method::step`]: the engine hands it the step's stages as a
+//!    [`Problem`] (the model's derivative at the inputs of the stage's time, and the model's
+//!    capabilities the method uses).
 //! 3. `Simulation::check_end`: the model's projection of the new state
-//!    ([`VehicleModel::project`]: bounds, prescribed components), divergence (non-finite state),
+//!    ([`crate::vehicle::capability::Prescribed`]: bounds, prescribed components), divergence (non-finite state),
 //!    the onset and recovery of the model's unphysical conditions (wheel lift, negative normal
 //!    load; [`super::watch`]), spin-out (|sideslip| > 60 deg above 1 m/s, for models that keep
-//!    the rule, [`VehicleModel::SPIN_OUT`]; its event carries the crossing time interpolated
+//!    the rule: not those with prescribed components; its event carries the crossing time interpolated
 //!    within the step), the manoeuvre's rules, the summary's running figures, and observers.
 //!
 //! Slip controllers (ABS, traction control; [`super::slip_control`], switched on by
@@ -58,7 +61,7 @@ use crate::event::EndReason;
 use nalgebra::SVector;
 
 use super::external::ExternalInputs;
-use super::integrator::{relax, rk4_exp_step_t, rk4_lag_step_k1, rk4_step_k1, step_t, ExpPair, Method};
+use super::integrator::{relax, FirstStage, Method, Problem};
 use super::observer::{Observer, Row};
 use super::watch::Watch;
 use crate::contact::thermal::MELT_C;
@@ -67,7 +70,7 @@ use crate::control::driver::rate_limited_steer;
 use crate::control::{Pid, PidParams};
 use crate::event::{Event, EventKind};
 use crate::maneuver::Maneuver;
-use crate::vehicle::{Environment, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
+use crate::vehicle::{Environment, Extras, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Sideslip beyond which a run is declared a spin-out, rad (60 degrees).
 pub(crate) const SPIN_OUT_SIDESLIP_RAD: f64 = std::f64::consts::PI / 3.0;
@@ -200,9 +203,91 @@ impl Ramped {
     }
 }
 
-/// The first stage of a [`Method::Rk4Lag`] step: the model's derivative without its lag
-/// components, the lags' inputs and their rates ([`VehicleModel::lag_split`]).
-type LagParts<const N: usize> = (SVector<f64, N>, [f64; MAX_LAGS], [f64; MAX_LAGS]);
+/// The coming step's first stage, evaluated ahead of the step (by the controller sample, for its
+/// prediction): what the integrator takes, the derivative it amounts to (under
+/// [`Method::Rk4Lag`], assembled from the lag parts) and the observation when a row is due.
+struct Pending<const N: usize> {
+    first: FirstStage<N>,
+    k1: SVector<f64, N>,
+    obs: Option<Observation>,
+}
+
+/// The first stage of a step of `model` at state `x` under inputs `u` (see [`Pending`]), with
+/// the observation when `record` and the tyres' contact conditions into `contacts` when given:
+/// one evaluation of the model (plus its lag rates, and an observation of its own, under
+/// [`Method::Rk4Lag`] with a model that has lags).
+#[allow(clippy::too_many_arguments)]
+fn first_stage<const N: usize, M: VehicleModel<N>>(
+    model: &M,
+    env: &Environment,
+    lag: bool,
+    x: &SVector<f64, N>,
+    u: &Inputs,
+    record: bool,
+    contacts: Option<&mut [TyreContact]>,
+) -> Pending<N> {
+    if let Some(l) = model.lags().filter(|_| lag) {
+        let (body, inputs) = l.lag_split(x, u, env, contacts);
+        let rates = l.lag_rates(x, u, env);
+        let mut k1 = body;
+        for (j, &i) in l.lag_states().iter().enumerate() {
+            if rates[j] > 0.0 {
+                k1[i] = rates[j] * (inputs[j] - x[i]);
+            }
+        }
+        let obs = record.then(|| model.observe(x, u, env));
+        return Pending { first: FirstStage::Lag { body, inputs, rates }, k1, obs };
+    }
+    let mut o = Observation::default();
+    let k1 = model.evaluate(x, u, env, Extras { observation: record.then_some(&mut o), contacts });
+    let first = if lag {
+        FirstStage::Lag { body: k1, inputs: [0.0; MAX_LAGS], rates: [0.0; MAX_LAGS] }
+    } else {
+        FirstStage::Derivative(k1)
+    };
+    Pending { first, k1, obs: record.then_some(o) }
+}
+
+/// The stages of one step as the integrator sees them ([`Problem`]): the model's derivative under
+/// the inputs at each stage's time (those at the step's middle computed once, for RK4's k2 and
+/// k3), and the model's spin-slip pairs and lags.
+struct Stages<'s, 'a, const N: usize, M: VehicleModel<N>> {
+    sim: &'s Simulation<'a, N, M>,
+    mid: (f64, Inputs),
+}
+
+impl<const N: usize, M: VehicleModel<N>> Stages<'_, '_, N, M> {
+    #[inline]
+    fn inputs(&self, ts: f64) -> Inputs {
+        if ts == self.mid.0 {
+            self.mid.1
+        } else {
+            self.sim.inputs_at(ts)
+        }
+    }
+}
+
+impl<const N: usize, M: VehicleModel<N>> Problem<N> for Stages<'_, '_, N, M> {
+    #[inline(always)]
+    fn rhs(&self, ts: f64, x: &SVector<f64, N>) -> SVector<f64, N> {
+        self.sim.model.derivatives(x, &self.inputs(ts), &self.sim.env)
+    }
+
+    fn spin_slip(&self) -> Option<crate::vehicle::capability::SpinSlip> {
+        self.sim.model.spin_slip()
+    }
+
+    fn lag_states(&self) -> &[usize] {
+        self.sim.model.lags().map_or(&[], |l| l.lag_states())
+    }
+
+    fn lag_split(&self, ts: f64, x: &SVector<f64, N>) -> (SVector<f64, N>, [f64; MAX_LAGS]) {
+        match self.sim.model.lags() {
+            Some(l) => l.lag_split(x, &self.inputs(ts), &self.sim.env, None),
+            None => (self.rhs(ts, x), [0.0; MAX_LAGS]),
+        }
+    }
+}
 
 /// One run in progress: the steppable engine (see the module docs).
 pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
@@ -227,11 +312,11 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     ramp_t0: f64,
     ramp_from: Ramped,
     ramp_to: Ramped,
-    /// The first stage's derivative (and observation, when a row is due) of the coming step,
-    /// computed by the controller sample for its prediction.
-    pending_k1: Option<(SVector<f64, N>, Option<Observation>)>,
-    /// Under [`Method::Rk4Lag`], the same first stage in parts ([`LagParts`]).
-    pending_lag: Option<LagParts<N>>,
+    /// The coming step's first stage, computed by the controller sample for its prediction.
+    pending: Option<Pending<N>>,
+    /// Whether a spin-out ends the run: not for a model with prescribed components (the
+    /// discovery replay follows a measured run to its end whatever its sideslip).
+    spin_out: bool,
     pid: Pid,
     pid_active: bool,
     contacts: [TyreContact; 4],
@@ -299,8 +384,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             ramp_t0: 0.0,
             ramp_from: start_inputs,
             ramp_to: start_inputs,
-            pending_k1: None,
-            pending_lag: None,
+            pending: None,
+            spin_out: model.prescribed().is_none(),
             pid,
             pid_active: true,
             contacts: [TyreContact { surface_temp_c: env.surface_temp_c, ..TyreContact::default() }; 4],
@@ -431,7 +516,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     fn sample_slip_control(&mut self, t: f64) {
         let u = self.inputs_at(t);
         let mut wheels = [crate::vehicle::WheelSensor::default(); 4];
-        let n = self.model.wheel_sensors(&self.x, u.steer_rad, &mut wheels);
+        let n = self.model.wheel_speeds().map_or(0, |w| w.wheel_sensors(&self.x, u.steer_rad, &mut wheels));
         if let Some(s) = &mut self.slip {
             s.sample(self.k, t, &wheels[..n], &u);
         }
@@ -491,16 +576,12 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let (model, env, x) = (self.model, &self.env, &self.x);
         let lag = self.method == Method::Rk4Lag;
         let mut evaluated: Option<[f64; 4]> = None;
-        let pending = &mut self.pending_k1;
+        let pending = &mut self.pending;
         let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
             let mut u = *u0;
             u.contact_temp_c[..temps.len()].copy_from_slice(temps);
-            if lag {
-                model.tyre_contacts(x, &u, env, out);
-            } else {
-                *pending = Some(model.derivatives_contacts(x, &u, env, record, out));
-                evaluated = Some(u.contact_temp_c);
-            }
+            *pending = Some(first_stage(model, env, lag, x, &u, record, Some(out)));
+            evaluated = Some(u.contact_temp_c);
         };
         let n = M::TYRES;
         let h_behind = if self.k == 0 { 0.0 } else { self.hc };
@@ -522,33 +603,28 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// relaxation towards their inputs at t instead (a tangent would overshoot a lag faster than
     /// 1 / T_c). `evaluated`: the temperatures of the contact estimate's last evaluation.
     fn state_one_period_ahead(&mut self, u0: &Inputs, evaluated: Option<[f64; 4]>, record: bool) -> SVector<f64, N> {
-        let hc = self.hc;
-        if self.method == Method::Rk4Lag {
-            let parts = self.lag_parts(&self.x, u0);
-            let k1 = self.lag_derivative(&parts);
-            let mut x_end = self.x + parts.0 * hc;
-            for (j, &i) in self.model.lag_states().iter().enumerate() {
-                if parts.2[j] > 0.0 {
-                    x_end[i] = relax(self.x[i], parts.1[j], parts.1[j], parts.2[j] * hc);
-                }
-            }
-            self.pending_lag = Some(parts);
-            self.pending_k1 = Some((k1, record.then(|| self.model.observe(&self.x, u0, &self.env))));
-            return x_end;
-        }
+        let (hc, n) = (self.hc, M::TYRES);
         // the last evaluation is the first stage when it was at the estimate (bit for bit)
-        let n = M::TYRES;
         let at_estimate =
             evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
-        if !at_estimate {
-            self.pending_k1 = Some(if record {
-                let (d, o) = self.model.derivatives_observed(&self.x, u0, &self.env);
-                (d, Some(o))
-            } else {
-                (self.model.derivatives(&self.x, u0, &self.env), None)
-            });
+        if !at_estimate || self.pending.is_none() {
+            let lag = self.method == Method::Rk4Lag;
+            self.pending = Some(first_stage(self.model, &self.env, lag, &self.x, u0, record, None));
         }
-        self.pending_k1.as_ref().map_or(self.x, |(k1, _)| self.x + k1 * hc)
+        let Some(p) = &self.pending else { return self.x };
+        match &p.first {
+            FirstStage::Derivative(k1) => self.x + k1 * hc,
+            FirstStage::Lag { body, inputs, rates } => {
+                let mut x_end = self.x + body * hc;
+                let lags = self.model.lags().map_or(&[][..], |l| l.lag_states());
+                for (j, &i) in lags.iter().enumerate() {
+                    if rates[j] > 0.0 {
+                        x_end[i] = relax(self.x[i], inputs[j], inputs[j], rates[j] * hc);
+                    }
+                }
+                x_end
+            }
+        }
     }
 
     /// The steer at the end of the coming period, rad: the manoeuvre's prescribed angle, or the
@@ -615,24 +691,6 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         ahead
     }
 
-    /// The first stage of [`Method::Rk4Lag`] at state `x` under inputs `u`.
-    fn lag_parts(&self, x: &SVector<f64, N>, u: &Inputs) -> LagParts<N> {
-        let (b, ul) = self.model.lag_split(x, u, &self.env);
-        (b, ul, self.model.lag_rates(x, u, &self.env))
-    }
-
-    /// The model's derivative assembled from its lag parts (see [`VehicleModel::lag_split`]) at
-    /// the current state.
-    fn lag_derivative(&self, (b, ul, kl): &LagParts<N>) -> SVector<f64, N> {
-        let mut d = *b;
-        for (j, &i) in self.model.lag_states().iter().enumerate() {
-            if kl[j] > 0.0 {
-                d[i] = kl[j] * (ul[j] - self.x[i]);
-            }
-        }
-        d
-    }
-
     /// Phase 2: one integration step from time `t` (the state's kinematics `kin`), recording the
     /// step's start as an output row first when `record` (the row's observation comes from the
     /// same model evaluation as the first stage, k1, computed by the controller sample when there
@@ -641,18 +699,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
         let (model, env, h) = (self.model, self.env, self.h);
         let inputs = self.inputs_at(t);
-        let lag_first = match self.method {
-            Method::Rk4Lag => Some(self.pending_lag.take().unwrap_or_else(|| self.lag_parts(&self.x, &inputs))),
-            _ => None,
-        };
-        let (k1, obs) = match (self.pending_k1.take(), &lag_first) {
-            (Some((k1, obs)), _) if obs.is_some() || !record => (k1, obs),
-            (_, Some(parts)) => (self.lag_derivative(parts), record.then(|| model.observe(&self.x, &inputs, &env))),
-            _ if record => {
-                let (k1, obs) = model.derivatives_observed(&self.x, &inputs, &env);
-                (k1, Some(obs))
-            }
-            _ => (model.derivatives(&self.x, &inputs, &env), None),
+        let Pending { first, k1, obs } = match self.pending.take() {
+            Some(p) if p.obs.is_some() || !record => p,
+            _ => first_stage(model, &env, self.method == Method::Rk4Lag, &self.x, &inputs, record, None),
         };
         if let Some(obs) = obs {
             let row = Row {
@@ -666,29 +715,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             self.last_row = Some((row.t_s, row.speed_target_mps));
         }
         self.u = inputs;
-        let this = &*self;
-        // The inputs at the step's middle once for its two stages there (RK4's k2 and k3).
-        let mid = (t + 0.5 * h, self.inputs_at(t + 0.5 * h));
-        let f = |ts: f64, s: &SVector<f64, N>| {
-            model.derivatives(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
-        };
-        let next = match self.method {
-            Method::Rk4 => Ok(rk4_step_k1(f, t, &self.x, h, k1).0),
-            Method::Rk4Exp => {
-                let mut pairs = [ExpPair::new(0, 0, [[0.0; 2]; 2], h); 4];
-                let n = spin_slip_linearisation(model.spin_slip_pairs(), &f, t, &self.x, &k1, h, &mut pairs);
-                Ok(rk4_exp_step_t(f, t, &self.x, h, k1, &pairs[..n]))
-            }
-            Method::Rk4Lag => {
-                let body = |s: &SVector<f64, N>, c: f64| {
-                    let ts = t + c * h;
-                    model.lag_split(s, &if ts == mid.0 { mid.1 } else { this.inputs_at(ts) }, &env)
-                };
-                let (b, ul, kl) = lag_first.unwrap_or_else(|| this.lag_parts(&this.x, &inputs));
-                Ok(rk4_lag_step_k1(body, &self.x, h, model.lag_states(), &kl, (b, ul)))
-            }
-            m => step_t(m, f, t, &self.x, h),
-        };
+        let stages = Stages { sim: &*self, mid: (t + 0.5 * h, self.inputs_at(t + 0.5 * h)) };
+        let next = self.method.step(&stages, t, &self.x, h, first);
         let st = &mut self.st;
         let (_, ay) = model.body_acceleration(&self.x, &k1);
         if ay.is_finite() {
@@ -709,7 +737,9 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     fn check_end(&mut self, next: Result<SVector<f64, N>, String>, kin0: &Kinematics) -> Option<EndReason> {
         let t_next = self.time_s();
         let next = next.map(|mut n| {
-            self.model.project(t_next, &mut n);
+            if let Some(p) = self.model.prescribed() {
+                p.project(t_next, &mut n);
+            }
             n
         });
         let next = match next {
@@ -734,7 +764,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         self.watch.check(self.model, &self.x, &self.u, &self.env, t_next, &mut self.events);
         let kin = self.model.kinematics(&self.x);
         let (cx, sy) = self.spin_dir;
-        if M::SPIN_OUT && kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
+        if self.spin_out && kin.speed_mps() > SPIN_OUT_MIN_SPEED_MPS && wider(kin.vx_mps, kin.vy_mps.abs(), cx, sy) {
             // The crossing of 60 degrees, interpolated linearly in the cross product within the step.
             let g = |k: &Kinematics| cx * k.vy_mps.abs() - sy * k.vx_mps;
             let (g0, g1) = (g(kin0), g(&kin));
@@ -797,42 +827,6 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             implausible: Vec::new(),
         }
     }
-}
-
-/// Relative-slip perturbation of the finite difference in [`spin_slip_linearisation`].
-const SLIP_DIFF: f64 = 1e-6;
-
-/// The linear parts of the wheel-spin / transient-slip pairs at state `x` (derivative `k1`) and
-/// their propagators over a step `h`, into `out`; returns how many. `pairs` = (omega index,
-/// kappa index) per wheel and d(dkappa/dt)/d(omega) = R_e / sigma (exact: the slip equation is
-/// linear in omega). The kappa column, d(domega/dt)/d(kappa) (the tyre's slip stiffness through
-/// R_e / I_w) and d(dkappa/dt)/d(kappa) = -max(|V_x|, V_low) / sigma, comes from one forward
-/// difference with every wheel's kappa moved at once (a wheel's spin and slip depend on no other
-/// wheel's slip). d(domega/dt)/d(omega) (the regularised brake and rolling-resistance torque,
-/// non-zero only near standstill and at most `TORQUE_RATE_MAX`) is left to the explicit part.
-fn spin_slip_linearisation<const N: usize>(
-    (pairs, kappa_per_omega): (&[(usize, usize)], f64),
-    f: &impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
-    t: f64,
-    x: &SVector<f64, N>,
-    k1: &SVector<f64, N>,
-    h: f64,
-    out: &mut [ExpPair; 4],
-) -> usize {
-    if pairs.is_empty() {
-        return 0;
-    }
-    let mut xp = *x;
-    for &(_, k) in pairs {
-        xp[k] += SLIP_DIFF;
-    }
-    let dp = f(t, &xp);
-    let n = pairs.len().min(out.len());
-    for (o, &(w, k)) in out.iter_mut().zip(pairs) {
-        let l = [[0.0, (dp[w] - k1[w]) / SLIP_DIFF], [kappa_per_omega, (dp[k] - k1[k]) / SLIP_DIFF]];
-        *o = ExpPair::new(w, k, l, h);
-    }
-    n
 }
 
 /// Run one simulation of `model` through `maneuver`: step until the run ends, then finish.

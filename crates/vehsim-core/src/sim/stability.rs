@@ -108,7 +108,7 @@ pub fn analyse<const N: usize, M: VehicleModel<N>>(model: &M, env: &Environment,
     };
     let rate_per_s = largest(jac.clone());
     let jm = SMatrix::<f64, N, N>::from_iterator(jac.iter().copied());
-    let pairs: Vec<(usize, usize)> = model.spin_slip_pairs().0.to_vec();
+    let pairs: Vec<(usize, usize)> = model.spin_slip().map_or(&[][..], |s| s.pairs).to_vec();
     let radius = move |h: f64| {
         let lin: Vec<ExpPair> =
             pairs.iter().map(|&(w, k)| ExpPair::new(w, k, [[0.0, jm[(w, k)]], [jm[(k, w)], jm[(k, k)]]], h)).collect();

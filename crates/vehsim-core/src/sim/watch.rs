@@ -8,7 +8,7 @@
 //! more than `MAX_ONSETS` times in a run) is then reported once more as `events_suppressed` and
 //! no longer, so a summary never floods.
 //!
-//! The model's one-off notes ([`VehicleModel::notes`], e.g. a tyre clamping its published law) are
+//! The model's one-off notes ([`crate::vehicle::capability::Monitored::notes`], e.g. a tyre clamping its published law) are
 //! checked at the same instants; each kind is reported once per run, at the first state showing it.
 
 use nalgebra::SVector;
@@ -41,6 +41,9 @@ impl Watch {
         t_s: f64,
         events: &mut Vec<Event>,
     ) {
+        let Some(model) = model.monitor() else {
+            return;
+        };
         self.buf.clear();
         model.conditions(x, u, env, &mut self.buf);
         if self.buf.len() != self.active.len() {
@@ -86,8 +89,8 @@ impl Watch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::TyreContact;
-    use crate::vehicle::{Kinematics, Observation};
+    use crate::vehicle::capability::Monitored;
+    use crate::vehicle::Extras;
 
     /// One state component s; the condition "s < 0" is watched.
     struct Toy;
@@ -97,11 +100,8 @@ mod tests {
         fn state_names(&self) -> [&'static str; 1] {
             ["s"]
         }
-        fn derivatives(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment) -> SVector<f64, 1> {
+        fn evaluate(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, _e: Extras<'_>) -> SVector<f64, 1> {
             SVector::zeros()
-        }
-        fn kinematics(&self, _x: &SVector<f64, 1>) -> Kinematics {
-            Kinematics::default()
         }
         fn initial_state(&self, _x: f64, _y: f64, _yaw: f64, _v: f64) -> SVector<f64, 1> {
             SVector::zeros()
@@ -109,10 +109,12 @@ mod tests {
         fn body_acceleration(&self, _x: &SVector<f64, 1>, _dx: &SVector<f64, 1>) -> (f64, f64) {
             (0.0, 0.0)
         }
-        fn observe(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment) -> Observation {
-            Observation::default()
+        fn monitor(&self) -> Option<&dyn Monitored<1>> {
+            Some(self)
         }
-        fn tyre_contacts(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, _out: &mut [TyreContact]) {}
+    }
+
+    impl Monitored<1> for Toy {
         fn conditions(&self, x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, out: &mut Vec<Condition>) {
             out.push(Condition {
                 onset: EventKind::WheelLift,
@@ -124,6 +126,7 @@ mod tests {
                 active: x[0] < 0.0,
             });
         }
+        fn notes(&self, _x: &SVector<f64, 1>, _u: &Inputs, _env: &Environment, _out: &mut Vec<(EventKind, String)>) {}
     }
 
     /// A condition held for many steps gives one onset and one recovery; one that flaps every step

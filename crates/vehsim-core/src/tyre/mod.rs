@@ -200,7 +200,7 @@ pub trait TyreModel: Send + Sync + std::fmt::Debug {
     /// Where the provider departs from its published law at this input, as (event kind, detail):
     /// thermal Dugoff where the published H would reverse Fx and is clamped. Pure, like
     /// [`Self::forces`]; the vehicle models ask it per tyre at every step and the engine reports
-    /// each kind once per run, at the first step it holds ([`crate::vehicle::VehicleModel::notes`]).
+    /// each kind once per run, at the first step it holds ([`crate::vehicle::capability::Monitored::notes`]).
     /// It does not change any force. Default: none.
     fn departure(&self, _i: &TyreInput) -> Option<(crate::event::EventKind, String)> {
         None

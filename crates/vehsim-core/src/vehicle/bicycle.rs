@@ -34,10 +34,11 @@
 
 use nalgebra::SVector;
 
+use super::capability::{Monitored, SpinSlip, WheelSpeeds};
 use super::wheel::{
     relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
-use super::{lateral, single_track, Environment, Inputs, Kinematics, Observation, VehicleModel};
+use super::{lateral, single_track, Condition, Environment, Extras, Inputs, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::tyre::{Prepared, TyreForces, TyreInput};
 use crate::vehicle::{Vehicle, AIR_DENSITY};
@@ -403,16 +404,6 @@ impl VehicleModel<N> for Bicycle {
         ]
     }
 
-    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
-        let ax = self.axles(x, u, env);
-        let acting = self.acting(x, &ax);
-        self.derivative_of(x, u, &ax, self.body_loads(&ax, &acting, x[ix::VX]))
-    }
-
-    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
-        super::rigid_body(x.as_slice())
-    }
-
     fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
         let mut s = SVector::<f64, N>::zeros();
         super::set_rigid_body(s.as_mut_slice(), x_m, y_m, yaw_rad, speed_mps);
@@ -426,23 +417,40 @@ impl VehicleModel<N> for Bicycle {
         (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX])
     }
 
-    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+    #[inline]
+    fn evaluate(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, extras: Extras<'_>) -> SVector<f64, N> {
         let ax = self.axles(x, u, env);
         let acting = self.acting(x, &ax);
-        self.observation_of(x, u, &ax, &acting, self.body_loads(&ax, &acting, x[ix::VX]))
+        if let Some(out) = extras.contacts {
+            self.contacts_of(x, env, &ax, &acting, out);
+        }
+        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
+        if let Some(o) = extras.observation {
+            *o = self.observation_of(x, u, &ax, &acting, loads);
+        }
+        self.derivative_of(x, u, &ax, loads)
     }
 
-    fn derivatives_observed(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-    ) -> (SVector<f64, N>, Observation) {
-        let ax = self.axles(x, u, env);
-        let acting = self.acting(x, &ax);
-        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
-        (self.derivative_of(x, u, &ax, loads), self.observation_of(x, u, &ax, &acting, loads))
+    fn spin_slip(&self) -> Option<SpinSlip> {
+        let t = &self.vehicle.tyre;
+        Some(SpinSlip {
+            pairs: &[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)],
+            kappa_per_omega: t.rolling_radius_m / t.relaxation_length_x_m,
+        })
     }
+
+    fn monitor(&self) -> Option<&dyn Monitored<N>> {
+        Some(self)
+    }
+
+    fn wheel_speeds(&self) -> Option<&dyn WheelSpeeds<N>> {
+        Some(self)
+    }
+}
+
+impl Monitored<N> for Bicycle {
+    /// None: the bicycle's normal loads are static and positive.
+    fn conditions(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<Condition>) {}
 
     /// The tyres' departures from their published laws, per axle and side.
     fn notes(
@@ -467,33 +475,9 @@ impl VehicleModel<N> for Bicycle {
             }
         }
     }
+}
 
-    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
-        let ax = self.axles(x, u, env);
-        let acting = self.acting(x, &ax);
-        self.contacts_of(x, env, &ax, &acting, out);
-    }
-
-    fn derivatives_contacts(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-        observe: bool,
-        out: &mut [TyreContact],
-    ) -> (SVector<f64, N>, Option<Observation>) {
-        let ax = self.axles(x, u, env);
-        let acting = self.acting(x, &ax);
-        self.contacts_of(x, env, &ax, &acting, out);
-        let loads = self.body_loads(&ax, &acting, x[ix::VX]);
-        (self.derivative_of(x, u, &ax, loads), observe.then(|| self.observation_of(x, u, &ax, &acting, loads)))
-    }
-
-    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
-        let t = &self.vehicle.tyre;
-        (&[(ix::OMEGA_F, ix::KAPPA_F), (ix::OMEGA_R, ix::KAPPA_R)], t.rolling_radius_m / t.relaxation_length_x_m)
-    }
-
+impl WheelSpeeds<N> for Bicycle {
     /// Per axle (front, rear): omega R_e, the wheel-centre forward speed in wheel axes, whether
     /// it is driven and its largest brake torque.
     fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {

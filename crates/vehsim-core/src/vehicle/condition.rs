@@ -9,7 +9,7 @@
 use crate::event::EventKind;
 
 /// One watched condition of a state, as reported by
-/// [`VehicleModel::conditions`](super::VehicleModel::conditions).
+/// [`Monitored::conditions`](super::capability::Monitored::conditions).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Condition {
     /// Event kind when the condition starts to hold (e.g. `wheel_lift`).

@@ -1,4 +1,5 @@
-//! Vehicle models as pure equations: `derivatives(state, inputs, environment) -> dstate`.
+//! Vehicle models as pure equations: one evaluation `evaluate(state, inputs, environment) -> dstate`
+//! ([`VehicleModel`]), with what only some models offer in [`capability`].
 //!
 //! A model owns no time, no controller and no I/O; the engine ([`crate::sim`]) integrates it.
 //! States are fixed-size `SVector`s. By convention every model's state starts with the rigid-body
@@ -6,6 +7,7 @@
 //! `rigid_body` reads them, so drivers, manoeuvres and output work with any model.
 
 pub mod bicycle;
+pub mod capability;
 pub mod condition;
 pub mod lateral;
 pub mod params;
@@ -19,6 +21,7 @@ use nalgebra::SVector;
 use crate::contact::TyreContact;
 
 pub use bicycle::Bicycle;
+pub use capability::MAX_LAGS;
 pub use condition::Condition;
 pub use params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, AIR_DENSITY, GRAVITY};
 pub use roll4dof::Roll4Dof;
@@ -63,7 +66,7 @@ impl Default for Inputs {
 }
 
 /// What the wheel-speed sensors and the brake layout tell the slip controllers about one wheel
-/// ([`VehicleModel::wheel_sensors`]; the bicycle's "wheel" is an axle).
+/// ([`capability::WheelSpeeds`]; the bicycle's "wheel" is an axle).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct WheelSensor {
     /// Wheel spin speed times the rolling radius, m/s.
@@ -166,27 +169,27 @@ pub struct Observation {
     pub contact_temp_axle_c: [f64; 2],
 }
 
-/// Most first-order lag components a model can declare for [`crate::sim::Method::Rk4Lag`].
-pub const MAX_LAGS: usize = 8;
+/// What one evaluation writes besides the derivative ([`VehicleModel::evaluate`]); `None`: not
+/// wanted. The default asks for nothing.
+#[derive(Debug, Default)]
+pub struct Extras<'a> {
+    /// The observation of the state (forces, slips, accelerations).
+    pub observation: Option<&'a mut Observation>,
+    /// The operating conditions of every tyre, for the contact-temperature estimator, written to
+    /// `[..TYRES]`.
+    pub contacts: Option<&'a mut [TyreContact]>,
+}
 
-/// A vehicle model with an N-dimensional state.
+/// A vehicle model with an N-dimensional state: one evaluation of its equations
+/// ([`Self::evaluate`]) and what the engine needs to start and watch a run. What only some
+/// integrators or controllers use is a capability the model may offer (the accessors at the end,
+/// [`capability`]); a model offers none by default.
 pub trait VehicleModel<const N: usize>: Sync {
     /// Number of tyres whose contact temperature the model uses (2 for the bicycle, 4 for 4-DOF).
     const TYRES: usize;
 
-    /// Whether the engine ends a run whose sideslip exceeds 60 degrees (spin-out). Default true; a
-    /// model whose forward speed is prescribed (the discovery replay, which follows a measured
-    /// run to its end whatever its sideslip) sets it false.
-    const SPIN_OUT: bool = true;
-
     /// Names of the state components, for diagnostics.
     fn state_names(&self) -> [&'static str; N];
-
-    /// Time derivative of the state; pure.
-    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N>;
-
-    /// Rigid-body kinematics of a state.
-    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics;
 
     /// Steady straight running at `speed_mps` from pose (x, y, yaw): wheels rolling, no slip.
     fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N>;
@@ -194,104 +197,58 @@ pub trait VehicleModel<const N: usize>: Sync {
     /// Body-frame acceleration (ax, ay) of the CG, m/s^2, from a state and its derivative.
     fn body_acceleration(&self, x: &SVector<f64, N>, dx: &SVector<f64, N>) -> (f64, f64);
 
-    /// Full observation (forces, slips, accelerations) of a state under inputs.
-    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation;
+    /// One evaluation of the model at state `x` under inputs `u` on surface `env`: returns the
+    /// time derivative of the state, and writes what `extras` asks for (the observation, the
+    /// tyres' contact conditions) from the same tyre evaluation. Pure: the same arguments give
+    /// the same values bit for bit, whatever `extras` asks for.
+    fn evaluate(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, extras: Extras<'_>) -> SVector<f64, N>;
 
-    /// [`Self::derivatives`] and [`Self::observe`] of the same state and inputs together, the same
-    /// values bit for bit; models override it to evaluate their tyres once for both (the engine
-    /// takes its output rows from the first RK4 stage). Default: the two calls.
-    fn derivatives_observed(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-    ) -> (SVector<f64, N>, Observation) {
-        (self.derivatives(x, u, env), self.observe(x, u, env))
+    /// Rigid-body kinematics of a state. Default: the six leading states (see the module docs).
+    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
+        rigid_body(x.as_slice())
     }
 
-    /// Operating conditions of every tyre (for the contact-temperature estimator), in `out[..TYRES]`.
-    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]);
-
-    /// [`Self::tyre_contacts`] into `out` and [`Self::derivatives`] (with [`Self::observe`] when
-    /// `observe`) of the same state and inputs together, the same values bit for bit as the
-    /// separate calls; models override it to evaluate their tyres once for all of them (the
-    /// engine's contact-temperature estimate at a controller sample and the coming step's first
-    /// stage share that evaluation). Default: the separate calls.
-    fn derivatives_contacts(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-        observe: bool,
-        out: &mut [TyreContact],
-    ) -> (SVector<f64, N>, Option<Observation>) {
-        self.tyre_contacts(x, u, env, out);
-        if observe {
-            let (d, o) = self.derivatives_observed(x, u, env);
-            (d, Some(o))
-        } else {
-            (self.derivatives(x, u, env), None)
-        }
+    /// Time derivative of the state: [`Self::evaluate`] asking for nothing else.
+    #[inline]
+    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
+        self.evaluate(x, u, env, Extras::default())
     }
 
-    /// Push the unphysical conditions this model watches, evaluated at state `x` under inputs `u`,
-    /// onto `out`: the same conditions in the same order at every call (the engine reports when
-    /// one starts or stops holding). The default watches nothing: the bicycle's normal loads are
-    /// static and positive, so it has nothing to report.
-    fn conditions(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, _out: &mut Vec<Condition>) {}
-
-    /// Push the one-off notes of state `x` under inputs `u` as (event kind, detail): the tyres'
-    /// departures from their published laws ([`crate::tyre::TyreModel::departure`]), with the
-    /// tyre named in the detail. The engine reports each kind once per run, at the first state
-    /// that shows it (step resolution). Default: none.
-    fn notes(
-        &self,
-        _x: &SVector<f64, N>,
-        _u: &Inputs,
-        _env: &Environment,
-        _out: &mut Vec<(crate::event::EventKind, String)>,
-    ) {
+    /// Full observation (forces, slips, accelerations) of a state under inputs: [`Self::evaluate`]'s.
+    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+        let mut o = Observation::default();
+        self.evaluate(x, u, env, Extras { observation: Some(&mut o), contacts: None });
+        o
     }
 
-    /// The wheel-speed sensors of the slip controllers (ABS, traction control) at state `x` with
-    /// road-wheel angle `steer_rad`, into `out`; returns how many wheels (2 for the bicycle's
-    /// axles, 4 for four wheels). Default: none (no slip control possible).
-    fn wheel_sensors(&self, _x: &SVector<f64, N>, _steer_rad: f64, _out: &mut [WheelSensor; 4]) -> usize {
-        0
+    /// The stiff wheel-spin / transient-slip pairs, which [`crate::sim::Method::Rk4Exp`]
+    /// integrates exactly. Default: none (plain RK4).
+    fn spin_slip(&self) -> Option<capability::SpinSlip> {
+        None
     }
 
-    /// The stiff wheel-spin / transient-slip pairs, (omega index, relaxed-slip index) per wheel or
-    /// axle, and d(dkappa/dt)/d(omega) = R_e / sigma (see [`wheel`]); the engine's exponential RK4
-    /// integrates them exactly. Default: none (plain RK4).
-    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
-        (&[], 0.0)
+    /// The first-order lag components, which [`crate::sim::Method::Rk4Lag`] relaxes exactly.
+    /// Default: none.
+    fn lags(&self) -> Option<&dyn capability::Lagged<N>> {
+        None
     }
 
-    /// The state's first-order lag components dy_j/dt = k_j (u_j - y_j) (at most [`MAX_LAGS`]),
-    /// which [`crate::sim::Method::Rk4Lag`] relaxes exactly over a step. Default: none.
-    fn lag_states(&self) -> &[usize] {
-        &[]
+    /// The unphysical conditions and one-off notes the engine reports. Default: none.
+    fn monitor(&self) -> Option<&dyn capability::Monitored<N>> {
+        None
     }
 
-    /// For [`crate::sim::Method::Rk4Lag`]: the derivative of the state with the lag components'
-    /// entries left out (their values are not used where the lag's rate is positive), and each
-    /// lag's input u_j in [`Self::lag_states`] order. With the rates of [`Self::lag_rates`],
-    /// [`Self::derivatives`] must equal it with entry j replaced by k_j (u_j - y_j) wherever
-    /// k_j > 0. Default: the derivative and no lags.
-    fn lag_split(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> (SVector<f64, N>, [f64; MAX_LAGS]) {
-        (self.derivatives(x, u, env), [0.0; MAX_LAGS])
+    /// The wheel-speed sensors the slip controllers (ABS, traction control) read. Default: none
+    /// (no slip control possible).
+    fn wheel_speeds(&self) -> Option<&dyn capability::WheelSpeeds<N>> {
+        None
     }
 
-    /// The lag rates k_j (1/s) at state `x`, in [`Self::lag_states`] order (0: the component is
-    /// integrated like any other). Default: all 0.
-    fn lag_rates(&self, _x: &SVector<f64, N>, _u: &Inputs, _env: &Environment) -> [f64; MAX_LAGS] {
-        [0.0; MAX_LAGS]
+    /// Components prescribed from outside the equations (the discovery replay's measured speed).
+    /// Default: none.
+    fn prescribed(&self) -> Option<&dyn capability::Prescribed<N>> {
+        None
     }
-
-    /// Map the state at the end of every accepted step, at time `t_s`, onto the model's admissible
-    /// set (bounds that the equations do not keep by themselves, prescribed components). Default:
-    /// nothing.
-    fn project(&self, _t_s: f64, _x: &mut SVector<f64, N>) {}
 }
 
 /// Which vehicle model a run uses (top-level `vehicle_model`).

@@ -34,8 +34,8 @@
 //! wheel load goes negative (a lifted wheel carries 0 and its partner the whole axle load), so the
 //! four loads sum to m g exactly at every evaluation.
 //!
-//! Watched conditions ([`VehicleModel::conditions`], reported by the engine at step resolution;
-//! the tyres' departures from their published laws are notes, [`VehicleModel::notes`]):
+//! Watched conditions ([`Monitored::conditions`], reported by the engine at step resolution;
+//! the tyres' departures from their published laws are notes, [`Monitored::notes`]):
 //! - `wheel_lift` / `wheel_contact`, per wheel: its load is 0 after clamping (the lateral transfer
 //!   reaches half its axle's load, or the axle itself is unloaded), and when it carries load again.
 //!   The value is the wheel's load before clamping, N: (F_i0 -+ dX)/2 -+ dY_i, negative when
@@ -57,10 +57,11 @@
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
+use super::capability::{Monitored, SpinSlip, WheelSpeeds};
 use super::wheel::{
     relaxed_slip_rate, resisting_omega1, resisting_torque_at, slide_speed, slip_angle, to_wheel_axes, V_LOW,
 };
-use super::{Condition, Environment, Inputs, Kinematics, Observation, VehicleModel};
+use super::{Condition, Environment, Extras, Inputs, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::event::EventKind;
 use crate::tyre::{fastmath, Prepared, TyreForces, TyreInput};
@@ -509,14 +510,6 @@ impl VehicleModel<N> for Roll4Dof {
         ]
     }
 
-    fn derivatives(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> SVector<f64, N> {
-        self.eval(x, u, env).0
-    }
-
-    fn kinematics(&self, x: &SVector<f64, N>) -> Kinematics {
-        super::rigid_body(x.as_slice())
-    }
-
     fn initial_state(&self, x_m: f64, y_m: f64, yaw_rad: f64, speed_mps: f64) -> SVector<f64, N> {
         let mut s = SVector::<f64, N>::zeros();
         super::set_rigid_body(s.as_mut_slice(), x_m, y_m, yaw_rad, speed_mps);
@@ -534,22 +527,39 @@ impl VehicleModel<N> for Roll4Dof {
         (dx[ix::VX] - x[ix::R] * x[ix::VY], dx[ix::VY] + x[ix::R] * x[ix::VX] - shift * dx[ix::P])
     }
 
-    fn observe(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Observation {
+    #[inline]
+    fn evaluate(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, extras: Extras<'_>) -> SVector<f64, N> {
         let (d, w) = self.eval(x, u, env);
-        self.observation_of(x, u, &d, &w)
+        if let Some(out) = extras.contacts {
+            self.contacts_of(x, env, &w, out);
+        }
+        if let Some(o) = extras.observation {
+            *o = self.observation_of(x, u, &d, &w);
+        }
+        d
     }
 
-    fn derivatives_observed(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-    ) -> (SVector<f64, N>, Observation) {
-        let (d, w) = self.eval(x, u, env);
-        let o = self.observation_of(x, u, &d, &w);
-        (d, o)
+    fn spin_slip(&self) -> Option<SpinSlip> {
+        const PAIRS: [(usize, usize); 4] = [
+            (ix::OMEGA, ix::KAPPA),
+            (ix::OMEGA + 1, ix::KAPPA + 1),
+            (ix::OMEGA + 2, ix::KAPPA + 2),
+            (ix::OMEGA + 3, ix::KAPPA + 3),
+        ];
+        let t = &self.vehicle.tyre;
+        Some(SpinSlip { pairs: &PAIRS, kappa_per_omega: t.rolling_radius_m / t.relaxation_length_x_m })
     }
 
+    fn monitor(&self) -> Option<&dyn Monitored<N>> {
+        Some(self)
+    }
+
+    fn wheel_speeds(&self) -> Option<&dyn WheelSpeeds<N>> {
+        Some(self)
+    }
+}
+
+impl Monitored<N> for Roll4Dof {
     /// Wheel lift per wheel and negative axle load per axle (see the module docs).
     fn conditions(&self, x: &SVector<f64, N>, _u: &Inputs, _env: &Environment, out: &mut Vec<Condition>) {
         let (axle, wheel) = self.unclamped_loads(x);
@@ -598,35 +608,9 @@ impl VehicleModel<N> for Roll4Dof {
             }
         }
     }
+}
 
-    fn tyre_contacts(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, out: &mut [TyreContact]) {
-        self.contacts_of(x, env, &self.wheels(x, u, env), out);
-    }
-
-    fn derivatives_contacts(
-        &self,
-        x: &SVector<f64, N>,
-        u: &Inputs,
-        env: &Environment,
-        observe: bool,
-        out: &mut [TyreContact],
-    ) -> (SVector<f64, N>, Option<Observation>) {
-        let (d, w) = self.eval(x, u, env);
-        self.contacts_of(x, env, &w, out);
-        let o = observe.then(|| self.observation_of(x, u, &d, &w));
-        (d, o)
-    }
-
-    fn spin_slip_pairs(&self) -> (&'static [(usize, usize)], f64) {
-        const PAIRS: [(usize, usize); 4] = [
-            (ix::OMEGA, ix::KAPPA),
-            (ix::OMEGA + 1, ix::KAPPA + 1),
-            (ix::OMEGA + 2, ix::KAPPA + 2),
-            (ix::OMEGA + 3, ix::KAPPA + 3),
-        ];
-        let t = &self.vehicle.tyre;
-        (&PAIRS, t.rolling_radius_m / t.relaxation_length_x_m)
-    }
+impl WheelSpeeds<N> for Roll4Dof {
     /// Per wheel (FL, FR, RL, RR): omega R_e, the wheel-centre forward speed in wheel axes,
     /// whether it is driven and its largest brake torque.
     fn wheel_sensors(&self, x: &SVector<f64, N>, steer_rad: f64, out: &mut [super::WheelSensor; 4]) -> usize {
