@@ -17,16 +17,6 @@ use vehsim_core::contact::tread_bulk::{TreadBulk, SRTT_ROLLING_RADIUS_M};
 use vehsim_core::error::{Error, Result};
 use vehsim_spec::contact::{Scenario, ScenarioSpec};
 
-/// Kinematics of a scenario: travel speed, slip ratio, slip angle, ice temperature.
-pub fn operating(sc: &Scenario) -> Kinematics {
-    Kinematics {
-        travel_speed_mps: sc.speed_mps,
-        slip_ratio: sc.slip_ratio,
-        slip_angle_rad: sc.slip_angle_rad,
-        ice_temp_c: sc.ice_temp_c,
-    }
-}
-
 fn csv_grid(values: &[f64], cols: usize, digits: usize) -> String {
     let mut s = String::new();
     for row in values.chunks(cols.max(1)) {
@@ -61,7 +51,7 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
     let dest = out_root.join(&sc.name);
     let staged = Staged::new(&dest)?;
     let dir = staged.path().to_path_buf();
-    let op = operating(&sc);
+    let op = sc.operating();
     let res = solve_patch_at(&sc.grid, &op, &sc.params);
     write_maps(&dir, &sc, &res)?;
     let curve =

@@ -13,14 +13,15 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use vehsim_spec::files::read_input;
-
 use crate::output::write_atomic;
 use crate::run::write_dir_atomic;
 use vehsim_core::error::{Error, Result};
 use vehsim_core::sim::Summary;
+use vehsim_spec::files::read_input;
 use vehsim_spec::run::{self, RunOutput};
-use vehsim_spec::{ManeuverFile, RunConfig};
+pub use vehsim_spec::sweep::{batch_digest, Batch, BatchRun, RunStatus, MAX_RUNS};
+use vehsim_spec::sweep::{from_table_with, sha256_hex};
+use vehsim_spec::RunConfig;
 
 /// `Err(Interrupted)` once SIGINT or SIGTERM was received: a batch checks it before each run and
 /// a single run before it writes; the temporary folder is then removed, so a results folder is
@@ -29,33 +30,26 @@ fn check_interrupted(dir: &Path) -> Result<()> {
     crate::output::signals::check(|| crate::output::replace::kept(dir))
 }
 
-/// One run of a batch: its index, its swept values (key, value as text) and its validated config
-/// (or why the combination is invalid).
-#[derive(Debug, Clone)]
-pub struct BatchRun {
-    pub index: usize,
-    pub params: Vec<(String, String)>,
-    pub config: std::result::Result<RunConfig, String>,
+/// Read a spec and expand its sweep ([`vehsim_spec::sweep::load`]), with progress on a terminal
+/// and a stop on SIGINT or SIGTERM while a large sweep validates.
+pub fn load(path: &Path) -> Result<Batch> {
+    let text = read_input(path)?;
+    from_text(path, &text)
 }
 
-/// A loaded spec: a single run, or a sweep's runs.
-#[derive(Debug, Clone)]
-pub struct Batch {
-    pub name: String,
-    pub spec_file: PathBuf,
-    /// Swept keys in nesting order (empty for a single run).
-    pub keys: Vec<String>,
-    pub runs: Vec<BatchRun>,
-    /// The spec as parsed (sweep included), written back as TOML: what [`batch_digest`] hashes,
-    /// so comments and layout do not count.
-    pub source: String,
+/// As [`load`], for spec text already read from `path`.
+pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
+    from_table(path, vehsim_spec::files::parse_toml(path, text)?)
 }
 
-impl Batch {
-    /// True when the spec declares a sweep (results go into run folders with a summary.csv).
-    pub fn is_sweep(&self) -> bool {
-        !self.keys.is_empty()
-    }
+/// As [`load`], for a spec already parsed into a TOML table.
+pub fn from_table(path: &Path, table: toml::Table) -> Result<Batch> {
+    let mut checked: Option<crate::progress::Progress> = None;
+    from_table_with(path, table, &mut |_, total| {
+        crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
+        checked.get_or_insert_with(|| crate::progress::Progress::new(total, "combinations checked")).inc();
+        Ok(())
+    })
 }
 
 /// A part of a batch: the K-th (1-based) of N.
@@ -84,174 +78,6 @@ impl Shard {
     }
     fn folder(&self, name: &str) -> String {
         format!("{name}.shard-{}-of-{}", self.k, self.n)
-    }
-}
-
-/// Most runs one sweep may expand to.
-pub const MAX_RUNS: usize = 1_000_000;
-
-/// Value of a swept key as text (strings without quotes).
-pub(crate) fn value_text(v: &toml::Value) -> String {
-    match v {
-        toml::Value::String(s) => s.clone(),
-        other => other.to_string(),
-    }
-}
-
-/// The value index of each swept key for combination `index` (mixed-radix digits, the last key
-/// varying fastest), so that `vehsim run` and `vehsim envelope` number combinations alike.
-pub(crate) fn combination(index: usize, lists: &[Vec<toml::Value>]) -> Vec<usize> {
-    let mut rem = index;
-    let mut choice = vec![0; lists.len()];
-    for (d, l) in lists.iter().enumerate().rev() {
-        choice[d] = rem % l.len();
-        rem /= l.len();
-    }
-    choice
-}
-
-/// Set `value` at the dotted `key` of `table` (intermediate tables are created).
-pub(crate) fn set_path(table: &mut toml::Table, key: &str, value: toml::Value) -> std::result::Result<(), String> {
-    let mut parts: Vec<&str> = key.split('.').collect();
-    let last = parts.pop().ok_or("empty key")?;
-    let mut t = table;
-    for p in parts {
-        let entry = t.entry(p.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        t = entry.as_table_mut().ok_or_else(|| format!("'{p}' in '{key}' is not a table"))?;
-    }
-    t.insert(last.to_string(), value);
-    Ok(())
-}
-
-/// Read a spec and expand its sweep. Bad input (unreadable file, malformed TOML or sweep, a spec
-/// whose every combination is invalid) is an error; individual invalid combinations are kept as
-/// invalid runs.
-pub fn load(path: &Path) -> Result<Batch> {
-    let text = read_input(path)?;
-    from_text(path, &text)
-}
-
-/// As [`load`], for spec text already read from `path` (named in messages; the vehicle file and
-/// other paths inside the spec are resolved against its folder).
-pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
-    from_table(path, vehsim_spec::files::parse_toml(path, text)?)
-}
-
-/// As [`load`], for a spec already parsed into a TOML table.
-pub fn from_table(path: &Path, mut table: toml::Table) -> Result<Batch> {
-    vehsim_spec::kind::expect(path, &table, vehsim_spec::kind::SpecKind::Run)?;
-    let source = toml::to_string(&table).unwrap_or_default();
-    let sweep = match table.remove("sweep") {
-        None => None,
-        Some(toml::Value::Table(t)) => Some(t),
-        Some(_) => return Err(Error::key(path, "sweep", "expected a table of key = [values]")),
-    };
-    let Some(sweep) = sweep.filter(|s| !s.is_empty()) else {
-        let cfg = ManeuverFile::from_table(path, table)?.build(path)?;
-        return Ok(Batch {
-            name: cfg.name.clone(),
-            spec_file: path.to_path_buf(),
-            keys: Vec::new(),
-            runs: vec![BatchRun { index: 0, params: Vec::new(), config: Ok(cfg) }],
-            source,
-        });
-    };
-    let mut keys = Vec::new();
-    let mut lists = Vec::new();
-    for (k, v) in &sweep {
-        if k == "name" || k == "sweep" || k.starts_with("sweep.") {
-            return Err(Error::key(path, &format!("sweep.{k}"), "cannot be swept"));
-        }
-        match v {
-            toml::Value::Array(a) if !a.is_empty() => {
-                keys.push(k.clone());
-                lists.push(a.clone());
-            }
-            _ => return Err(Error::key(path, &format!("sweep.{k}"), "expected a non-empty list of values")),
-        }
-    }
-    let total = lists.iter().try_fold(1usize, |a, l| a.checked_mul(l.len())).unwrap_or(usize::MAX);
-    if total > MAX_RUNS {
-        return Err(Error::key(path, "sweep", format!("{total} runs; at most {MAX_RUNS} allowed")));
-    }
-    let name = match table.get("name") {
-        Some(toml::Value::String(s)) => s.clone(),
-        _ => return Err(Error::key(path, "name", "expected a string")),
-    };
-    let mut runs = Vec::with_capacity(total);
-    // A large sweep takes a while to validate: progress on a terminal, stop on a signal.
-    let checked = crate::progress::Progress::new(total, "combinations checked");
-    // Vehicle, tyre and .tir files are parsed once per distinct file over the combinations.
-    let mut cache = vehsim_spec::maneuver::BuildCache::default();
-    for index in 0..total {
-        crate::output::signals::check(|| format!("stopped while validating {}; nothing written", path.display()))?;
-        let choice = combination(index, &lists);
-        let mut t = table.clone();
-        let mut params = Vec::with_capacity(keys.len());
-        let mut err = None;
-        for ((k, l), c) in keys.iter().zip(&lists).zip(&choice) {
-            params.push((k.clone(), value_text(&l[*c])));
-            if let Err(e) = set_path(&mut t, k, l[*c].clone()) {
-                err = Some(format!("sweep key '{k}': {e}"));
-            }
-        }
-        let config = match err {
-            Some(e) => Err(e),
-            None => ManeuverFile::from_table(path, t)
-                .and_then(|f| f.build_cached(path, &mut cache))
-                .map_err(|e| e.to_string()),
-        };
-        runs.push(BatchRun { index, params, config });
-        checked.inc();
-    }
-    drop(checked);
-    if let Some(first_err) = runs.iter().find_map(|r| r.config.as_ref().err()) {
-        if runs.iter().all(|r| r.config.is_err()) {
-            // The stored message starts with the file name already.
-            let prefix = format!("{}: ", path.display());
-            let first = first_err.strip_prefix(&prefix).unwrap_or(first_err);
-            return Err(Error::input(path, format!("every sweep combination is invalid; the first: {first}")));
-        }
-    }
-    Ok(Batch { name, spec_file: path.to_path_buf(), keys, runs, source })
-}
-
-/// What became of one run of a batch (the `status` column of summary.csv and the table).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RunStatus {
-    /// The run went to its end (passed or not).
-    Ok,
-    /// The run diverged or spun out ([`Summary::failed`]).
-    Failed,
-    /// The combination did not validate; nothing ran.
-    Invalid,
-}
-
-vehsim_core::choice_names!(RunStatus {
-    Ok => "ok",
-    Failed => "failed",
-    Invalid => "invalid",
-});
-
-impl RunStatus {
-    /// The status of a run that ended with `summary`.
-    pub fn of(summary: &Summary) -> Self {
-        if summary.failed() {
-            RunStatus::Failed
-        } else {
-            RunStatus::Ok
-        }
-    }
-
-    /// True when the run wrote a run folder (it ran).
-    pub fn ran(self) -> bool {
-        self != RunStatus::Invalid
-    }
-}
-
-impl std::fmt::Display for RunStatus {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
     }
 }
 
@@ -615,42 +441,6 @@ pub fn execute(batch: &Batch, out_root: &Path, opts: Options) -> Result<BatchRes
     }
     drop(bar);
     Ok(BatchResult { dir, records })
-}
-
-/// SHA-256 of `bytes`, in hex.
-fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::Digest as _;
-    sha2::Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
-
-/// What identifies the batch a shard belongs to: SHA-256 over the vehsim version, the spec as
-/// parsed ([`Batch::source`]) and the contents of every vehicle, tyre and `.tir` file its runs
-/// name (contents, not paths: a copy of the same files elsewhere is the same batch). Shards of
-/// one spec run with another `tyre_model`, another vehicle file or another vehsim differ.
-pub fn batch_digest(batch: &Batch) -> Result<String> {
-    // (vehicle file, whether its tyre's .tir is read: only by the Magic Formula providers)
-    let mut files = std::collections::BTreeSet::new();
-    for cfg in batch.runs.iter().filter_map(|r| r.config.as_ref().ok()) {
-        use vehsim_core::tyre::TyreModelKind as K;
-        files.insert((cfg.vehicle_file.clone(), matches!(cfg.tyre_model, K::Pacejka | K::AtiimPacejka)));
-    }
-    let mut text = format!("vehsim {}\nspec\n{}\n", env!("CARGO_PKG_VERSION"), batch.source).into_bytes();
-    let mut add = |what: &str, path: &Path| -> Result<()> {
-        let bytes = std::fs::read(path).map_err(io_err(path))?;
-        text.extend_from_slice(format!("{what} {}\n", sha256_hex(&bytes)).as_bytes());
-        Ok(())
-    };
-    for (v, reads_tir) in &files {
-        add("vehicle", v)?;
-        let vf = vehsim_spec::VehicleFile::load(v)?;
-        let tyre_path = vehsim_spec::files::resolve(v, &vf.tyre);
-        add("tyre", &tyre_path)?;
-        let tf = vehsim_spec::tyre::TyreFileSpec::load(&tyre_path)?;
-        if let Some(rel) = tf.pacejka.as_ref().and_then(|p| p.tir_file.as_ref()).filter(|_| *reads_tir) {
-            add("tir", &vehsim_spec::files::resolve(&tyre_path, rel))?;
-        }
-    }
-    Ok(sha256_hex(&text))
 }
 
 /// Add the SHA-256 of every file under `root/rel` to `out`, keyed by its path relative to `root`

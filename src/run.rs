@@ -1,20 +1,19 @@
 //! The files of one run: `timeseries.csv`, `summary.json`, `steady_states.csv`, `layout.json`,
 //! and the line `vehsim run` prints for it.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use serde::Serialize;
 
 use crate::output::write_atomic;
 use vehsim_core::error::{Error, Result};
-use vehsim_core::sim::columns::{row_values, COLUMNS};
 use vehsim_core::sim::steady_state::{self, SteadyState, UndersteerGradient};
-use vehsim_core::sim::{Row, Summary};
+use vehsim_core::sim::Summary;
 use vehsim_spec::run::RunOutput;
 use vehsim_spec::RunConfig;
 
 pub use crate::output::write_dir_atomic;
+pub use vehsim_spec::run::timeseries_csv;
 
 /// `summary.json`: the run's identity plus the engine's figures.
 #[derive(Debug, Serialize)]
@@ -42,25 +41,6 @@ struct SummaryFile<'a> {
     understeer_gradient_note: Option<&'a str>,
     #[serde(skip_serializing_if = "Option::is_none")]
     results: Option<&'a serde_json::Value>,
-}
-
-/// The CSV text of a run's rows (non-finite values, e.g. no speed target while coasting, are empty).
-pub fn timeseries_csv(rows: &[Row]) -> String {
-    let mut s = String::with_capacity(rows.len() * 400);
-    s.push_str(&COLUMNS.join(","));
-    s.push('\n');
-    for r in rows {
-        for (i, v) in row_values(r).iter().enumerate() {
-            if i > 0 {
-                s.push(',');
-            }
-            if v.is_finite() {
-                let _ = write!(s, "{v}");
-            }
-        }
-        s.push('\n');
-    }
-    s
 }
 
 /// Write a run's files into the existing folder `dir`: timeseries.csv (unless switched off),

@@ -1,6 +1,7 @@
 //! The workspace's layers hold: `vehsim-core` (physics and engine) reads and writes no files and
 //! depends on no file format or chart crate (serde only behind its `serde` feature);
-//! `vehsim-spec` depends on the core only, not on the application; and no crate has a cycle
+//! `vehsim-spec` depends on the core only, not on the application; the FMU on core and spec only,
+//! the Python extension on the application for discovery alone; and no crate has a cycle
 //! among its top-level modules. docs/design.md §1 shows the module graph these tests check.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -56,6 +57,29 @@ fn spec_depends_on_the_core_and_not_on_the_application() {
     for banned in ["vehsim", "plotters", "clap", "indicatif", "signal-hook"] {
         assert!(!deps.contains(banned), "vehsim-spec depends on {banned}");
     }
+}
+
+#[test]
+fn the_fmu_depends_on_core_and_spec_only() {
+    let deps = dependencies("vehsim-fmu", &[]);
+    assert!(deps.contains("vehsim-core") && deps.contains("vehsim-spec"), "{deps:?}");
+    for banned in ["vehsim", "plotters", "clap", "indicatif", "signal-hook"] {
+        assert!(!deps.contains(banned), "vehsim-fmu depends on {banned}");
+    }
+}
+
+/// The Python extension reaches the application crate for discovery only (`vehsim.discover`
+/// writes reports and plots); sweeps, runs, steps and the contact patch come from core and spec.
+#[test]
+fn python_uses_the_application_for_discovery_only() {
+    let src = code(&root().join("python/src/lib.rs"));
+    let uses: BTreeSet<&str> = src
+        .match_indices("vehsim::")
+        .map(|(i, _)| {
+            src[i + "vehsim::".len()..].split(|c: char| !c.is_alphanumeric() && c != '_').next().unwrap_or("")
+        })
+        .collect();
+    assert_eq!(uses, BTreeSet::from(["discover"]), "python/src/lib.rs uses the application's {uses:?}");
 }
 
 /// Every `.rs` file under `dir`.

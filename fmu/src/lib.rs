@@ -136,7 +136,7 @@ impl Instance {
         };
         surface.insert("mu".into(), toml::Value::Float(self.real_param("mu")));
         surface.insert("temperature_c".into(), toml::Value::Float(self.real_param("surface_temperature_c")));
-        let b = vehsim::batch::from_table(&file, t)?;
+        let b = vehsim_spec::sweep::from_table(&file, t)?;
         if b.is_sweep() {
             return Err(Error::key(&file, "sweep", "an FMU runs one spec: drop [sweep]"));
         }

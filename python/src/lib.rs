@@ -1,6 +1,6 @@
 //! `vehsim._vehsim`: the native half of the Python package, a thin layer over the library's
 //! high-level entry points (the ones the command line uses): spec loading and validation
-//! (`batch::from_table`), run execution (`run::execute`), tyre files (`TyreFileSpec`), ATIIM
+//! (`sweep::from_table`), run execution (`run::execute`), tyre files (`TyreFileSpec`), ATIIM
 //! scenarios (`ScenarioSpec`, `solve_patch_at`, `drawbar_curve`) and discovery (`run_discover`).
 //!
 //! Every simulation and every tyre loop runs with the GIL released; runs and sweeps go on a
@@ -25,8 +25,6 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyRuntimeError, PyValueEr
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use rayon::prelude::*;
-use vehsim::atiim::operating;
-use vehsim::batch::{self, BatchRun};
 use vehsim_core::contact::model::{drawbar_curve, solve_patch_at};
 use vehsim_core::error::Checker;
 use vehsim_core::tyre::TyreModelKind;
@@ -35,6 +33,7 @@ use vehsim_core::Error;
 use vehsim_spec::contact::ScenarioSpec;
 use vehsim_spec::files::{parse_toml, read_input};
 use vehsim_spec::run::{self, RunOutput};
+use vehsim_spec::sweep::{self, BatchRun};
 use vehsim_spec::tyre::TyreFileSpec;
 use vehsim_spec::RunConfig;
 
@@ -221,7 +220,7 @@ fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -
 /// (the same numbers to the bit: Rust prints the shortest text that parses back to the same f64;
 /// an empty cell, a value the run does not define, becomes NaN).
 fn timeseries(out: &RunOutput) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = vehsim::run::timeseries_csv(&out.rows);
+    let text = vehsim_spec::run::timeseries_csv(&out.rows);
     let mut lines = text.lines();
     let names: Vec<String> = lines.next().unwrap_or_default().split(',').map(str::to_string).collect();
     let mut cols: Vec<Vec<f64>> = names.iter().map(|_| Vec::with_capacity(out.rows.len())).collect();
@@ -245,13 +244,13 @@ fn execute(run: &BatchRun, keep_timeseries: bool, stop: &AtomicBool) -> Result<R
     let interrupted = || (INTERRUPTED, None, "interrupted before it finished".to_string(), None);
     match &run.config {
         _ if stopped() => Ok(interrupted()),
-        Err(msg) => Ok((batch::RunStatus::Invalid.as_str(), None, msg.clone(), None)),
+        Err(msg) => Ok((sweep::RunStatus::Invalid.as_str(), None, msg.clone(), None)),
         Ok(cfg) => {
             let (out, halted) = run::execute_until(cfg, &stopped);
             if halted {
                 return Ok(interrupted());
             }
-            let status = batch::RunStatus::of(&out.summary).as_str();
+            let status = sweep::RunStatus::of(&out.summary).as_str();
             let ts = keep_timeseries.then(|| timeseries(&out));
             Ok((status, Some(summary_json(cfg, &out, &run.params)?), String::new(), ts))
         }
@@ -334,9 +333,9 @@ fn load_batch(
     path: Option<PathBuf>,
     table: Option<&Bound<'_, PyDict>>,
     overrides: Option<&Bound<'_, PyDict>>,
-) -> Result<batch::Batch, Error> {
+) -> Result<sweep::Batch, Error> {
     let (file, t) = spec_table(path, table, overrides)?;
-    batch::from_table(&file, t)
+    sweep::from_table(&file, t)
 }
 
 /// Run one manoeuvre spec (no files written); a spec with a sweep is refused.
@@ -397,7 +396,7 @@ fn sweep_spec(
     let jobs = check_jobs(jobs)?;
     let b = load_batch(path, table, overrides).map_err(py_err)?;
     let part = check_shard(shard)?;
-    let digest = part.map(|_| batch::batch_digest(&b)).transpose().map_err(py_err)?;
+    let digest = part.map(|_| sweep::batch_digest(&b)).transpose().map_err(py_err)?;
     let runs: Vec<&BatchRun> = b.runs.iter().filter(|r| part.is_none_or(|(k, n)| r.index % n == k - 1)).collect();
     let (records, signal) = interruptible(py, |stop| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -443,7 +442,7 @@ fn batch_identity(
     overrides: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<(String, usize, String)> {
     let b = load_batch(path, table, overrides).map_err(py_err)?;
-    let digest = batch::batch_digest(&b).map_err(py_err)?;
+    let digest = sweep::batch_digest(&b).map_err(py_err)?;
     Ok((digest, b.runs.len(), b.name))
 }
 
@@ -655,7 +654,7 @@ fn atiim_scenario(
                 Some(p) => ScenarioSpec::load(&p)?,
                 None => parse_toml::<ScenarioSpec>(&file, &text)?.validate(&file)?,
             };
-            let res = solve_patch_at(&sc.grid, &operating(&sc), &sc.params);
+            let res = solve_patch_at(&sc.grid, &sc.operating(), &sc.params);
             let curve = drawbar_curve(
                 &sc.grid,
                 &sc.params,
@@ -667,7 +666,7 @@ fn atiim_scenario(
             Ok((sc, res, curve))
         })
         .map_err(py_err)?;
-    let op = operating(&sc);
+    let op = sc.operating();
     let d = PyDict::new(py);
     d.set_item("name", &sc.name)?;
     d.set_item("title", &sc.title)?;

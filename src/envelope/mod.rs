@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::Deserialize;
 
-use crate::batch::{self, set_path};
+use crate::batch;
 use crate::output::write_atomic;
 use crate::run::write_dir_atomic;
 use vehsim_core::error::{Error, Result};
@@ -39,6 +39,7 @@ use vehsim_core::event::EndReason;
 use vehsim_spec::files::{parse_toml, read_input};
 use vehsim_spec::maneuver::{ManeuverConfig, ManeuverKind};
 use vehsim_spec::run;
+use vehsim_spec::sweep::{self, set_path};
 use vehsim_spec::RunConfig;
 
 /// The swept key the ISO 3888-2 search sets.
@@ -262,12 +263,12 @@ pub fn load(path: &Path) -> Result<Envelope> {
     }
     let mut jobs = Vec::with_capacity(total + raw.reference.len());
     for index in 0..total {
-        let choice = batch::combination(index, &lists);
+        let choice = sweep::combination(index, &lists);
         let mut t = table.clone();
         let mut params = Vec::new();
         for ((k, l), c) in keys.iter().zip(&lists).zip(&choice) {
             set_path(&mut t, k, l[*c].clone()).map_err(|e| Error::key(path, &format!("sweep.{k}"), e))?;
-            params.push(batch::value_text(&l[*c]));
+            params.push(sweep::value_text(&l[*c]));
         }
         jobs.push(Job { label: String::new(), params, table: t });
     }

@@ -729,3 +729,15 @@ impl ScenarioSpec {
 fn default_slips() -> Vec<f64> {
     (0..40).map(|i| f64::from(i) * 0.0005).chain((4..=80).map(|i| f64::from(i) * 0.005)).collect()
 }
+
+impl Scenario {
+    /// Kinematics of the scenario: travel speed, slip ratio, slip angle, ice temperature.
+    pub fn operating(&self) -> vehsim_core::contact::model::Kinematics {
+        vehsim_core::contact::model::Kinematics {
+            travel_speed_mps: self.speed_mps,
+            slip_ratio: self.slip_ratio,
+            slip_angle_rad: self.slip_angle_rad,
+            ice_temp_c: self.ice_temp_c,
+        }
+    }
+}

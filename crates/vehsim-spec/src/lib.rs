@@ -71,6 +71,7 @@ pub mod patch_file;
 pub mod run;
 pub mod step;
 pub mod strict;
+pub mod sweep;
 pub mod tir;
 pub mod tyre;
 pub mod vehicle;

@@ -1,6 +1,7 @@
 //! One run from a manoeuvre spec: build the model and manoeuvre from a validated [`RunConfig`]
 //! and simulate (no I/O). The files of a run are written by the application.
 
+use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::maneuver::{ManeuverConfig, ManeuverFile, RunConfig};
@@ -13,6 +14,7 @@ use vehsim_core::maneuver::iso3888_2::{Body, Iso3888_2};
 use vehsim_core::maneuver::longitudinal::Longitudinal;
 use vehsim_core::maneuver::open_loop::OpenLoop;
 use vehsim_core::maneuver::Maneuver;
+use vehsim_core::sim::columns::{row_values, COLUMNS};
 use vehsim_core::sim::observer::NoOutput;
 use vehsim_core::sim::plausibility::Plausibility;
 use vehsim_core::sim::steady_state::{self, SteadyState, UndersteerGradient};
@@ -249,4 +251,23 @@ impl Observer for Checked<'_> {
         self.plausibility.check(row);
         self.keep.record(row);
     }
+}
+
+/// The CSV text of a run's rows (non-finite values, e.g. no speed target while coasting, are empty).
+pub fn timeseries_csv(rows: &[Row]) -> String {
+    let mut s = String::with_capacity(rows.len() * 400);
+    s.push_str(&COLUMNS.join(","));
+    s.push('\n');
+    for r in rows {
+        for (i, v) in row_values(r).iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            if v.is_finite() {
+                let _ = write!(s, "{v}");
+            }
+        }
+        s.push('\n');
+    }
+    s
 }
