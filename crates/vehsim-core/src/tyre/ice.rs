@@ -178,7 +178,7 @@ impl TempFactors {
         (phi, phi_k)
     }
 
-    #[inline]
+    #[inline(always)]
     fn at(&self, surface: &SurfaceFriction, t_c: f64) -> (f64, f64) {
         if t_c == self.cached_t_c {
             self.cached
