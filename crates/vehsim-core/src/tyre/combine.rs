@@ -53,12 +53,29 @@ pub(crate) fn powf_memo(x: f64, p: f64) -> f64 {
 
 /// Magic Formula sine curve y = D sin(C atan(B x - E (B x - atan(B x)))) (the arctangents and
 /// the sine by [`fastmath`], a polynomial kernel within an ulp or two of the library's).
-#[inline]
+#[inline(always)]
 pub(crate) fn mf_sin(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     // E = 0 is common; skipping the inner atan then is exact.
     let phi = if e == 0.0 { bx } else { bx - e * (bx - fastmath::atan(bx)) };
+    if c == 1.5 && phi.abs() <= 1e150 {
+        return d * sin_three_halves_atan(phi);
+    }
     d * fastmath::sin(c * fastmath::atan(phi))
+}
+
+/// sin(1.5 atan(phi)) by square roots (C = 1.5 is a common longitudinal shape factor): with
+/// theta = atan(phi) and r = sqrt(1 + phi^2), cos(theta) = 1 / r, sin(theta) = phi / r, and the
+/// half angle (|theta / 2| < pi / 4) has cos = sqrt((r + 1) / (2 r)) and
+/// sin = phi / sqrt(2 r (r + 1)) (1 - 1 / r written as phi^2 / (r (r + 1)), without the
+/// cancellation at small phi), so
+/// sin(theta + theta / 2) = phi (r + 2) / (r sqrt(2 r (r + 1))).
+/// Smooth and odd in phi, 1.5 phi at small phi, 1 / sqrt(2) as phi -> infinity; within a few
+/// 1e-16 of the arctangent-and-sine form (test below). |phi| <= 1e150 (phi^2 finite).
+#[inline]
+pub(crate) fn sin_three_halves_atan(phi: f64) -> f64 {
+    let r = (1.0 + phi * phi).sqrt();
+    phi * (r + 2.0) / (r * (2.0 * r * (r + 1.0)).sqrt())
 }
 
 /// cos(C atan(B x - E (B x - atan(B x)))), the Magic Formula weighting shape. With C = 1 it is
@@ -126,6 +143,31 @@ pub fn positive(x: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The C = 1.5 closed form against the arctangent and sine of the library, over 60 decades
+    /// of phi of both signs: within 6e-16 absolute (the curve is at most 1 in magnitude; measured 4.4e-16).
+    #[test]
+    fn three_halves_closed_form_matches_atan_and_sin() {
+        let mut worst = 0.0_f64;
+        let mut phi = 1e-30_f64;
+        while phi < 1e30 {
+            for p in [phi, -phi] {
+                let want = (1.5 * p.atan()).sin();
+                worst = worst.max((sin_three_halves_atan(p) - want).abs());
+            }
+            phi *= 1.0137;
+        }
+        assert!(worst <= 6e-16, "largest difference {worst:e}");
+        assert_eq!(sin_three_halves_atan(0.0), 0.0);
+        assert!((sin_three_halves_atan(1e150) - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-16);
+        // mf_sin takes it for C = 1.5 and the general form otherwise, the same curve
+        for x in [-3.0_f64, -0.2, 0.0, 0.01, 0.07, 0.4, 2.0, 40.0] {
+            let a = mf_sin(9.0, 1.5, 600.0, 0.5, x);
+            let bx: f64 = 9.0 * x;
+            let b = 600.0 * (1.5 * (bx - 0.5 * (bx - bx.atan())).atan()).sin();
+            assert!((a - b).abs() <= 1e-12, "{x}: {a} {b}");
+        }
+    }
 
     /// The memo returns `powf`'s result bit for bit: on hits, on misses, after evictions, for
     /// special values, and for keys that differ only in the exponent.

@@ -30,10 +30,11 @@
 //! stiffness at zero slip alone). With B = K / (C D), a smaller D at large slip (faster sliding)
 //! makes the curve fall faster beyond its peak and moves the peak to a slightly smaller slip.
 //!
-//! Cost per evaluation: the sliding speed (one tangent and one square root), the speed factor (a
-//! table-based logarithm and an exponential by a short polynomial: smooth in v, which keeps the
-//! integrators' order) and the temperature factor (the same exponential, kept for the ice
-//! temperature of the run it was built for, so a `pacejka` tyre pays it once per run).
+//! Cost per evaluation: the sliding speed (the tangent squared, by one sine kernel, and a square
+//! root), the speed factor (a table-based logarithm and an exponential by a short polynomial:
+//! smooth in v, which keeps the integrators' order) and the temperature factor (the same
+//! exponential, kept for the ice temperature of the run it was built for, so a `pacejka` tyre
+//! pays it once per run).
 
 use super::atiim::AtiimPacejkaTyre;
 use super::pacejka::{PacejkaTyre, Scale};
@@ -129,8 +130,8 @@ impl SurfaceFriction {
     /// The sliding speed of a tyre input, m/s: |V_x| sqrt(kappa^2 + tan^2 alpha).
     #[inline]
     pub fn sliding_speed(i: &TyreInput) -> f64 {
-        let t = super::fastmath::tan(i.alpha_rad);
-        let v = i.vx_mps.abs() * (i.kappa * i.kappa + t * t).sqrt();
+        let t2 = super::fastmath::tan_sq(i.alpha_rad);
+        let v = i.vx_mps.abs() * (i.kappa * i.kappa + t2).sqrt();
         if v.is_finite() {
             v
         } else {
@@ -178,7 +179,7 @@ impl TempFactors {
         (phi, phi_k)
     }
 
-    #[inline]
+    #[inline(always)]
     fn at(&self, surface: &SurfaceFriction, t_c: f64) -> (f64, f64) {
         if t_c == self.cached_t_c {
             self.cached
