@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use crate::output::{write_atomic, Staged};
 use crate::plot::{heat_map, xy_chart, HeatMap, LineStyle, Series, XyChart};
 use vehsim_core::contact::model::{drawbar_curve, slip_stiffness_per_fz, solve_patch_at, Kinematics, PatchResult};
-use vehsim_core::contact::tread_bulk::{TreadBulk, SRTT_ROLLING_RADIUS_M};
+use vehsim_core::contact::tread_bulk::{TreadBulk, RIG_TRACK_M, SRTT_ROLLING_RADIUS_M};
 use vehsim_core::error::{Error, Result};
 use vehsim_spec::contact::{Scenario, ScenarioSpec};
 
@@ -131,7 +131,8 @@ pub fn run_atiim_command(spec: &Path, out_root: &Path) -> Result<PathBuf> {
 }
 
 /// The tread band over a run at the operating point (`tread_bulk`): its steady rise, time
-/// constant, the rise after 60, 300 and 600 s from the ice temperature, and the interface's share.
+/// constant, the rise after 60, 300 and 600 s from the ice temperature and after one run over the
+/// rig's 16 ft track at the travel speed (70 s at 7 cm/s), and the interface's share.
 fn tread_bulk_json(sc: &Scenario, op: &Kinematics, res: &PatchResult) -> serde_json::Value {
     let b = TreadBulk::new(
         &sc.params,
@@ -142,8 +143,13 @@ fn tread_bulk_json(sc: &Scenario, op: &Kinematics, res: &PatchResult) -> serde_j
         sc.spec.tyre.tread_width_m,
         SRTT_ROLLING_RADIUS_M,
     );
+    let run_s = RIG_TRACK_M / op.travel_speed_mps.max(1e-9);
     serde_json::json!({
         "model": b,
+        "rig_track_m": RIG_TRACK_M,
+        "rig_run_s": run_s,
+        "rise_after_rig_run_k": b.rise_after_k(run_s),
+        "contact_rise_after_rig_run_k": b.contact_rise_k(b.rise_after_k(run_s)),
         "rolling_radius_m": SRTT_ROLLING_RADIUS_M,
         "rise_after_60s_k": b.rise_after_k(60.0),
         "rise_after_300s_k": b.rise_after_k(300.0),

@@ -15,7 +15,7 @@ use vehsim_core::contact::model::{
 };
 use vehsim_core::contact::patch::{synthesize, PressureGrid, SynthInputs, TreadPattern};
 use vehsim_core::contact::thermal::ICE;
-use vehsim_core::contact::tread_bulk::TreadBulk;
+use vehsim_core::contact::tread_bulk::{TreadBulk, RIG_TRACK_M};
 use vehsim_spec::contact::{Scenario, ScenarioSpec};
 
 use common::atiim::{full_rise, reference_grid, srtt_build};
@@ -416,7 +416,7 @@ fn rig_patch_never_melts_and_lower_inflation_heats_less() {
 #[test]
 fn tread_bulk_takes_the_rolling_heat_and_stays_below_the_measured_rise() {
     let (r_roll, width) = (0.328, 0.18); // SRTT rolling radius; tread width of the scenarios
-    let mut steady = Vec::new();
+    let (mut steady, mut taus) = (Vec::new(), Vec::new());
     for name in ["rig_srtt_4p2kN_35psi_m10C", "rig_srtt_7kN_35psi_m10C", "rig_srtt_8p4kN_35psi_m10C"] {
         let sc = scenario(name);
         let pp = &sc.params;
@@ -438,12 +438,14 @@ fn tread_bulk_takes_the_rolling_heat_and_stays_below_the_measured_rise() {
                 < 1e-12
         );
         eprintln!(
-            "{name}: tread band {:.0} J/K, rolling heat into it {:.2} W, G {:.2} W/K, tau {:.0} s; rise after 60 / 600 s {:.3} / {:.3} K, steady {:.3} K (interface {:.3} K); single pass max {:.4} K",
+            "{name}: tread band {:.0} J/K, rolling heat into it {:.2} W, G {:.2} W/K, tau {:.0} s; rise after the 16 ft track ({:.1} s) {:.3} K (interface {:.4} K), after 600 s {:.3} K, steady {:.3} K (interface {:.3} K); single pass max {:.4} K",
             b.heat_capacity_j_k,
             b.power_rolling_w,
             b.conductance_w_k,
             b.time_constant_s,
-            b.rise_after_k(60.0),
+            RIG_TRACK_M / sc.speed_mps,
+            b.rise_after_k(RIG_TRACK_M / sc.speed_mps),
+            b.contact_rise_k(b.rise_after_k(RIG_TRACK_M / sc.speed_mps)),
             b.rise_after_k(600.0),
             b.steady_rise_k,
             b.contact_rise_k(b.steady_rise_k),
@@ -452,6 +454,7 @@ fn tread_bulk_takes_the_rolling_heat_and_stays_below_the_measured_rise() {
         assert!(b.steady_rise_k / 0.5 < 0.7, "{name}: {} K", b.steady_rise_k);
         assert!(free.max_rise_k < 0.02, "{name}: {}", free.max_rise_k);
         steady.push(b.steady_rise_k);
+        taus.push(b.time_constant_s);
     }
     assert!(steady[0] < steady[1] && steady[1] < steady[2], "the band warms more at higher load: {steady:?}");
     // every rig scenario states f_rr = 0.010 (inflation / 35 psi)^-0.4 (SAE J2452's inflation
@@ -471,7 +474,79 @@ fn tread_bulk_takes_the_rolling_heat_and_stays_below_the_measured_rise() {
     let j: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
     let reported = j["tread_bulk"]["model"]["steady_rise_k"].as_f64().unwrap();
     assert!((reported / steady[1] - 1.0).abs() < 1e-9, "{reported} vs {}", steady[1]);
+    // and over one run of the rig's 16 ft track (3.2.1) at 7 cm/s: 4.877 m / 0.07 m/s = 69.7 s
+    let run = j["tread_bulk"]["rig_run_s"].as_f64().unwrap();
+    assert!((run - 16.0 * 0.3048 / 0.07).abs() < 1e-9, "run {run} s");
+    let after_run = j["tread_bulk"]["rise_after_rig_run_k"].as_f64().unwrap();
+    assert!((after_run / (steady[1] * (1.0 - (-run / taus[1]).exp())) - 1.0).abs() < 1e-9, "{after_run}");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Issue 29 item 4's done-when asks for the free-rolling rise within a factor 2 of 1.4 degC, i.e.
+/// at least 0.7 K. An energy bound independent of the patch model shows that the tyre's own
+/// dissipation cannot give it at the rig's 7 cm/s (docs/atiim.md, "(4)"), however it is split:
+/// - the whole tyre's rolling loss P = f_rr F_z V, with f_rr at the top of the passenger range
+///   (0.017), released at the interface of the patch in proportion to the pressure: along each
+///   track the flux is at most P p_track / F_z (p_track its highest pressure) for at most its loaded
+///   length / V, and the 1-D surface solution of two semi-infinite bodies in contact gives
+///   2 q sqrt(t) / (sqrt(pi) (e_t + e_i)); the hottest track is taken;
+/// - plus, what the tread brings into the patch after a whole run over the 16 ft track (3.2.1)
+///   with the same P at its surface, spread over the band's rubber and nothing lost: the surface
+///   of a semi-infinite tread rises 2 q sqrt(t) / (sqrt(pi) e_t), and the interface sees the
+///   effusivity share e_t / (e_t + e_i) of it at first contact.
+///
+/// The bound double-counts P and is still below 0.7 K at 4.2, 7 and 8.4 kN (35 psi) and at 21 psi;
+/// the patch model's single-pass rise and the tread band stay below it (a check of the model's
+/// rolling heat against energy). The f_rr that the single-pass part alone would need for 0.7 K is
+/// printed.
+#[test]
+fn free_rolling_rise_is_bounded_by_the_rolling_power() {
+    let (r_roll, width, f_rr_max) = (0.328, 0.18, 0.017);
+    for name in [
+        "rig_srtt_4p2kN_35psi_m10C",
+        "rig_srtt_7kN_35psi_m10C",
+        "rig_srtt_8p4kN_35psi_m10C",
+        "rig_srtt_7kN_21psi_m10C",
+        "rig_srtt_8p4kN_21psi_m10C",
+    ] {
+        let sc = scenario(name);
+        let (g, pp, v) = (&sc.grid, &sc.params, sc.speed_mps);
+        let (e_t, e_i) = (pp.compound.solid.effusivity(), ICE.effusivity());
+        let fz = g.load_n();
+        let p_tot = f_rr_max * fz * v;
+        let surface = |q: f64, t: f64, e: f64| 2.0 * q * t.sqrt() / (PI.sqrt() * e);
+        // per track: its highest flux held over its whole loaded length (first to last loaded row)
+        let (mut single, mut p_max, mut t_pass) = (0.0_f64, 0.0_f64, 0.0_f64);
+        for c in 0..g.cols {
+            let loaded: Vec<usize> = (0..g.rows).filter(|&r| g.p(r, c) > 0.0).collect();
+            let (Some(first), Some(last)) = (loaded.first(), loaded.last()) else { continue };
+            let p_track = loaded.iter().map(|&r| g.p(r, c)).fold(0.0, f64::max);
+            let t_track = (last - first + 1) as f64 * g.dx_m / v;
+            let rise = surface(p_tot * p_track / fz, t_track, e_t + e_i);
+            if rise > single {
+                (single, p_max, t_pass) = (rise, p_track, t_track);
+            }
+        }
+        let t_run = 16.0 * 0.3048 / v;
+        let band_area = 2.0 * PI * r_roll * width * (1.0 - pp.void_ratio);
+        let carried = e_t / (e_t + e_i) * surface(p_tot / band_area, t_run, e_t);
+        let q_needed = 0.7 * PI.sqrt() * (e_t + e_i) / (2.0 * t_pass.sqrt());
+        eprintln!(
+            "{name}: P {p_tot:.2} W (f_rr {f_rr_max}), hottest track p_max {:.0} kPa over {t_pass:.2} s, run {t_run:.1} s: \
+             single-pass bound {single:.3} K + carried by the tread {carried:.3} K = {:.3} K; \
+             0.7 K in one pass needs f_rr {:.3}",
+            p_max / 1e3,
+            single + carried,
+            q_needed * fz / p_max / (fz * v)
+        );
+        assert!(single + carried < 0.7, "{name}: bound {} K", single + carried);
+        // the model obeys the bound (with its own, smaller f_rr and share)
+        let free = solve_patch_at(g, &kin(&sc, 0.0), pp).summary;
+        assert!(free.max_rise_k < single, "{name}: model {} K vs bound {single} K", free.max_rise_k);
+        let b = TreadBulk::new(pp, &free, fz, v, g.contact_area_m2(), width, r_roll);
+        let band = b.contact_rise_k(b.rise_after_k(RIG_TRACK_M / v));
+        assert!(band < carried, "{name}: band at the interface {band} K vs bound {carried} K");
+    }
 }
 
 /// Item 5: the reported viscous friction and film heights are averages over stated lengths

@@ -30,6 +30,10 @@ use std::f64::consts::PI;
 /// Rolling radius of the SRTT P225/60R16, m (the `[contact]` table's default `rolling_radius_m`).
 pub const SRTT_ROLLING_RADIUS_M: f64 = 0.328;
 
+/// Length of the rig's ice track, m: the 16 ft path of travel (dissertation 3.2.1). A run at the
+/// carriage speed V lasts `RIG_TRACK_M / V`: 70 s at 7 cm/s, 2.4 revolutions of the SRTT.
+pub const RIG_TRACK_M: f64 = 16.0 * 0.3048;
+
 /// The lumped tread band of one rig run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
