@@ -183,6 +183,35 @@ impl Default for EffectParams {
 }
 
 impl EffectParams {
+    /// The effects a vehicle spec switches on: its `[lateral]` keys and its `[sensors]` section
+    /// (the baseline of a discovery that starts from an improved vehicle.toml, which thus
+    /// replays exactly as the discovery's final model did).
+    pub fn of_vehicle(v: &Vehicle) -> Self {
+        let l = &v.lateral;
+        let s = v.sensors.unwrap_or_default();
+        Self {
+            sigma_y_m: l.relaxation_length_y_m,
+            steer_compliance_rad_per_kn: l.steer_compliance_rad_per_kn,
+            steer_lag_s: l.steer_lag_s,
+            mu_scale: l.mu_scale,
+            thermal_mu_per_k: l.thermal_mu_per_k,
+            load_transfer_height_m: l.load_transfer_height_m,
+            bias_yaw_rate_radps: s.bias[0],
+            bias_ay_mps2: s.bias[1],
+            latency_s: s.latency_s,
+            accel_position_m: s.accel_position_m,
+            stiffness_scale: l.stiffness_scale,
+            mu_axle_scale: l.mu_axle_scale,
+            slip_relaxation_m: l.slip_relaxation_m,
+            slip_relaxation_saturating: l.slip_relaxation_saturating,
+            load_sensitivity: l.load_sensitivity,
+            tread_mu_per_k: l.tread_mu_per_k(),
+            tread_heat_capacity_j_per_k: l.tread_heat_capacity_j_per_k,
+            tread_cooling_s: l.tread_cooling_time_s,
+            ..Self::default()
+        }
+    }
+
     /// Friction factor of the ground patch at ground point (X, Y), m: 1 + (s - 1) w with w a disc
     /// of the patch radius with logistic edges of [`STRETCH_EDGE_M`].
     pub fn patch_factor(&self, x_m: f64, y_m: f64) -> f64 {
@@ -349,7 +378,7 @@ pub(super) struct Forces {
 
 /// Floor on the ratio of the local to the initial tyre slope in the saturating transient-slip
 /// form (the relaxation length never falls below this fraction of its nominal value).
-pub const SLIP_SLOPE_FLOOR: f64 = 0.25;
+pub const SLIP_SLOPE_FLOOR: f64 = lateral::SLIP_SLOPE_FLOOR;
 
 impl ReplayModel {
     pub fn new(vehicle: Vehicle) -> Self {
@@ -373,19 +402,19 @@ impl ReplayModel {
             contact_c = d.ice_c + d.tread_rise_k[axle];
         }
         let eval = |tyre: &dyn TyreModel, fz: f64| {
-            // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
-            let z = fz / half - 1.0;
-            let [k_mu, k_c] = p.load_sensitivity;
+            // The fitted load sensitivities at this tyre's relative load change (the engine's own
+            // factors, lateral::load_sensitive_input).
             let input = TyreInput {
                 fz_n: fz.max(0.0),
                 kappa: 0.0,
-                alpha_rad: alpha * p.stiffness_scale[axle] * (1.0 - k_c * z).max(0.05),
+                alpha_rad: alpha * p.stiffness_scale[axle],
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
-                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle] * (1.0 - k_mu * z).max(0.05),
+                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle],
                 surface_temp_c: d.ice_c,
                 contact_temp_c: contact_c,
             };
+            let input = lateral::load_sensitive_input(input, half, p.load_sensitivity);
             if input.fz_n <= 0.0 {
                 TyreForces::default()
             } else {
@@ -476,15 +505,10 @@ impl ReplayModel {
         if !p.slip_relaxation_saturating {
             return s0;
         }
-        const EPS: f64 = 2e-3;
+        const EPS: f64 = lateral::SLIP_SLOPE_STEP_RAD;
         let slope =
             |a: f64| self.axle_force(axle, a + EPS, dfz, d, p).fy_n - self.axle_force(axle, a - EPS, dfz, d, p).fy_n;
-        let ratio = (slope(alpha) / slope(0.0)).clamp(SLIP_SLOPE_FLOOR, 1.0);
-        if ratio.is_finite() {
-            s0 * ratio
-        } else {
-            s0
-        }
+        lateral::saturating_relaxation_length(s0, slope(alpha) / slope(0.0))
     }
 
     /// Axle forces acting on the body: the steady-state ones, with the lateral forces replaced by

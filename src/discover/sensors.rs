@@ -16,19 +16,36 @@
 //! replay post-processed.
 
 use super::model::EffectParams;
+use vehsim_core::vehicle::Sensors;
 
 /// Turn the replayed yaw rate `r` and CG lateral acceleration `ay`, sampled at `t` (increasing),
 /// into the logged channels: the accelerometer's position first (it needs the true r), then each
-/// channel's latency.
+/// channel's latency (the offsets are the caller's: [`logged`] adds them).
 pub fn measure(r: &mut [f64], ay: &mut [f64], t: &[f64], p: &EffectParams) {
-    let [x_s, y_s] = p.accel_position_m;
+    measure_with(r, ay, t, p.latency_s, p.accel_position_m);
+}
+
+/// The logged yaw rate (rad/s) and lateral acceleration (m/s^2) of instruments `s` for the true
+/// yaw rate `r` and CG lateral acceleration `ay` at increasing times `t` (s): [`measure`], then
+/// the constant offsets, as the replay does. `vehsim run` writes them as the measured columns.
+pub fn logged(t: &[f64], r: &[f64], ay: &[f64], s: &Sensors) -> (Vec<f64>, Vec<f64>) {
+    let (mut r, mut ay) = (r.to_vec(), ay.to_vec());
+    measure_with(&mut r, &mut ay, t, s.latency_s, s.accel_position_m);
+    r.iter_mut().for_each(|v| *v += s.bias[0]);
+    ay.iter_mut().for_each(|v| *v += s.bias[1]);
+    (r, ay)
+}
+
+/// [`measure`] with the latencies [yaw rate, ay] (s) and the accelerometer position [x, y] (m).
+fn measure_with(r: &mut [f64], ay: &mut [f64], t: &[f64], latency_s: [f64; 2], accel_position_m: [f64; 2]) {
+    let [x_s, y_s] = accel_position_m;
     if x_s != 0.0 || y_s != 0.0 {
         let r_dot = derivative(r, t);
         for ((a, &w), &w_dot) in ay.iter_mut().zip(r.iter()).zip(&r_dot) {
             *a += w_dot * x_s - w * w * y_s;
         }
     }
-    let [tau_r, tau_a] = p.latency_s;
+    let [tau_r, tau_a] = latency_s;
     if tau_r > 0.0 {
         delay(r, t, tau_r);
     }

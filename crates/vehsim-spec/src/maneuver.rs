@@ -906,6 +906,14 @@ impl ManeuverFile {
                 ),
             ));
         }
+        if vehicle.lateral.tread_mu_per_kj != 0.0 {
+            return Err(Error::key(
+                &vehicle_file,
+                "lateral.tread_mu_per_kj",
+                "the engine's vehicle models do not run the tread state yet (only `vehsim discover` replays it); \
+                 expected 0 to run a manoeuvre (docs/discover.md)",
+            ));
+        }
         // The ice friction law: the Magic Formula tyres take their peak friction from it.
         let mut vehicle = vehicle;
         if let Some(law) = self.surface.friction(path)? {
