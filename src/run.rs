@@ -53,7 +53,7 @@ pub fn timeseries_csv(rows: &[Row]) -> String {
 pub const MEASURED_COLUMNS: [&str; 2] = ["yaw_rate_meas_radps", "ay_meas_mps2"];
 
 /// As [`timeseries_csv`]; with instruments `sensors`, two more columns: the yaw rate and lateral
-/// acceleration they log ([`crate::discover::sensors::logged`], over the recorded rows: the
+/// acceleration they log ([`vehsim_core::vehicle::sensors::logged`], over the recorded rows: the
 /// latency interpolates between rows, the accelerometer's yaw acceleration is a central
 /// difference of the recorded yaw rate). Without, the text is [`timeseries_csv`]'s, byte for byte.
 pub fn timeseries_csv_with(rows: &[Row], sensors: Option<&vehsim_core::vehicle::Sensors>) -> String {
@@ -61,7 +61,7 @@ pub fn timeseries_csv_with(rows: &[Row], sensors: Option<&vehsim_core::vehicle::
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
         let r: Vec<f64> = rows.iter().map(|r| r.obs.kin.yaw_rate_radps).collect();
         let ay: Vec<f64> = rows.iter().map(|r| r.obs.ay_mps2).collect();
-        crate::discover::sensors::logged(&t, &r, &ay, s)
+        vehsim_core::vehicle::sensors::logged(&t, &r, &ay, s)
     });
     let mut s = String::with_capacity(rows.len() * 400);
     s.push_str(&COLUMNS.join(","));

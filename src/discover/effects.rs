@@ -3,6 +3,7 @@
 //! ([`super::model::ReplayModel`]). Every candidate is a model extension that the replay model
 //! integrates, not a curve fitted to the residual.
 
+use super::measured::sidecar_bounds as rb;
 use super::model::EffectParams;
 use vehsim_core::error::Bound;
 use vehsim_core::vehicle::lateral_bounds as lb;
@@ -58,6 +59,18 @@ const fn pdl(b: Bound, lo: Option<f64>, start: f64, scale: f64, null: Option<f64
 const fn pds(b: Bound, start: f64, scale: f64) -> ParamDef {
     let name = b.key.split_at(SENSORS.len()).1;
     pd(name, unit_of(b), start, scale, b.lo, b.hi, Some(0.0))
+}
+
+/// A parameter that places a friction region on the ground (no no-effect value), with the unit and
+/// range of the sidecar key's declared bound ([`super::measured::sidecar_bounds`]).
+const fn pdb(name: &'static str, b: Bound, start: f64, scale: f64) -> ParamDef {
+    pd(name, unit_of(b), start, scale, b.lo, b.hi, None)
+}
+
+/// The key of a friction region's parameter in a sidecar's `[[surface.<form>]]` table: the
+/// parameter's name without its form's prefix (`patch_x_m` is `x_m` of `[[surface.patch]]`).
+pub fn region_key<'a>(form: &str, param: &'a str) -> &'a str {
+    param.strip_prefix(form).and_then(|r| r.strip_prefix('_')).unwrap_or(param)
 }
 
 /// The section prefix of the `[sensors]` keys.
@@ -371,8 +384,8 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("stretch_start_m", "m", 20.0, 20.0, 0.0, 2000.0, None),
-                        pd("stretch_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                        pdb("stretch_start_m", rb::STRETCH_START, 20.0, 20.0),
+                        pdb("stretch_length_m", rb::REGION_LENGTH, 40.0, 20.0),
                     ]
                 }
             }
@@ -408,9 +421,9 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("patch_x_m", "m", 50.0, 20.0, -5000.0, 5000.0, None),
-                        pd("patch_y_m", "m", 0.0, 20.0, -5000.0, 5000.0, None),
-                        pd("patch_radius_m", "m", 20.0, 10.0, 1.0, 1000.0, None),
+                        pdb("patch_x_m", rb::PATCH_XY, 50.0, 20.0),
+                        pdb("patch_y_m", rb::PATCH_XY, 0.0, 20.0),
+                        pdb("patch_radius_m", rb::PATCH_RADIUS, 20.0, 10.0),
                     ]
                 }
             }
@@ -426,8 +439,8 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("band_start_x_m", "m", 20.0, 20.0, -5000.0, 5000.0, None),
-                        pd("band_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                        pdb("band_start_x_m", rb::BAND_START, 20.0, 20.0),
+                        pdb("band_length_m", rb::REGION_LENGTH, 40.0, 20.0),
                     ]
                 }
             }
@@ -473,7 +486,7 @@ impl Effect {
             Effect::ThermalFriction => p.thermal_mu_per_k = v[0],
             Effect::FrictionChange => p.mu_scale = v[0],
             Effect::FrictionStretch => {
-                p.mu_scale = v[0];
+                p.stretch_scale = v[0];
                 p.stretch_start_m = v[1];
                 p.stretch_length_m = v[2];
             }

@@ -103,9 +103,10 @@ pub struct EffectParams {
     pub steer_compliance_rad_per_kn: f64,
     /// Steering lag time constant, s (0 = off; typical 0.03-0.3).
     pub steer_lag_s: f64,
-    /// Friction scale on the nominal surface mu (1 = off; typical 0.3-1.5); over the whole run, or
-    /// over the stretch below when `stretch_length_m` > 0.
+    /// Friction scale on the nominal surface mu over the whole run (1 = off; typical 0.3-1.5).
     pub mu_scale: f64,
+    /// Friction scale over the stretch below (1 = off), on top of `mu_scale`.
+    pub stretch_scale: f64,
     /// Start of the friction stretch, m of distance travelled from the first sample.
     pub stretch_start_m: f64,
     /// Length of the friction stretch, m (0 = the scale applies to the whole run).
@@ -159,6 +160,7 @@ impl Default for EffectParams {
             steer_compliance_rad_per_kn: 0.0,
             steer_lag_s: 0.0,
             mu_scale: 1.0,
+            stretch_scale: 1.0,
             stretch_start_m: 0.0,
             stretch_length_m: 0.0,
             thermal_mu_per_k: 0.0,
@@ -248,13 +250,32 @@ impl EffectParams {
         self.slip_relaxation_m[0] > 0.0
     }
 
-    /// Friction scale at distance `d_m` travelled (the friction_change effect).
+    /// Friction scale at distance `d_m` travelled (the friction_change effect): the global scale,
+    /// times 1 + (s - 1) w(d) over a stretch.
     pub fn mu_factor(&self, d_m: f64) -> f64 {
         if self.stretch_length_m <= 0.0 {
             return self.mu_scale;
         }
         let w = window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
-        1.0 + (self.mu_scale - 1.0) * w
+        self.mu_scale * (1.0 + (self.stretch_scale - 1.0) * w)
+    }
+
+    /// These parameters with the friction regions of a run's ground (its sidecar's
+    /// `[[surface.patch]]`, `[[surface.band]]`, `[[surface.stretch]]`: part of the baseline) set
+    /// where given, unless the same kind is already on here (a candidate being fitted replaces
+    /// the sidecar's region of its kind).
+    pub fn with_regions(&self, g: &super::measured::Regions) -> Self {
+        let mut p = *self;
+        if let (Some(v), false) = (g.patch, self.patch[3] > 0.0) {
+            p.patch = v;
+        }
+        if let (Some(v), false) = (g.band, self.band[2] > 0.0) {
+            p.band = v;
+        }
+        if let (Some([s, start, len]), false) = (g.stretch, self.stretch_length_m > 0.0) {
+            (p.stretch_scale, p.stretch_start_m, p.stretch_length_m) = (s, start, len);
+        }
+        p
     }
 }
 
@@ -589,7 +610,9 @@ impl ReplayModel {
     /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
     /// effects' scale), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
     /// equations the replay integrates, at one instant, lags included (their entries are 0 when
-    /// the effect that uses them is off). For checks against the engine's bicycle model.
+    /// the effect that uses them is off). Under transient slip the third and fourth entries are
+    /// the lagged slip angles alpha_f, alpha_r (rad) and their rates instead, as in the engine's
+    /// bicycle. For checks against the engine's bicycle model.
     pub fn lateral_derivatives(
         &self,
         p: &EffectParams,
@@ -612,8 +635,16 @@ impl ReplayModel {
         };
         let mut x = State::zeros();
         x.as_mut_slice()[..5].copy_from_slice(&lateral);
+        if p.transient_slip() {
+            // The engine's bicycle keeps the lagged slip angles in its relaxed-force slots.
+            (x[ix::ALPHA_F], x[ix::ALPHA_R]) = (lateral[2], lateral[3]);
+        }
         let dx = self.derivatives(&x, &d, p);
-        std::array::from_fn(|i| dx[i])
+        let mut out: [f64; 5] = std::array::from_fn(|i| dx[i]);
+        if p.transient_slip() {
+            (out[2], out[3]) = (dx[ix::ALPHA_F], dx[ix::ALPHA_R]);
+        }
+        out
     }
 
     /// All derivatives, lags included (the plain-RK4 reference).
@@ -693,7 +724,7 @@ impl ReplayModel {
     /// is integrated with the samples on step boundaries; any other on a uniform grid of steps
     /// across it, the simulated channels interpolated to its samples.
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
-        super::replay::replay(self, run, p, None).0
+        super::replay::replay(self, run, &p.with_regions(&run.regions), None).0
     }
 
     /// Drive a run closed loop on the engine ([`super::replay`]): `driver` follows `path` from
@@ -710,7 +741,7 @@ impl ReplayModel {
         path: &RefPath,
         driver: &mut Driver,
     ) -> (Vec<f64>, Simulated) {
-        let (sim, steer) = super::replay::replay(self, run, p, Some((path, driver)));
+        let (sim, steer) = super::replay::replay(self, run, &p.with_regions(&run.regions), Some((path, driver)));
         (steer, sim)
     }
 }

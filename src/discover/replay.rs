@@ -619,7 +619,7 @@ mod tests {
             slip_relaxation_saturating: true,
             steer_compliance_rad_per_kn: 0.004,
             load_transfer_height_m: 0.5,
-            mu_scale: 0.8,
+            stretch_scale: 0.8,
             stretch_start_m: 60.0,
             stretch_length_m: 40.0,
             ..EffectParams::default()

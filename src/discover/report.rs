@@ -84,7 +84,7 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
 /// effects in its `[sensors]` section (`vehsim run` logs the measured channels through them),
 /// merged into the sections the baseline spec already has; the tyre path made absolute, so that
 /// `vehsim run` can use it from any folder. A friction change placed on the road is not the
-/// vehicle's: it stays in effects.toml, and the header says so.
+/// vehicle's: it goes to surface.toml ([`surface_toml`]), and the header says so.
 pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
     let path = &opts.vehicle;
     let text = vehsim_spec::files::read_input(path)?;
@@ -139,7 +139,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     );
     if !road.is_empty() {
         s.push_str(&format!(
-            "# Not vehicle properties (the road's), so not in this spec (see effects.toml): {}.\n",
+            "# Not vehicle properties (the road's), so in surface.toml, not in this spec: {}.\n",
             road.join(", ")
         ));
     }
@@ -151,6 +151,29 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     }
     s.push_str(&body);
     Ok(s)
+}
+
+/// The friction regions named on the road (the `friction_change` forms placed on the ground or
+/// along the path) as a sidecar `[surface]` fragment: `[[surface.patch]]`, `[[surface.band]]` or
+/// `[[surface.stretch]]`, keys as [`super::effects::region_key`] names them. Added to a run's
+/// sidecar (RUN.toml), it makes the region part of that run's baseline. None when no region was
+/// named.
+pub fn surface_toml(d: &Discovery) -> Option<String> {
+    let mut s = String::from(
+        "# Friction regions named by `vehsim discover`, each in a run's own ground frame (its logged pose, else\n\
+         # the origin heading +X at its first sample; a stretch in distance travelled from it). Add these tables\n\
+         # to a run's sidecar RUN.toml to replay them as part of its baseline.\n",
+    );
+    let mut any = false;
+    for fe in d.final_effects.iter().filter(|fe| fe.effect.in_vehicle_spec() == InVehicleSpec::Road) {
+        let form = fe.effect.form();
+        let _ = writeln!(s, "\n[[surface.{form}]]");
+        for (k, v, _) in &fe.params {
+            let _ = writeln!(s, "{} = {}", super::effects::region_key(form, k), toml::Value::Float(*v));
+        }
+        any = true;
+    }
+    any.then_some(s)
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -169,7 +192,11 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let md = markdown(opts, data, d, &windows, &windows_after, &regions);
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
+    let surface = surface_toml(d);
     crate::run::write_dir_atomic(out, |tmp| {
+        if let Some(s) = &surface {
+            write(&tmp.join("surface.toml"), s)?;
+        }
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
         write(&tmp.join("report.json"), &text)?;
         write(&tmp.join("report.md"), &md)?;

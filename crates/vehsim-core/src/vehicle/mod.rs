@@ -11,6 +11,7 @@ pub mod lateral;
 pub mod params;
 pub mod powertrain;
 pub mod roll4dof;
+pub mod sensors;
 pub mod single_track;
 pub mod wheel;
 
