@@ -193,7 +193,11 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
             let bicycle = Bicycle::new(v.clone());
             let replay = ReplayModel::new(v);
             for mu in [0.15, 1.0] {
-                let env = Environment { mu, surface_temp_c: ice_c };
+                let env = Environment {
+                    mu,
+                    surface_temp_c: ice_c,
+                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                };
                 for [vx, vy, r, fyf, fyr, delta_l, steer] in states {
                     // Under transient slip the relaxed-force slots hold lagged slip angles, rad.
                     let (fyf, fyr) = if lat.transient_slip() { (fyf * 1e-5, fyr * 1e-5) } else { (fyf, fyr) };

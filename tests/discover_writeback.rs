@@ -320,3 +320,58 @@ fn sidecar_regions_outside_their_bounds_are_refused_naming_the_key() {
         assert!(err.contains("RUN.toml") && err.contains(key), "{key}: {err}");
     }
 }
+
+/// A manoeuvre spec's `[[surface.patch]]` and `[[surface.band]]` act in the engine's bicycle at
+/// each axle's ground position: a patch covering the whole course at scale 0.5 on mu 0.3 runs
+/// bit for bit as mu 0.15 without it (the logistic weight is exactly 1 there); a band starting
+/// at X = 40 m leaves the run as it was while both axles are more than 20 m before it (weight
+/// below 2e-9) and changes it after. Out-of-bounds keys are exit 2 naming the key, and the 4-DOF
+/// model refuses regions.
+#[test]
+fn manoeuvre_regions_act_per_axle_in_the_bicycle() {
+    let spec = |mu: f64, extra: &str| {
+        format!(
+            "name = \"g\"\nvehicle = \"{}\"\ntyre_model = \"pacejka\"\nduration_s = 8.0\n[integrator]\nstep_s = 0.005\n\
+             [surface]\nmu = {mu}\nfriction_law = \"fixed\"\n{extra}[maneuver]\nkind = \"sine_steer\"\nspeed_mps = 10.0\n\
+             steer_amplitude_deg = 3.0\nperiod_s = 2.0\n",
+            sedan().display()
+        )
+    };
+    let run = |text: String| -> String {
+        let case = common::Case::new("wb-regions", "g.toml", &text);
+        let (code, out, err) = case.run(&["run", "--quiet", "g.toml"]);
+        assert_eq!(code, 0, "{out}{err}");
+        std::fs::read_to_string(case.results().join("g/timeseries.csv")).unwrap()
+    };
+    let patch = "[[surface.patch]]\nmu_scale = 0.5\nx_m = 0.0\ny_m = 0.0\nradius_m = 1000.0\n";
+    assert_eq!(run(spec(0.3, patch)), run(spec(0.15, "")));
+    assert_ne!(run(spec(0.3, "")), run(spec(0.15, "")), "the friction must matter in this run");
+    let plain = run(spec(0.15, ""));
+    let band = run(spec(0.15, "[[surface.band]]\nmu_scale = 0.3\nstart_x_m = 40.0\nlength_m = 1000.0\n"));
+    let rows = |t: &str| -> Vec<Vec<f64>> {
+        t.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect()).collect()
+    };
+    let (p, b) = (rows(&plain), rows(&band));
+    let (mut before, mut after) = (0, 0);
+    for (rp, rb) in p.iter().zip(&b) {
+        // Columns 1 (x_m) and 6 (yaw_rate_radps); the front axle is 1.2 m ahead of the CG.
+        if rp[1] + 1.5 < 20.0 {
+            assert!((rp[6] - rb[6]).abs() < 1e-9, "x {}: {} vs {}", rp[1], rp[6], rb[6]);
+            before += 1;
+        }
+        if rp[1] > 60.0 && (rp[6] - rb[6]).abs() > 1e-3 {
+            after += 1;
+        }
+    }
+    assert!(before > 100 && after > 20, "{before} rows before the band, {after} changed after");
+    for (extra, key) in [
+        ("[[surface.patch]]\nmu_scale = 0.5\nx_m = 0.0\ny_m = 0.0\nradius_m = 0.5\n", "surface.patch.radius_m"),
+        ("[[surface.band]]\nmu_scale = 3.5\nstart_x_m = 0.0\nlength_m = 10.0\n", "surface.band.mu_scale"),
+        ("[[surface.stretch]]\nmu_scale = 0.5\nstart_m = 0.0\nlength_m = 10.0\n", "stretch"),
+    ] {
+        let case = common::Case::new("wb-regions-bad", "g.toml", &spec(0.15, extra));
+        let (code, out, err) = case.run(&["run", "--quiet", "g.toml"]);
+        assert_eq!(code, 2, "{key}: {out}{err}");
+        assert!(err.contains("g.toml") && err.contains(key), "{key}: {err}");
+    }
+}

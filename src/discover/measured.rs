@@ -397,25 +397,13 @@ fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
 pub mod sidecar_bounds {
     use vehsim_core::contact::thermal::MELT_C;
     use vehsim_core::error::Bound;
-    use vehsim_core::vehicle::lateral_bounds;
     use vehsim_spec::maneuver::bounds as m;
 
     pub const MU: Bound = m::MU;
     pub const ICE_TEMP_C: Bound = Bound::closed("surface.ice_temp_c", m::TEMPERATURE_C.lo, MELT_C, "degC");
     pub const INITIAL_VX: Bound = Bound::closed("initial.vx", -m::SPEED_MPS.hi, m::SPEED_MPS.hi, "m/s");
-    /// `mu_scale` of a friction region: the range of the vehicle's `lateral.mu_scale`.
-    pub const REGION_MU_SCALE: Bound =
-        Bound::closed("surface.*.mu_scale", lateral_bounds::MU_SCALE.lo, lateral_bounds::MU_SCALE.hi, "");
-    /// `[[surface.patch]]` centre `x_m`, `y_m`: +-5000 m (a large test ground).
-    pub const PATCH_XY: Bound = Bound::closed("surface.patch.x_m", -5000.0, 5000.0, "m");
-    /// `[[surface.patch]] radius_m`: [1, 1000] m (at least its 1 m edge).
-    pub const PATCH_RADIUS: Bound = Bound::closed("surface.patch.radius_m", 1.0, 1000.0, "m");
-    /// `[[surface.band]] start_x_m`: +-5000 m.
-    pub const BAND_START: Bound = Bound::closed("surface.band.start_x_m", -5000.0, 5000.0, "m");
-    /// `[[surface.band]] length_m` and `[[surface.stretch]] length_m`: [2, 2000] m (two edges).
-    pub const REGION_LENGTH: Bound = Bound::closed("surface.*.length_m", 2.0, 2000.0, "m");
-    /// `[[surface.stretch]] start_m`: [0, 2000] m of distance travelled.
-    pub const STRETCH_START: Bound = Bound::closed("surface.stretch.start_m", 0.0, 2000.0, "m");
+    /// The friction regions' ranges (declared with the engine's regions).
+    pub use vehsim_core::vehicle::ground::region_bounds::*;
 }
 
 /// The regions of a sidecar's `[surface]`, each key within its bound; more than one region of a
@@ -428,7 +416,7 @@ fn regions(c: &Checker, side: &Path, s: &SurfaceSection) -> Result<Regions> {
         }
     }
     let scale = |kind: &str, v: f64| {
-        c.require(&format!("surface.{kind}.mu_scale"), v, b::REGION_MU_SCALE.contains(v), &b::REGION_MU_SCALE.allowed())
+        c.require(&format!("surface.{kind}.mu_scale"), v, b::MU_SCALE_REGION.contains(v), &b::MU_SCALE_REGION.allowed())
     };
     let within =
         |key: &str, bound: vehsim_core::error::Bound, v: f64| c.require(key, v, bound.contains(v), &bound.allowed());

@@ -91,7 +91,7 @@ use vehsim_core::path::RefPath;
 use vehsim_core::tyre::{TyreForces, TyreInput, TyreModel};
 use vehsim_core::vehicle::wheel::slide_speed;
 use vehsim_core::vehicle::Vehicle;
-use vehsim_core::vehicle::{lateral, single_track};
+use vehsim_core::vehicle::{ground, lateral, single_track};
 use vehsim_spec::contact::ContactSpec;
 
 /// Parameters of every candidate effect; the default is the baseline.
@@ -217,22 +217,13 @@ impl EffectParams {
     /// Friction factor of the ground patch at ground point (X, Y), m: 1 + (s - 1) w with w a disc
     /// of the patch radius with logistic edges of [`STRETCH_EDGE_M`].
     pub fn patch_factor(&self, x_m: f64, y_m: f64) -> f64 {
-        let [s, x0, y0, radius] = self.patch;
-        if radius <= 0.0 {
-            return 1.0;
-        }
-        let r = (x_m - x0).hypot(y_m - y0);
-        1.0 + (s - 1.0) / (1.0 + ((r - radius) / STRETCH_EDGE_M).exp())
+        ground::patch_factor(self.patch, x_m, y_m)
     }
 
     /// Friction factor of the ground band at ground abscissa X, m: 1 + (s - 1) w with w a window
     /// of 1 over [X0, X0 + L] with logistic edges of [`STRETCH_EDGE_M`] (any Y).
     pub fn band_factor(&self, x_m: f64) -> f64 {
-        let [s, x0, len] = self.band;
-        if len <= 0.0 {
-            return 1.0;
-        }
-        1.0 + (s - 1.0) * window(x_m - x0, x0 + len - x_m)
+        ground::band_factor(self.band, x_m)
     }
 
     /// True when a friction change placed on the ground (patch or band) is on.
@@ -256,7 +247,7 @@ impl EffectParams {
         if self.stretch_length_m <= 0.0 {
             return self.mu_scale;
         }
-        let w = window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
+        let w = ground::window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
         self.mu_scale * (1.0 + (self.stretch_scale - 1.0) * w)
     }
 
@@ -279,13 +270,6 @@ impl EffectParams {
     }
 }
 
-/// A window of 1 where both distances inside its two edges (m) are positive, 0 outside, with
-/// logistic edges of width [`STRETCH_EDGE_M`].
-fn window(from_start_m: f64, to_end_m: f64) -> f64 {
-    let edge = |z: f64| 1.0 / (1.0 + (-z / STRETCH_EDGE_M).exp());
-    edge(from_start_m) * edge(to_end_m)
-}
-
 /// Largest tread-temperature rise above an ice at `ice_c` (degC), K: the contact cannot exceed
 /// melting (frictional heat beyond it melts ice instead of warming the contact).
 pub fn melt_cap_k(ice_c: f64) -> f64 {
@@ -293,7 +277,7 @@ pub fn melt_cap_k(ice_c: f64) -> f64 {
 }
 
 /// Width of the logistic edges of a friction stretch, m.
-pub const STRETCH_EDGE_M: f64 = 1.0;
+pub const STRETCH_EDGE_M: f64 = ground::EDGE_M;
 
 /// Simulated channels at the measured sample times.
 #[derive(Debug, Clone, Default)]
@@ -470,9 +454,8 @@ impl ReplayModel {
             if p.on_ground() {
                 // Each axle at its own ground position: the logged pose, else the replay's own.
                 let [px, py, psi] = d.pose.unwrap_or([x[ix::X], x[ix::Y], x[ix::PSI]]);
-                let (s, c) = psi.sin_cos();
                 for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
-                    let (xa, ya) = (px + l * c, py + l * s);
+                    let (xa, ya) = ground::axle_position(px, py, psi, l);
                     local.mu_axle[i] = p.patch_factor(xa, ya) * p.band_factor(xa);
                 }
             }

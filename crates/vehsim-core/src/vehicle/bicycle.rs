@@ -31,6 +31,8 @@
 //! - friction: mu_e = mu s_mu max(1 + k_T (T_contact - T_surface), 0.1) s_i, where T_contact comes
 //!   from the contact-temperature estimator (isothermal unless the manoeuvre sets
 //!   `[contact] model = "atiim"`) and s_i is axle i's friction factor;
+//! - friction regions of the manoeuvre's ground (`[[surface.patch]]`, `[[surface.band]]`): axle
+//!   i's friction times the regions' factor at its own ground position ([`super::ground`]);
 //! - per-axle cornering stiffness: axle i's tyres see c_i alpha (slope at 0 scaled by c_i, peak
 //!   unchanged);
 //! - load sensitivities (with load transfer): each tyre's friction and slip angle scaled by
@@ -359,6 +361,12 @@ impl Bicycle {
         }
         // The per-axle friction and cornering-stiffness factors (1 by default: exact).
         mu *= lat.mu_axle_scale[i];
+        if !env.regions.is_empty() {
+            // Friction regions on the ground, at this axle's own position.
+            let l = [self.vehicle.a_m, -self.vehicle.b_m][i];
+            let (xa, ya) = super::ground::axle_position(x[ix::X], x[ix::Y], x[ix::YAW], l);
+            mu *= env.regions.factor(xa, ya);
+        }
         TyreInput {
             fz_n: self.fz_tyre[i],
             kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],

@@ -7,6 +7,7 @@
 
 pub mod bicycle;
 pub mod condition;
+pub mod ground;
 pub mod lateral;
 pub mod params;
 pub mod powertrain;
@@ -84,6 +85,8 @@ pub struct Environment {
     pub mu: f64,
     /// Bulk surface (ice) temperature, degC.
     pub surface_temp_c: f64,
+    /// Friction regions on the ground (none by default; the bicycle model applies them per axle).
+    pub regions: ground::GroundRegions,
 }
 
 /// Rigid-body kinematics of the vehicle in the ground frame (ISO 8855).
