@@ -1,7 +1,9 @@
 //! Outputs of `vehsim discover`: `report.json`, `report.md`, `effects.toml` (the accepted effects
-//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the effects the engine
-//! supports in its `[lateral]` section, runnable with `vehsim run`), and per-run plots (yaw rate and ay: measured, baseline and
-//! improved, disagreement windows of the baseline shaded). Written atomically into the output folder.
+//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the vehicle effects in its
+//! `[lateral]` section and the instrument effects in its `[sensors]` section, runnable with
+//! `vehsim run`), `surface.toml` (a named friction region, for the runs' sidecars) and per-run
+//! plots (yaw rate and ay: measured, baseline and improved, disagreement windows of the baseline
+//! shaded). Written atomically into the output folder.
 
 use std::fmt::Write as _;
 use std::path::Path;
