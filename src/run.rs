@@ -13,7 +13,7 @@ use vehsim_spec::run::RunOutput;
 use vehsim_spec::RunConfig;
 
 pub use crate::output::write_dir_atomic;
-pub use vehsim_spec::run::timeseries_csv;
+pub use vehsim_spec::run::{timeseries_csv, timeseries_csv_with};
 
 /// `summary.json`: the run's identity plus the engine's figures.
 #[derive(Debug, Serialize)]
@@ -47,7 +47,10 @@ struct SummaryFile<'a> {
 /// summary.json and, for manoeuvres with a course, layout.json. `params` are the swept values.
 pub fn write_run_files(dir: &Path, cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -> Result<()> {
     if cfg.output.timeseries {
-        write_atomic(&dir.join("timeseries.csv"), timeseries_csv(&out.rows).as_bytes())?;
+        write_atomic(
+            &dir.join("timeseries.csv"),
+            timeseries_csv_with(&out.rows, cfg.vehicle.sensors.as_ref()).as_bytes(),
+        )?;
     }
     let sf = SummaryFile {
         name: &cfg.name,

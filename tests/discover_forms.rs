@@ -33,6 +33,7 @@ fn steady_run(steer: f64, vx: f64, ice_c: f64, secs: f64) -> MeasuredRun {
         ice_temp_c: ice_c,
         on_ice: true,
         initial_vx: vx,
+        regions: Default::default(),
         notices: Vec::new(),
     }
 }

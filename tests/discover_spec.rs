@@ -117,7 +117,8 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
     }
 
     let none = Lateral::default();
-    let effects: [(&str, Lateral); 9] = [
+    let slip = Lateral { slip_relaxation_m: [0.8, 1.4], ..none };
+    let effects: [(&str, Lateral); 17] = [
         ("none", none),
         ("steer compliance", Lateral { steer_compliance_rad_per_kn: 0.004, ..none }),
         ("steering lag", Lateral { steer_lag_s: 0.12, ..none }),
@@ -129,6 +130,15 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
         ("load transfer", Lateral { load_transfer_height_m: 0.6, ..none }),
         ("friction scale", Lateral { mu_scale: 0.7, ..none }),
         ("thermal friction", Lateral { thermal_mu_per_k: -0.05, ..none }),
+        ("per-axle stiffness", Lateral { stiffness_scale: [0.8, 1.3], ..none }),
+        ("per-axle friction", Lateral { mu_axle_scale: [0.9, 0.7], ..none }),
+        ("load sensitivities", Lateral { load_transfer_height_m: 0.6, load_sensitivity: [0.3, 0.2], ..none }),
+        ("transient slip", slip),
+        ("transient slip, saturating", Lateral { slip_relaxation_saturating: true, ..slip }),
+        (
+            "transient slip, compliance and load transfer",
+            Lateral { steer_compliance_rad_per_kn: 0.004, load_transfer_height_m: 0.5, ..slip },
+        ),
         (
             "all",
             Lateral {
@@ -138,7 +148,31 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                 relaxation_length_y_m: 0.7,
                 load_transfer_height_m: 0.5,
                 thermal_mu_per_k: -0.03,
+                stiffness_scale: [1.2, 0.9],
+                mu_axle_scale: [0.95, 1.1],
+                load_sensitivity: [0.2, -0.1],
+                ..none
             },
+        ),
+        (
+            "all with saturating transient slip",
+            Lateral {
+                steer_compliance_rad_per_kn: 0.006,
+                mu_scale: 0.8,
+                steer_lag_s: 0.08,
+                load_transfer_height_m: 0.5,
+                thermal_mu_per_k: -0.03,
+                stiffness_scale: [1.2, 0.9],
+                mu_axle_scale: [0.95, 1.1],
+                load_sensitivity: [0.2, -0.1],
+                slip_relaxation_m: [0.6, 1.1],
+                slip_relaxation_saturating: true,
+                ..none
+            },
+        ),
+        (
+            "stiffness and friction with load transfer",
+            Lateral { stiffness_scale: [0.7, 1.0], mu_axle_scale: [1.0, 0.8], load_transfer_height_m: 0.6, ..none },
         ),
     ];
     // (vx, vy, r, Fy_f, Fy_r, lagged steer, steer): a mild state, a skid, a reversed turn and a
@@ -155,20 +189,18 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
         for (name, lat) in &effects {
             let mut v = vehicle.clone();
             v.lateral = *lat;
-            let p = EffectParams {
-                sigma_y_m: lat.relaxation_length_y_m,
-                steer_compliance_rad_per_kn: lat.steer_compliance_rad_per_kn,
-                steer_lag_s: lat.steer_lag_s,
-                mu_scale: lat.mu_scale,
-                thermal_mu_per_k: lat.thermal_mu_per_k,
-                load_transfer_height_m: lat.load_transfer_height_m,
-                ..EffectParams::default()
-            };
+            let p = EffectParams::of_vehicle(&v);
             let bicycle = Bicycle::new(v.clone());
             let replay = ReplayModel::new(v);
             for mu in [0.15, 1.0] {
-                let env = Environment { mu, surface_temp_c: ice_c };
+                let env = Environment {
+                    mu,
+                    surface_temp_c: ice_c,
+                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                };
                 for [vx, vy, r, fyf, fyr, delta_l, steer] in states {
+                    // Under transient slip the relaxed-force slots hold lagged slip angles, rad.
+                    let (fyf, fyr) = if lat.transient_slip() { (fyf * 1e-5, fyr * 1e-5) } else { (fyf, fyr) };
                     let mut x = bicycle.initial_state(0.0, 0.0, 0.3, vx);
                     (x[ix::VY], x[ix::R], x[ix::FY_F], x[ix::FY_R], x[ix::DELTA_L]) = (vy, r, fyf, fyr, delta_l);
                     assert_eq!((x[ix::KAPPA_F], x[ix::KAPPA_R]), (0.0, 0.0));

@@ -12,18 +12,22 @@ fn readme() -> String {
     std::fs::read_to_string(common::root().join("README.md")).unwrap().replace('\u{2212}', "-")
 }
 
-/// Each `[lateral]` bullet of README gives the declared unit and range: `(unit, lo–hi, ...`.
+/// Each `[lateral]` and `[sensors]` key of README gives the declared unit and range: `(unit, lo–hi, ...`.
 #[test]
 fn readme_lateral_keys_give_the_declared_ranges() {
     let text = readme();
-    for b in lateral_bounds::ALL {
-        let name = b.key.strip_prefix("lateral.").unwrap();
-        let start = text.find(&format!("- `{name}`:")).unwrap_or_else(|| panic!("README has no bullet for {name}"));
-        let end = text[start + 2..].find("\n- ").map_or(text.len(), |e| start + 2 + e);
-        let bullet = text[start..end].split_whitespace().collect::<Vec<_>>().join(" ");
+    for b in lateral_bounds::ALL.iter().chain(&vehsim_core::vehicle::sensor_bounds::ALL) {
+        let name = b.key.split_once('.').unwrap().1;
+        // The key's first mention in the [lateral] and [sensors] sections, up to the end of its
+        // bullet; the first parenthesis after it gives the unit and range.
+        let from = text.find("Optional `[lateral]` section").unwrap();
+        let at = from + text[from..].find(&format!("`{name}`")).unwrap_or_else(|| panic!("README has no {name}"));
+        let end = text[at..].find("\n- ").map_or(text.len(), |e| at + e);
+        let after = &text[at..end];
+        let bullet = after[after.find('(').unwrap_or(0)..].split_whitespace().collect::<Vec<_>>().join(" ");
         let range = format!("{}\u{2013}{}", b.lo, b.hi);
         let want = if b.unit.is_empty() { format!("({range}") } else { format!("({}, {range}", b.unit) };
-        assert!(bullet.contains(&want), "README's {name} should say {want}: {bullet}");
+        assert!(bullet.starts_with(&want), "README's {name} should say {want}: {bullet}");
     }
 }
 

@@ -3,9 +3,11 @@
 //! ([`super::model::ReplayModel`]). Every candidate is a model extension that the replay model
 //! integrates, not a curve fitted to the residual.
 
+use super::measured::sidecar_bounds as rb;
 use super::model::EffectParams;
 use vehsim_core::error::Bound;
 use vehsim_core::vehicle::lateral_bounds as lb;
+use vehsim_core::vehicle::sensor_bounds as sb;
 
 /// One parameter of an effect.
 #[derive(Debug, Clone, Copy)]
@@ -52,11 +54,27 @@ const fn pdl(b: Bound, lo: Option<f64>, start: f64, scale: f64, null: Option<f64
     pd(name, unit_of(b), start, scale, lo, b.hi, null)
 }
 
-/// A parameter of its own name with the unit and range of a `[lateral]` key's bound (a factor of
-/// the same kind, such as a per-axle friction scale beside `lateral.mu_scale`).
-const fn pdr(name: &'static str, b: Bound, start: f64, scale: f64, null: Option<f64>) -> ParamDef {
-    pd(name, unit_of(b), start, scale, b.lo, b.hi, null)
+/// A parameter that is a `[sensors]` key of the vehicle: its name (the key without `sensors.`),
+/// unit and range from the key's declared bound; its no-effect value is 0.
+const fn pds(b: Bound, start: f64, scale: f64) -> ParamDef {
+    let name = b.key.split_at(SENSORS.len()).1;
+    pd(name, unit_of(b), start, scale, b.lo, b.hi, Some(0.0))
 }
+
+/// A parameter that places a friction region on the ground (no no-effect value), with the unit and
+/// range of the sidecar key's declared bound ([`super::measured::sidecar_bounds`]).
+const fn pdb(name: &'static str, b: Bound, start: f64, scale: f64) -> ParamDef {
+    pd(name, unit_of(b), start, scale, b.lo, b.hi, None)
+}
+
+/// The key of a friction region's parameter in a sidecar's `[[surface.<form>]]` table: the
+/// parameter's name without its form's prefix (`patch_x_m` is `x_m` of `[[surface.patch]]`).
+pub fn region_key<'a>(form: &str, param: &'a str) -> &'a str {
+    param.strip_prefix(form).and_then(|r| r.strip_prefix('_')).unwrap_or(param)
+}
+
+/// The section prefix of the `[sensors]` keys.
+pub const SENSORS: &str = "sensors.";
 
 /// The section prefix of the `[lateral]` keys.
 const LATERAL: &str = "lateral.";
@@ -82,16 +100,16 @@ pub fn label(name: &str, form: &str) -> String {
 /// Where an effect's fitted value belongs in a vehicle spec file ([`Effect::in_vehicle_spec`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InVehicleSpec {
-    /// A `[lateral]` key: the effect's one parameter, named as the key (its bound is the key's).
+    /// `[lateral]` keys: each of the effect's parameters, named as its key (its bound is the
+    /// key's); the saturating transient slip also sets `slip_relaxation_saturating = true`.
     Lateral,
     /// A factor on the vehicle's `yaw_inertia_kgm2`.
     YawInertiaScale,
     /// A property of the road (a friction change at some place), not of the vehicle.
     Road,
-    /// A property of the instruments (sensor offsets), not of the vehicle.
+    /// A property of the instruments (offsets, latencies, the accelerometer's position): the
+    /// vehicle spec's `[sensors]` section.
     Instruments,
-    /// A vehicle property the spec has no key for yet (it stays in effects.toml).
-    NoKeyYet,
 }
 
 /// A candidate effect. Some effects come in several forms, tried as separate candidates under
@@ -366,55 +384,36 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("stretch_start_m", "m", 20.0, 20.0, 0.0, 2000.0, None),
-                        pd("stretch_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                        pdb("stretch_start_m", rb::STRETCH_START, 20.0, 20.0),
+                        pdb("stretch_length_m", rb::REGION_LENGTH, 40.0, 20.0),
                     ]
                 }
             }
             Effect::SteerLag => const { &[pdl(lb::STEER_LAG, Some(0.005), 0.1, 0.1, ZERO)] },
             Effect::SteerCompliance => const { &[pdl(lb::STEER_COMPLIANCE, None, 0.002, 0.003, ZERO)] },
-            Effect::SensorBias => {
-                const {
-                    &[
-                        pd("bias_yaw_rate_radps", "rad/s", 0.0, 0.01, -0.5, 0.5, ZERO),
-                        pd("bias_ay_mps2", "m/s^2", 0.0, 0.1, -5.0, 5.0, ZERO),
-                    ]
-                }
-            }
+            Effect::SensorBias => const { &[pds(sb::BIAS_YAW_RATE, 0.0, 0.01), pds(sb::BIAS_AY, 0.0, 0.1)] },
             Effect::SensorLatency => {
-                const {
-                    &[
-                        pd("latency_yaw_rate_s", "s", 0.02, 0.03, 0.0, 0.5, ZERO),
-                        pd("latency_ay_s", "s", 0.02, 0.03, 0.0, 0.5, ZERO),
-                    ]
-                }
+                const { &[pds(sb::LATENCY_YAW_RATE, 0.02, 0.03), pds(sb::LATENCY_AY, 0.02, 0.03)] }
             }
-            Effect::AccelPosition => {
-                const { &[pd("accel_x_m", "m", 0.0, 0.5, -3.0, 3.0, ZERO), pd("accel_y_m", "m", 0.0, 0.3, -1.5, 1.5, ZERO)] }
-            }
+            Effect::AccelPosition => const { &[pds(sb::ACCEL_X, 0.0, 0.5), pds(sb::ACCEL_Y, 0.0, 0.3)] },
             Effect::AxleStiffness => {
                 const {
                     &[
-                        pd("stiffness_scale_front", "1", 1.0, 0.2, 0.2, 5.0, ONE),
-                        pd("stiffness_scale_rear", "1", 1.0, 0.2, 0.2, 5.0, ONE),
+                        pdl(lb::STIFFNESS_SCALE_FRONT, None, 1.0, 0.2, ONE),
+                        pdl(lb::STIFFNESS_SCALE_REAR, None, 1.0, 0.2, ONE),
                     ]
                 }
             }
             Effect::AxleFriction => {
-                const {
-                    &[
-                        pdr("mu_scale_front", lb::MU_SCALE, 1.0, 0.2, ONE),
-                        pdr("mu_scale_rear", lb::MU_SCALE, 1.0, 0.2, ONE),
-                    ]
-                }
+                const { &[pdl(lb::MU_SCALE_FRONT, None, 1.0, 0.2, ONE), pdl(lb::MU_SCALE_REAR, None, 1.0, 0.2, ONE)] }
             }
             Effect::YawInertia => const { &[pd("yaw_inertia_scale", "1", 1.0, 0.2, 0.3, 3.0, ONE)] },
             Effect::LoadTransferSensitive => {
                 const {
                     &[
                         pdl(lb::LOAD_TRANSFER_HEIGHT, None, 0.5, 0.3, ZERO),
-                        pd("load_sensitivity_mu", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
-                        pd("load_sensitivity_stiffness", "1", 0.0, 0.2, -1.0, 1.0, ZERO),
+                        pdl(lb::LOAD_SENSITIVITY_MU, None, 0.0, 0.2, ZERO),
+                        pdl(lb::LOAD_SENSITIVITY_STIFFNESS, None, 0.0, 0.2, ZERO),
                     ]
                 }
             }
@@ -422,17 +421,17 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("patch_x_m", "m", 50.0, 20.0, -5000.0, 5000.0, None),
-                        pd("patch_y_m", "m", 0.0, 20.0, -5000.0, 5000.0, None),
-                        pd("patch_radius_m", "m", 20.0, 10.0, 1.0, 1000.0, None),
+                        pdb("patch_x_m", rb::PATCH_XY, 50.0, 20.0),
+                        pdb("patch_y_m", rb::PATCH_XY, 0.0, 20.0),
+                        pdb("patch_radius_m", rb::PATCH_RADIUS, 20.0, 10.0),
                     ]
                 }
             }
             Effect::TransientSlip | Effect::TransientSlipSaturating => {
                 const {
                     &[
-                        pdr("relaxation_length_front_m", RELAX_FIT, 0.5, 0.5, ZERO),
-                        pdr("relaxation_length_rear_m", RELAX_FIT, 0.5, 0.5, ZERO),
+                        pdl(lb::RELAXATION_FRONT, Some(0.05), 0.5, 0.5, ZERO),
+                        pdl(lb::RELAXATION_REAR, Some(0.05), 0.5, 0.5, ZERO),
                     ]
                 }
             }
@@ -440,17 +439,17 @@ impl Effect {
                 const {
                     &[
                         pdl(lb::MU_SCALE, None, 0.7, 0.2, ONE),
-                        pd("band_start_x_m", "m", 20.0, 20.0, -5000.0, 5000.0, None),
-                        pd("band_length_m", "m", 40.0, 20.0, 2.0, 2000.0, None),
+                        pdb("band_start_x_m", rb::BAND_START, 20.0, 20.0),
+                        pdb("band_length_m", rb::REGION_LENGTH, 40.0, 20.0),
                     ]
                 }
             }
             Effect::ThermalState => {
                 const {
                     &[
-                        pd("tread_mu_per_kj", "1/kJ", -0.5, 0.5, -20.0, 0.0, ZERO),
-                        pd("tread_heat_capacity_j_per_k", "J/K", 300.0, 150.0, 10.0, 1e5, None),
-                        pd("tread_cooling_time_s", "s", 3.0, 2.0, 0.1, 100.0, None),
+                        pdl(lb::TREAD_MU_PER_KJ, None, -0.5, 0.5, ZERO),
+                        pdl(lb::TREAD_HEAT_CAPACITY, None, 300.0, 150.0, None),
+                        pdl(lb::TREAD_COOLING_TIME, None, 3.0, 2.0, None),
                     ]
                 }
             }
@@ -466,16 +465,16 @@ impl Effect {
             | Effect::ThermalFriction
             | Effect::FrictionChange
             | Effect::SteerCompliance
-            | Effect::SteerLag => InVehicleSpec::Lateral,
-            Effect::YawInertia => InVehicleSpec::YawInertiaScale,
-            Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
-            Effect::SensorBias | Effect::SensorLatency | Effect::AccelPosition => InVehicleSpec::Instruments,
-            Effect::AxleStiffness
+            | Effect::SteerLag
+            | Effect::AxleStiffness
             | Effect::AxleFriction
             | Effect::TransientSlip
             | Effect::TransientSlipSaturating
             | Effect::LoadTransferSensitive
-            | Effect::ThermalState => InVehicleSpec::NoKeyYet,
+            | Effect::ThermalState => InVehicleSpec::Lateral,
+            Effect::YawInertia => InVehicleSpec::YawInertiaScale,
+            Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
+            Effect::SensorBias | Effect::SensorLatency | Effect::AccelPosition => InVehicleSpec::Instruments,
         }
     }
 
@@ -487,7 +486,7 @@ impl Effect {
             Effect::ThermalFriction => p.thermal_mu_per_k = v[0],
             Effect::FrictionChange => p.mu_scale = v[0],
             Effect::FrictionStretch => {
-                p.mu_scale = v[0];
+                p.stretch_scale = v[0];
                 p.stretch_start_m = v[1];
                 p.stretch_length_m = v[2];
             }
@@ -522,17 +521,13 @@ impl Effect {
     }
 }
 
-/// The range of a per-axle relaxation length: that of `lateral.relaxation_length_y_m`, its lower
-/// end raised off 0 (which switches the lag off).
-const RELAX_FIT: Bound = Bound::closed("relaxation_length", 0.05, lb::RELAXATION_LENGTH.hi, "m");
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     /// The improved vehicle.toml writes a `[lateral]` effect's parameters under their own names:
-    /// each such effect has one parameter, named as a declared `[lateral]` key; the yaw inertia
-    /// has one, its scale factor. Every `[lateral]` key is written by some effect.
+    /// each is a declared `[lateral]` key; the yaw inertia has one parameter, its scale factor.
+    /// Every `[lateral]` key is written by some effect.
     #[test]
     fn vehicle_spec_placement_matches_the_lateral_keys() {
         let keys: Vec<&str> = lb::ALL.iter().map(|b| &b.key[LATERAL.len()..]).collect();
@@ -540,9 +535,10 @@ mod tests {
         for e in Effect::ALL {
             match e.in_vehicle_spec() {
                 InVehicleSpec::Lateral => {
-                    assert_eq!(e.params().len(), 1, "{}", e.label());
-                    assert!(keys.contains(&e.params()[0].name), "{}: {}", e.label(), e.params()[0].name);
-                    written.push(e.params()[0].name);
+                    for d in e.params() {
+                        assert!(keys.contains(&d.name), "{}: {}", e.label(), d.name);
+                        written.push(d.name);
+                    }
                 }
                 InVehicleSpec::YawInertiaScale => assert_eq!(e.params().len(), 1, "{}", e.label()),
                 _ => {}
@@ -550,6 +546,22 @@ mod tests {
         }
         for k in keys {
             assert!(written.contains(&k), "no effect writes lateral.{k}");
+        }
+    }
+
+    /// The instrument effects' parameters are the `[sensors]` keys, with their declared ranges,
+    /// and every key is written by one.
+    #[test]
+    fn sensor_parameters_are_the_declared_sensor_keys() {
+        let defs: Vec<&ParamDef> = Effect::ALL
+            .iter()
+            .filter(|e| e.in_vehicle_spec() == InVehicleSpec::Instruments)
+            .flat_map(|e| e.params().iter())
+            .collect();
+        assert_eq!(defs.len(), sb::ALL.len());
+        for b in sb::ALL {
+            let d = defs.iter().find(|d| format!("{SENSORS}{}", d.name) == b.key).expect(b.key);
+            assert_eq!((d.lo, d.hi, d.unit), (b.lo, b.hi, unit_of(b)), "{}", b.key);
         }
     }
 

@@ -71,8 +71,23 @@ pub struct MeasuredRun {
     pub on_ice: bool,
     /// Initial forward speed, m/s.
     pub initial_vx: f64,
+    /// Friction regions on the run's ground, from its sidecar (none by default).
+    pub regions: Regions,
     /// Notices for the user (ignored columns, defaults taken).
     pub notices: Vec<String>,
+}
+
+/// Friction regions on a run's ground (sidecar `[[surface.patch]]`, `[[surface.band]]`,
+/// `[[surface.stretch]]`, at most one of each), with the equations of the discovery's friction
+/// forms (docs/discover.md): each a friction factor 1 + (s - 1) w with 1 m logistic edges.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Regions {
+    /// A disc: [scale s, centre X (m), centre Y (m), radius (m)] in the run's ground frame.
+    pub patch: Option<[f64; 4]>,
+    /// A band across X: [scale s, start X (m), length along X (m)].
+    pub band: Option<[f64; 3]>,
+    /// A stretch of the path: [scale s, start (m of distance travelled), length (m)].
+    pub stretch: Option<[f64; 3]>,
 }
 
 impl MeasuredRun {
@@ -101,6 +116,40 @@ struct Sidecar {
 struct SurfaceSection {
     mu: Option<f64>,
     ice_temp_c: Option<f64>,
+    #[serde(default)]
+    patch: Vec<PatchRegion>,
+    #[serde(default)]
+    band: Vec<BandRegion>,
+    #[serde(default)]
+    stretch: Vec<StretchRegion>,
+}
+
+/// `[[surface.patch]]`: a disc of friction scale `mu_scale` on the ground.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatchRegion {
+    mu_scale: f64,
+    x_m: f64,
+    y_m: f64,
+    radius_m: f64,
+}
+
+/// `[[surface.band]]`: a band of friction scale `mu_scale` across X.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BandRegion {
+    mu_scale: f64,
+    start_x_m: f64,
+    length_m: f64,
+}
+
+/// `[[surface.stretch]]`: friction scale `mu_scale` over a stretch of the distance travelled.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StretchRegion {
+    mu_scale: f64,
+    start_m: f64,
+    length_m: f64,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -151,6 +200,7 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             .map(|o| (o.to_string(), get(o)))
             .collect(),
         initial_vx: vx[0],
+        regions: Default::default(),
         t,
         steer,
         vx,
@@ -352,6 +402,48 @@ pub mod sidecar_bounds {
     pub const MU: Bound = m::MU;
     pub const ICE_TEMP_C: Bound = Bound::closed("surface.ice_temp_c", m::TEMPERATURE_C.lo, MELT_C, "degC");
     pub const INITIAL_VX: Bound = Bound::closed("initial.vx", -m::SPEED_MPS.hi, m::SPEED_MPS.hi, "m/s");
+    /// The friction regions' ranges (declared with the engine's regions).
+    pub use vehsim_core::vehicle::ground::region_bounds::*;
+}
+
+/// The regions of a sidecar's `[surface]`, each key within its bound; more than one region of a
+/// kind is refused.
+fn regions(c: &Checker, side: &Path, s: &SurfaceSection) -> Result<Regions> {
+    use sidecar_bounds as b;
+    for (kind, n) in [("patch", s.patch.len()), ("band", s.band.len()), ("stretch", s.stretch.len())] {
+        if n > 1 {
+            return Err(Error::key(side, &format!("surface.{kind}"), format!("{n} regions; at most one of each kind")));
+        }
+    }
+    let scale = |kind: &str, v: f64| {
+        c.require(&format!("surface.{kind}.mu_scale"), v, b::MU_SCALE_REGION.contains(v), &b::MU_SCALE_REGION.allowed())
+    };
+    let within =
+        |key: &str, bound: vehsim_core::error::Bound, v: f64| c.require(key, v, bound.contains(v), &bound.allowed());
+    let mut g = Regions::default();
+    if let Some(p) = s.patch.first() {
+        g.patch = Some([
+            scale("patch", p.mu_scale)?,
+            within("surface.patch.x_m", b::PATCH_XY, p.x_m)?,
+            within("surface.patch.y_m", b::PATCH_XY, p.y_m)?,
+            c.bound(&b::PATCH_RADIUS, p.radius_m)?,
+        ]);
+    }
+    if let Some(p) = s.band.first() {
+        g.band = Some([
+            scale("band", p.mu_scale)?,
+            c.bound(&b::BAND_START, p.start_x_m)?,
+            within("surface.band.length_m", b::REGION_LENGTH, p.length_m)?,
+        ]);
+    }
+    if let Some(p) = s.stretch.first() {
+        g.stretch = Some([
+            scale("stretch", p.mu_scale)?,
+            c.bound(&b::STRETCH_START, p.start_m)?,
+            within("surface.stretch.length_m", b::REGION_LENGTH, p.length_m)?,
+        ]);
+    }
+    Ok(g)
 }
 
 /// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
@@ -371,6 +463,7 @@ pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<(
     if let Some(v) = s.initial.vx {
         run.initial_vx = c.bound(&sidecar_bounds::INITIAL_VX, v)?;
     }
+    run.regions = regions(&c, side, &s.surface)?;
     Ok(())
 }
 

@@ -84,10 +84,13 @@ pub fn model_kind(name: &str) -> Result<VehicleModelKind> {
 /// The baseline parameters and the candidates for a baseline vehicle model.
 pub fn baseline_for(model: VehicleModelKind, vehicle: &Vehicle) -> (model::EffectParams, Vec<Effect>) {
     match model {
-        VehicleModelKind::Bicycle => (model::EffectParams::default(), Effect::TRIED.to_vec()),
+        VehicleModelKind::Bicycle => (model::EffectParams::of_vehicle(vehicle), Effect::TRIED.to_vec()),
         // The 4-DOF baseline: quasi-static lateral load transfer at the vehicle's CG height.
         VehicleModelKind::Roll4Dof => {
-            let p = model::EffectParams { load_transfer_height_m: vehicle.cg_height_m, ..Default::default() };
+            let p = model::EffectParams {
+                load_transfer_height_m: vehicle.cg_height_m,
+                ..model::EffectParams::of_vehicle(vehicle)
+            };
             (p, Effect::TRIED.iter().copied().filter(|e| e.name() != Effect::LoadTransfer.name()).collect())
         }
     }

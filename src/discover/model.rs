@@ -91,7 +91,7 @@ use vehsim_core::path::RefPath;
 use vehsim_core::tyre::{TyreForces, TyreInput, TyreModel};
 use vehsim_core::vehicle::wheel::slide_speed;
 use vehsim_core::vehicle::Vehicle;
-use vehsim_core::vehicle::{lateral, single_track};
+use vehsim_core::vehicle::{ground, lateral, single_track};
 use vehsim_spec::contact::ContactSpec;
 
 /// Parameters of every candidate effect; the default is the baseline.
@@ -103,9 +103,10 @@ pub struct EffectParams {
     pub steer_compliance_rad_per_kn: f64,
     /// Steering lag time constant, s (0 = off; typical 0.03-0.3).
     pub steer_lag_s: f64,
-    /// Friction scale on the nominal surface mu (1 = off; typical 0.3-1.5); over the whole run, or
-    /// over the stretch below when `stretch_length_m` > 0.
+    /// Friction scale on the nominal surface mu over the whole run (1 = off; typical 0.3-1.5).
     pub mu_scale: f64,
+    /// Friction scale over the stretch below (1 = off), on top of `mu_scale`.
+    pub stretch_scale: f64,
     /// Start of the friction stretch, m of distance travelled from the first sample.
     pub stretch_start_m: f64,
     /// Length of the friction stretch, m (0 = the scale applies to the whole run).
@@ -159,6 +160,7 @@ impl Default for EffectParams {
             steer_compliance_rad_per_kn: 0.0,
             steer_lag_s: 0.0,
             mu_scale: 1.0,
+            stretch_scale: 1.0,
             stretch_start_m: 0.0,
             stretch_length_m: 0.0,
             thermal_mu_per_k: 0.0,
@@ -183,25 +185,45 @@ impl Default for EffectParams {
 }
 
 impl EffectParams {
+    /// The effects a vehicle spec switches on: its `[lateral]` keys and its `[sensors]` section
+    /// (the baseline of a discovery that starts from an improved vehicle.toml, which thus
+    /// replays exactly as the discovery's final model did).
+    pub fn of_vehicle(v: &Vehicle) -> Self {
+        let l = &v.lateral;
+        let s = v.sensors.unwrap_or_default();
+        Self {
+            sigma_y_m: l.relaxation_length_y_m,
+            steer_compliance_rad_per_kn: l.steer_compliance_rad_per_kn,
+            steer_lag_s: l.steer_lag_s,
+            mu_scale: l.mu_scale,
+            thermal_mu_per_k: l.thermal_mu_per_k,
+            load_transfer_height_m: l.load_transfer_height_m,
+            bias_yaw_rate_radps: s.bias[0],
+            bias_ay_mps2: s.bias[1],
+            latency_s: s.latency_s,
+            accel_position_m: s.accel_position_m,
+            stiffness_scale: l.stiffness_scale,
+            mu_axle_scale: l.mu_axle_scale,
+            slip_relaxation_m: l.slip_relaxation_m,
+            slip_relaxation_saturating: l.slip_relaxation_saturating,
+            load_sensitivity: l.load_sensitivity,
+            tread_mu_per_k: l.tread_mu_per_k(),
+            tread_heat_capacity_j_per_k: l.tread_heat_capacity_j_per_k,
+            tread_cooling_s: l.tread_cooling_time_s,
+            ..Self::default()
+        }
+    }
+
     /// Friction factor of the ground patch at ground point (X, Y), m: 1 + (s - 1) w with w a disc
     /// of the patch radius with logistic edges of [`STRETCH_EDGE_M`].
     pub fn patch_factor(&self, x_m: f64, y_m: f64) -> f64 {
-        let [s, x0, y0, radius] = self.patch;
-        if radius <= 0.0 {
-            return 1.0;
-        }
-        let r = (x_m - x0).hypot(y_m - y0);
-        1.0 + (s - 1.0) / (1.0 + ((r - radius) / STRETCH_EDGE_M).exp())
+        ground::patch_factor(self.patch, x_m, y_m)
     }
 
     /// Friction factor of the ground band at ground abscissa X, m: 1 + (s - 1) w with w a window
     /// of 1 over [X0, X0 + L] with logistic edges of [`STRETCH_EDGE_M`] (any Y).
     pub fn band_factor(&self, x_m: f64) -> f64 {
-        let [s, x0, len] = self.band;
-        if len <= 0.0 {
-            return 1.0;
-        }
-        1.0 + (s - 1.0) * window(x_m - x0, x0 + len - x_m)
+        ground::band_factor(self.band, x_m)
     }
 
     /// True when a friction change placed on the ground (patch or band) is on.
@@ -219,21 +241,33 @@ impl EffectParams {
         self.slip_relaxation_m[0] > 0.0
     }
 
-    /// Friction scale at distance `d_m` travelled (the friction_change effect).
+    /// Friction scale at distance `d_m` travelled (the friction_change effect): the global scale,
+    /// times 1 + (s - 1) w(d) over a stretch.
     pub fn mu_factor(&self, d_m: f64) -> f64 {
         if self.stretch_length_m <= 0.0 {
             return self.mu_scale;
         }
-        let w = window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
-        1.0 + (self.mu_scale - 1.0) * w
+        let w = ground::window(d_m - self.stretch_start_m, self.stretch_start_m + self.stretch_length_m - d_m);
+        self.mu_scale * (1.0 + (self.stretch_scale - 1.0) * w)
     }
-}
 
-/// A window of 1 where both distances inside its two edges (m) are positive, 0 outside, with
-/// logistic edges of width [`STRETCH_EDGE_M`].
-fn window(from_start_m: f64, to_end_m: f64) -> f64 {
-    let edge = |z: f64| 1.0 / (1.0 + (-z / STRETCH_EDGE_M).exp());
-    edge(from_start_m) * edge(to_end_m)
+    /// These parameters with the friction regions of a run's ground (its sidecar's
+    /// `[[surface.patch]]`, `[[surface.band]]`, `[[surface.stretch]]`: part of the baseline) set
+    /// where given, unless the same kind is already on here (a candidate being fitted replaces
+    /// the sidecar's region of its kind).
+    pub fn with_regions(&self, g: &super::measured::Regions) -> Self {
+        let mut p = *self;
+        if let (Some(v), false) = (g.patch, self.patch[3] > 0.0) {
+            p.patch = v;
+        }
+        if let (Some(v), false) = (g.band, self.band[2] > 0.0) {
+            p.band = v;
+        }
+        if let (Some([s, start, len]), false) = (g.stretch, self.stretch_length_m > 0.0) {
+            (p.stretch_scale, p.stretch_start_m, p.stretch_length_m) = (s, start, len);
+        }
+        p
+    }
 }
 
 /// Largest tread-temperature rise above an ice at `ice_c` (degC), K: the contact cannot exceed
@@ -243,7 +277,7 @@ pub fn melt_cap_k(ice_c: f64) -> f64 {
 }
 
 /// Width of the logistic edges of a friction stretch, m.
-pub const STRETCH_EDGE_M: f64 = 1.0;
+pub const STRETCH_EDGE_M: f64 = ground::EDGE_M;
 
 /// Simulated channels at the measured sample times.
 #[derive(Debug, Clone, Default)]
@@ -349,7 +383,7 @@ pub(super) struct Forces {
 
 /// Floor on the ratio of the local to the initial tyre slope in the saturating transient-slip
 /// form (the relaxation length never falls below this fraction of its nominal value).
-pub const SLIP_SLOPE_FLOOR: f64 = 0.25;
+pub const SLIP_SLOPE_FLOOR: f64 = lateral::SLIP_SLOPE_FLOOR;
 
 impl ReplayModel {
     pub fn new(vehicle: Vehicle) -> Self {
@@ -373,19 +407,19 @@ impl ReplayModel {
             contact_c = d.ice_c + d.tread_rise_k[axle];
         }
         let eval = |tyre: &dyn TyreModel, fz: f64| {
-            // Relative load change of this tyre and the fitted sensitivities (floored at 5 %).
-            let z = fz / half - 1.0;
-            let [k_mu, k_c] = p.load_sensitivity;
+            // The fitted load sensitivities at this tyre's relative load change (the engine's own
+            // factors, lateral::load_sensitive_input).
             let input = TyreInput {
                 fz_n: fz.max(0.0),
                 kappa: 0.0,
-                alpha_rad: alpha * p.stiffness_scale[axle] * (1.0 - k_c * z).max(0.05),
+                alpha_rad: alpha * p.stiffness_scale[axle],
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
-                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle] * (1.0 - k_mu * z).max(0.05),
+                mu_surface: d.mu * thermal * p.mu_axle_scale[axle] * d.mu_axle[axle],
                 surface_temp_c: d.ice_c,
                 contact_temp_c: contact_c,
             };
+            let input = lateral::load_sensitive_input(input, half, p.load_sensitivity);
             if input.fz_n <= 0.0 {
                 TyreForces::default()
             } else {
@@ -420,9 +454,8 @@ impl ReplayModel {
             if p.on_ground() {
                 // Each axle at its own ground position: the logged pose, else the replay's own.
                 let [px, py, psi] = d.pose.unwrap_or([x[ix::X], x[ix::Y], x[ix::PSI]]);
-                let (s, c) = psi.sin_cos();
                 for (i, l) in [v.a_m, -v.b_m].into_iter().enumerate() {
-                    let (xa, ya) = (px + l * c, py + l * s);
+                    let (xa, ya) = ground::axle_position(px, py, psi, l);
                     local.mu_axle[i] = p.patch_factor(xa, ya) * p.band_factor(xa);
                 }
             }
@@ -476,15 +509,10 @@ impl ReplayModel {
         if !p.slip_relaxation_saturating {
             return s0;
         }
-        const EPS: f64 = 2e-3;
+        const EPS: f64 = lateral::SLIP_SLOPE_STEP_RAD;
         let slope =
             |a: f64| self.axle_force(axle, a + EPS, dfz, d, p).fy_n - self.axle_force(axle, a - EPS, dfz, d, p).fy_n;
-        let ratio = (slope(alpha) / slope(0.0)).clamp(SLIP_SLOPE_FLOOR, 1.0);
-        if ratio.is_finite() {
-            s0 * ratio
-        } else {
-            s0
-        }
+        lateral::saturating_relaxation_length(s0, slope(alpha) / slope(0.0))
     }
 
     /// Axle forces acting on the body: the steady-state ones, with the lateral forces replaced by
@@ -565,7 +593,9 @@ impl ReplayModel {
     /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
     /// effects' scale), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
     /// equations the replay integrates, at one instant, lags included (their entries are 0 when
-    /// the effect that uses them is off). For checks against the engine's bicycle model.
+    /// the effect that uses them is off). Under transient slip the third and fourth entries are
+    /// the lagged slip angles alpha_f, alpha_r (rad) and their rates instead, as in the engine's
+    /// bicycle. For checks against the engine's bicycle model.
     pub fn lateral_derivatives(
         &self,
         p: &EffectParams,
@@ -588,8 +618,16 @@ impl ReplayModel {
         };
         let mut x = State::zeros();
         x.as_mut_slice()[..5].copy_from_slice(&lateral);
+        if p.transient_slip() {
+            // The engine's bicycle keeps the lagged slip angles in its relaxed-force slots.
+            (x[ix::ALPHA_F], x[ix::ALPHA_R]) = (lateral[2], lateral[3]);
+        }
         let dx = self.derivatives(&x, &d, p);
-        std::array::from_fn(|i| dx[i])
+        let mut out: [f64; 5] = std::array::from_fn(|i| dx[i]);
+        if p.transient_slip() {
+            (out[2], out[3]) = (dx[ix::ALPHA_F], dx[ix::ALPHA_R]);
+        }
+        out
     }
 
     /// All derivatives, lags included (the plain-RK4 reference).
@@ -669,7 +707,7 @@ impl ReplayModel {
     /// is integrated with the samples on step boundaries; any other on a uniform grid of steps
     /// across it, the simulated channels interpolated to its samples.
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
-        super::replay::replay(self, run, p, None).0
+        super::replay::replay(self, run, &p.with_regions(&run.regions), None).0
     }
 
     /// Drive a run closed loop on the engine ([`super::replay`]): `driver` follows `path` from
@@ -686,7 +724,7 @@ impl ReplayModel {
         path: &RefPath,
         driver: &mut Driver,
     ) -> (Vec<f64>, Simulated) {
-        let (sim, steer) = super::replay::replay(self, run, p, Some((path, driver)));
+        let (sim, steer) = super::replay::replay(self, run, &p.with_regions(&run.regions), Some((path, driver)));
         (steer, sim)
     }
 }

@@ -529,7 +529,11 @@ pub(super) fn replay(
         steer_max_rad: if closed_loop { v.steer_max_rad } else { f64::INFINITY },
         steer_rate_max_radps: v.steer_rate_max_radps,
     };
-    let env = Environment { mu: run.mu, surface_temp_c: run.ice_temp_c };
+    let env = Environment {
+        mu: run.mu,
+        surface_temp_c: run.ice_temp_c,
+        regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+    };
     let mut maneuver = ReplayDrive { ch: &ch, closed };
     let mut isothermal = Isothermal;
     let contact: &mut dyn ContactTemperature = match est.as_mut() {
@@ -612,7 +616,11 @@ mod tests {
         let dt = uniform_interval(&run.t).unwrap();
         let ch = Channels::new(run, Some(dt), p);
         let rm = RunModel { model, p, ch: &ch, tread: false, tread_cap: 0.0 };
-        let env = Environment { mu: run.mu, surface_temp_c: run.ice_temp_c };
+        let env = Environment {
+            mu: run.mu,
+            surface_temp_c: run.ice_temp_c,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+        };
         let u = |t: f64| Inputs {
             t_s: t,
             steer_rad: ch.steer(t),
@@ -649,7 +657,7 @@ mod tests {
             slip_relaxation_saturating: true,
             steer_compliance_rad_per_kn: 0.004,
             load_transfer_height_m: 0.5,
-            mu_scale: 0.8,
+            stretch_scale: 0.8,
             stretch_start_m: 60.0,
             stretch_length_m: 40.0,
             ..EffectParams::default()

@@ -1,14 +1,16 @@
 //! Outputs of `vehsim discover`: `report.json`, `report.md`, `effects.toml` (the accepted effects
-//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the effects the engine
-//! supports in its `[lateral]` section, runnable with `vehsim run`), and per-run plots (yaw rate and ay: measured, baseline and
-//! improved, disagreement windows of the baseline shaded). Written atomically into the output folder.
+//! with their fitted parameters), `vehicle.toml` (the vehicle spec with the vehicle effects in its
+//! `[lateral]` section and the instrument effects in its `[sensors]` section, runnable with
+//! `vehsim run`), `surface.toml` (a named friction region, for the runs' sidecars) and per-run
+//! plots (yaw rate and ay: measured, baseline and improved, disagreement windows of the baseline
+//! shaded). Written atomically into the output folder.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use serde_json::json;
 
-use super::effects::InVehicleSpec;
+use super::effects::{Effect, InVehicleSpec};
 use super::equivalence::Class;
 use super::model::{ReplayModel, Simulated};
 use super::select::{disagreement_windows, operating_regions, simulate_all, Dataset, Discovery, Rmse, Window};
@@ -80,9 +82,11 @@ pub fn effects_toml(opts: &DiscoverOptions, d: &Discovery) -> String {
 }
 
 /// The vehicle spec with the accepted vehicle effects in its `[lateral]` section (the engine's
-/// bicycle model runs every one of them), and the tyre path made absolute, so that `vehsim run`
-/// can use it from any folder. Effects that are not vehicle properties (a friction stretch of the
-/// road, sensor offsets) are listed in the header comment and kept in effects.toml.
+/// bicycle model runs them; the tread state only `vehsim discover`'s replay) and the instrument
+/// effects in its `[sensors]` section (`vehsim run` logs the measured channels through them),
+/// merged into the sections the baseline spec already has; the tyre path made absolute, so that
+/// `vehsim run` can use it from any folder. A friction change placed on the road is not the
+/// vehicle's: it goes to surface.toml ([`surface_toml`]), and the header says so.
 pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<String> {
     let path = &opts.vehicle;
     let text = vehsim_spec::files::read_input(path)?;
@@ -93,25 +97,37 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     };
     let tyre_abs = std::fs::canonicalize(&tyre).unwrap_or(tyre);
     table.insert("tyre".into(), toml::Value::String(tyre_abs.to_string_lossy().to_string()));
-    let mut lateral = toml::Table::new();
-    let (mut not_vehicle, mut no_key) = (Vec::new(), Vec::new());
+    let section = |t: &toml::Table, name: &str| t.get(name).and_then(|v| v.as_table()).cloned().unwrap_or_default();
+    let (mut lateral, mut sensors) = (section(&table, "lateral"), section(&table, "sensors"));
+    let mut road = Vec::new();
     let mut inertia = None;
     // The effects still named at the end (a dropped one has a step but no final effect).
     for st in &d.final_effects {
         let effect = st.effect;
-        match effect.in_vehicle_spec() {
-            InVehicleSpec::Lateral => {
-                for (key, value, _) in &st.params {
-                    lateral.insert(key.clone(), toml::Value::Float(*value));
-                }
+        let into = match effect.in_vehicle_spec() {
+            InVehicleSpec::Lateral => &mut lateral,
+            InVehicleSpec::Instruments => &mut sensors,
+            InVehicleSpec::YawInertiaScale => {
+                inertia = st.params.first().map(|p| p.1);
+                continue;
             }
-            InVehicleSpec::YawInertiaScale => inertia = st.params.first().map(|p| p.1),
-            InVehicleSpec::Road | InVehicleSpec::Instruments => not_vehicle.push(effect.label()),
-            InVehicleSpec::NoKeyYet => no_key.push(effect.label()),
+            InVehicleSpec::Road => {
+                road.push(effect.label());
+                continue;
+            }
+        };
+        for (key, value, _) in &st.params {
+            into.insert(key.clone(), toml::Value::Float(*value));
+        }
+        if matches!(effect, Effect::TransientSlip | Effect::TransientSlipSaturating) {
+            let saturating = effect == Effect::TransientSlipSaturating;
+            lateral.insert("slip_relaxation_saturating".into(), toml::Value::Boolean(saturating));
         }
     }
-    if !lateral.is_empty() {
-        table.insert("lateral".into(), toml::Value::Table(lateral));
+    for (name, t) in [("lateral", lateral), ("sensors", sensors)] {
+        if !t.is_empty() {
+            table.insert(name.into(), toml::Value::Table(t));
+        }
     }
     if let (Some(f), Some(iz)) = (inertia, table.get("yaw_inertia_kgm2").and_then(|v| v.as_float())) {
         table.insert("yaw_inertia_kgm2".into(), toml::Value::Float(iz * f));
@@ -123,23 +139,43 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
         d.verdict,
         d.named_text()
     );
-    if !not_vehicle.is_empty() {
+    if !road.is_empty() {
         s.push_str(&format!(
-            "# Not vehicle properties (the road's or the instruments'), so not in this spec (see effects.toml): {}.\n",
-            not_vehicle.join(", ")
-        ));
-    }
-    if !no_key.is_empty() {
-        s.push_str(&format!(
-            "# Vehicle properties this spec has no key for yet (see effects.toml): {}.\n",
-            no_key.join(", ")
+            "# Not vehicle properties (the road's), so in surface.toml, not in this spec: {}.\n",
+            road.join(", ")
         ));
     }
     if d.params.thermal_mu_per_k != 0.0 {
         s.push_str("# thermal_mu_per_k acts only in manoeuvres with [contact] model = \"atiim\".\n");
     }
+    if d.params.tread() {
+        s.push_str("# The tread state (tread_*) is replayed by vehsim discover; vehsim run refuses it.\n");
+    }
     s.push_str(&body);
     Ok(s)
+}
+
+/// The friction regions named on the road (the `friction_change` forms placed on the ground or
+/// along the path) as a sidecar `[surface]` fragment: `[[surface.patch]]`, `[[surface.band]]` or
+/// `[[surface.stretch]]`, keys as [`super::effects::region_key`] names them. Added to a run's
+/// sidecar (RUN.toml), it makes the region part of that run's baseline. None when no region was
+/// named.
+pub fn surface_toml(d: &Discovery) -> Option<String> {
+    let mut s = String::from(
+        "# Friction regions named by `vehsim discover`, each in a run's own ground frame (its logged pose, else\n\
+         # the origin heading +X at its first sample; a stretch in distance travelled from it). Add these tables\n\
+         # to a run's sidecar RUN.toml to replay them as part of its baseline.\n",
+    );
+    let mut any = false;
+    for fe in d.final_effects.iter().filter(|fe| fe.effect.in_vehicle_spec() == InVehicleSpec::Road) {
+        let form = fe.effect.form();
+        let _ = writeln!(s, "\n[[surface.{form}]]");
+        for (k, v, _) in &fe.params {
+            let _ = writeln!(s, "{} = {}", super::effects::region_key(form, k), toml::Value::Float(*v));
+        }
+        any = true;
+    }
+    any.then_some(s)
 }
 
 fn write(path: &Path, text: &str) -> Result<()> {
@@ -158,7 +194,11 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let md = markdown(opts, data, d, &windows, &windows_after, &regions);
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
+    let surface = surface_toml(d);
     crate::run::write_dir_atomic(out, |tmp| {
+        if let Some(s) = &surface {
+            write(&tmp.join("surface.toml"), s)?;
+        }
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Run(e.to_string()))?;
         write(&tmp.join("report.json"), &text)?;
         write(&tmp.join("report.md"), &md)?;

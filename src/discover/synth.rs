@@ -214,6 +214,7 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
         ice_temp_c: -3.0,
         on_ice: m.surface == "ice",
         initial_vx: v0,
+        regions: Default::default(),
         notices: Vec::new(),
     };
     let sim = if m.kind == "lane" {
@@ -306,6 +307,7 @@ pub fn engine_run(cfg: &vehsim_spec::maneuver::RunConfig, spec: &Path) -> Result
         t,
         steer: pick(&|r| r.inputs.steer_rad),
         initial_vx: vx[0],
+        regions: Default::default(),
         vx,
         yaw_rate: pick(&|r| r.obs.kin.yaw_rate_radps),
         ay: pick(&|r| r.obs.ay_mps2),

@@ -63,6 +63,40 @@ pub struct SurfaceSection {
     /// default -3 (a fixed temperature, not the surface's own).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mu_reference_temperature_c: Option<f64>,
+    /// Friction patches on the ground (`[[surface.patch]]`, at most one; the bicycle model only).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub patch: Vec<PatchRegion>,
+    /// Friction bands across X (`[[surface.band]]`, at most one; the bicycle model only).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub band: Vec<BandRegion>,
+}
+
+/// `[[surface.patch]]`: a disc on the ground where the friction is `mu_scale` times the
+/// surface's, with a 1 m logistic edge ([`vehsim_core::vehicle::ground`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PatchRegion {
+    /// Friction scale inside, [0.05, 3].
+    pub mu_scale: f64,
+    /// Centre X, m, [-5000, 5000] (the start at the origin heading +X).
+    pub x_m: f64,
+    /// Centre Y, m, [-5000, 5000].
+    pub y_m: f64,
+    /// Radius, m, [1, 1000].
+    pub radius_m: f64,
+}
+
+/// `[[surface.band]]`: a band across X (any Y) where the friction is `mu_scale` times the
+/// surface's, with 1 m logistic edges.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BandRegion {
+    /// Friction scale inside, [0.05, 3].
+    pub mu_scale: f64,
+    /// Start X, m, [-5000, 5000].
+    pub start_x_m: f64,
+    /// Length along X, m, [2, 2000].
+    pub length_m: f64,
 }
 
 /// Largest `mu` the ice friction law accepts at its reference conditions (ice friction is
@@ -70,6 +104,41 @@ pub struct SurfaceSection {
 pub const ICE_MU_MAX: f64 = 0.6;
 
 impl SurfaceSection {
+    /// The friction regions, each key within its bound, at most one of each kind.
+    pub fn regions(&self, path: &Path) -> Result<vehsim_core::vehicle::ground::GroundRegions> {
+        use vehsim_core::vehicle::ground::region_bounds as b;
+        let c = Checker::new(path);
+        for (kind, n) in [("patch", self.patch.len()), ("band", self.band.len())] {
+            if n > 1 {
+                return Err(Error::key(
+                    path,
+                    &format!("surface.{kind}"),
+                    format!("{n} regions; at most one of each kind"),
+                ));
+            }
+        }
+        let within = |key: &str, bound: vehsim_core::error::Bound, v: f64| {
+            c.require(key, v, bound.contains(v), &bound.allowed())
+        };
+        let mut g = vehsim_core::vehicle::ground::GroundRegions::NONE;
+        if let Some(p) = self.patch.first() {
+            g.patch = Some([
+                within("surface.patch.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
+                within("surface.patch.x_m", b::PATCH_XY, p.x_m)?,
+                within("surface.patch.y_m", b::PATCH_XY, p.y_m)?,
+                c.bound(&b::PATCH_RADIUS, p.radius_m)?,
+            ]);
+        }
+        if let Some(p) = self.band.first() {
+            g.band = Some([
+                within("surface.band.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
+                c.bound(&b::BAND_START, p.start_x_m)?,
+                within("surface.band.length_m", b::REGION_LENGTH, p.length_m)?,
+            ]);
+        }
+        Ok(g)
+    }
+
     /// The surface friction law of this surface (None: `mu` is fixed), validated.
     pub fn friction(&self, path: &Path) -> Result<Option<vehsim_core::tyre::ice::SurfaceFriction>> {
         let c = Checker::new(path);
@@ -772,7 +841,11 @@ impl ManeuverFile {
             vehicle,
             tyre_model,
             vehicle_model,
-            env: Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c },
+            env: Environment {
+                mu: self.surface.mu,
+                surface_temp_c: self.surface.temperature_c,
+                regions: self.surface.regions(path)?,
+            },
             maneuver,
             kind,
             pid: self.speed_control,
@@ -906,6 +979,24 @@ impl ManeuverFile {
                 ),
             ));
         }
+        if vehicle_model == VehicleModelKind::Roll4Dof
+            && !(self.surface.patch.is_empty() && self.surface.band.is_empty())
+        {
+            return Err(Error::key(
+                path,
+                "surface.patch",
+                "the 4-DOF model does not model friction regions; remove [[surface.patch]] and [[surface.band]] or \
+                 use the bicycle model",
+            ));
+        }
+        if vehicle.lateral.tread_mu_per_kj != 0.0 {
+            return Err(Error::key(
+                &vehicle_file,
+                "lateral.tread_mu_per_kj",
+                "the engine's vehicle models do not run the tread state yet (only `vehsim discover` replays it); \
+                 expected 0 to run a manoeuvre (docs/discover.md)",
+            ));
+        }
         // The ice friction law: the Magic Formula tyres take their peak friction from it.
         let mut vehicle = vehicle;
         if let Some(law) = self.surface.friction(path)? {
@@ -932,7 +1023,11 @@ impl ManeuverFile {
         let i = &self.integrator;
         // One default period for every model, provider and contact estimate (`DEFAULT_CONTROL_PERIOD_S`).
         let default_cp = DEFAULT_CONTROL_PERIOD_S;
-        let env = Environment { mu: self.surface.mu, surface_temp_c: self.surface.temperature_c };
+        let env = Environment {
+            mu: self.surface.mu,
+            surface_temp_c: self.surface.temperature_c,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+        };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
         let at = |v: f64| match (model, &vehicle.roll) {

@@ -255,11 +255,33 @@ impl Observer for Checked<'_> {
 
 /// The CSV text of a run's rows (non-finite values, e.g. no speed target while coasting, are empty).
 pub fn timeseries_csv(rows: &[Row]) -> String {
+    timeseries_csv_with(rows, None)
+}
+
+/// Columns of the measured channels, added after [`COLUMNS`] when the vehicle has `[sensors]`.
+pub const MEASURED_COLUMNS: [&str; 2] = ["yaw_rate_meas_radps", "ay_meas_mps2"];
+
+/// As [`timeseries_csv`]; with instruments `sensors`, two more columns: the yaw rate and lateral
+/// acceleration they log ([`vehsim_core::vehicle::sensors::logged`], over the recorded rows: the
+/// latency interpolates between rows, the accelerometer's yaw acceleration is a central
+/// difference of the recorded yaw rate). Without, the text is [`timeseries_csv`]'s, byte for byte.
+pub fn timeseries_csv_with(rows: &[Row], sensors: Option<&vehsim_core::vehicle::Sensors>) -> String {
+    let measured = sensors.map(|s| {
+        let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
+        let r: Vec<f64> = rows.iter().map(|r| r.obs.kin.yaw_rate_radps).collect();
+        let ay: Vec<f64> = rows.iter().map(|r| r.obs.ay_mps2).collect();
+        vehsim_core::vehicle::sensors::logged(&t, &r, &ay, s)
+    });
     let mut s = String::with_capacity(rows.len() * 400);
     s.push_str(&COLUMNS.join(","));
+    if measured.is_some() {
+        s.push(',');
+        s.push_str(&MEASURED_COLUMNS.join(","));
+    }
     s.push('\n');
-    for r in rows {
-        for (i, v) in row_values(r).iter().enumerate() {
+    for (k, r) in rows.iter().enumerate() {
+        let extra = measured.as_ref().map(|(r, ay)| [r[k], ay[k]]);
+        for (i, v) in row_values(r).iter().chain(extra.iter().flatten()).enumerate() {
             if i > 0 {
                 s.push(',');
             }

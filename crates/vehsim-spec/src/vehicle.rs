@@ -12,7 +12,9 @@ use crate::files::{parse_toml, read_input, resolve};
 use crate::tyre::TyreFileSpec;
 use vehsim_core::error::{Checker, Error, Result};
 use vehsim_core::tyre::TyreModelKind;
-use vehsim_core::vehicle::params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, GRAVITY};
+use vehsim_core::vehicle::params::{
+    lateral_bounds, sensor_bounds, DriveLayout, Lateral, Roll, Sensors, Vehicle, GRAVITY,
+};
 use vehsim_core::vehicle::powertrain::{Differential, GearMode, Powertrain, TorqueSource};
 
 /// Raw vehicle file as written by the user. Every field: unit in the name, typical range in the docs.
@@ -72,6 +74,10 @@ pub struct VehicleFile {
     /// refuses them; the defaults leave the model unchanged).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lateral: Option<LateralSection>,
+    /// The instruments: latency, offset and the accelerometer's position (optional; with it,
+    /// `vehsim run` adds the measured channels to timeseries.csv).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<SensorsSection>,
     /// Engine or motor, gearbox, final drive, driveline inertia and differential (optional; see
     /// [`PowertrainSection`]; without it the single limit `drive_torque_max_nm` is the drive).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -106,10 +112,101 @@ pub struct LateralSection {
     /// default; [-2, 0]). Acts only when the manoeuvre's `[contact] model = "atiim"`.
     #[serde(default)]
     pub thermal_mu_per_k: f64,
+    /// Front axle cornering-stiffness factor: the front tyres see this times the slip angle, so
+    /// the slope at 0 scales and the peak force does not (default 1; [0.2, 5]).
+    #[serde(default = "one")]
+    pub stiffness_scale_front: f64,
+    /// Rear axle cornering-stiffness factor (default 1; [0.2, 5]).
+    #[serde(default = "one")]
+    pub stiffness_scale_rear: f64,
+    /// Front axle friction factor on top of `mu_scale` (default 1; [0.05, 3]).
+    #[serde(default = "one")]
+    pub mu_scale_front: f64,
+    /// Rear axle friction factor on top of `mu_scale` (default 1; [0.05, 3]).
+    #[serde(default = "one")]
+    pub mu_scale_rear: f64,
+    /// Load sensitivity of each tyre's friction under load transfer: friction x max(1 - k z,
+    /// 0.05), z = Fz / Fz0 - 1 (default 0; [-1, 1]; acts with `load_transfer_height_m` > 0).
+    #[serde(default)]
+    pub load_sensitivity_mu: f64,
+    /// Load sensitivity of each tyre's cornering stiffness (slip angle x max(1 - k z, 0.05);
+    /// default 0; [-1, 1]).
+    #[serde(default)]
+    pub load_sensitivity_stiffness: f64,
+    /// Transient slip: relaxation length of the front axle's lagged slip angle, m (0 = off,
+    /// default; at most 10; with the rear one, both above 0 or both 0; not with
+    /// `relaxation_length_y_m`).
+    #[serde(default)]
+    pub relaxation_length_front_m: f64,
+    /// Transient slip: relaxation length of the rear axle's lagged slip angle, m.
+    #[serde(default)]
+    pub relaxation_length_rear_m: f64,
+    /// Transient slip, saturating form: the relaxation lengths shorten with the tyre's local
+    /// slope (default false).
+    #[serde(default)]
+    pub slip_relaxation_saturating: bool,
+    /// Tread state: friction change per kJ of heat stored in one axle's tread, 1/kJ (0 = off,
+    /// default; [-20, 0]).
+    #[serde(default)]
+    pub tread_mu_per_kj: f64,
+    /// Tread state: heat capacity of one axle's tread layer, J/K (default 300; [10, 1e5]).
+    #[serde(default = "tread_capacity")]
+    pub tread_heat_capacity_j_per_k: f64,
+    /// Tread state: cooling time constant, s (default 3; [0.1, 100]).
+    #[serde(default = "tread_cooling")]
+    pub tread_cooling_time_s: f64,
 }
 
 fn one() -> f64 {
     1.0
+}
+
+fn tread_capacity() -> f64 {
+    Lateral::default().tread_heat_capacity_j_per_k
+}
+
+fn tread_cooling() -> f64 {
+    Lateral::default().tread_cooling_time_s
+}
+
+/// Raw `[sensors]` section: the instruments on the car, as fitted by `vehsim discover`
+/// (docs/discover.md); every key defaults to 0 (a true, prompt instrument at the CG).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorsSection {
+    /// Latency of the logged yaw rate, s ([0, 0.5]).
+    #[serde(default)]
+    pub latency_yaw_rate_s: f64,
+    /// Latency of the logged lateral acceleration, s ([0, 0.5]).
+    #[serde(default)]
+    pub latency_ay_s: f64,
+    /// Constant offset of the yaw-rate sensor, rad/s ([-0.5, 0.5]).
+    #[serde(default)]
+    pub bias_yaw_rate_radps: f64,
+    /// Constant offset of the lateral accelerometer, m/s^2 ([-5, 5]).
+    #[serde(default)]
+    pub bias_ay_mps2: f64,
+    /// Accelerometer position ahead of the CG, m ([-3, 3]).
+    #[serde(default)]
+    pub accel_x_m: f64,
+    /// Accelerometer position left of the CG, m ([-1.5, 1.5]).
+    #[serde(default)]
+    pub accel_y_m: f64,
+}
+
+impl SensorsSection {
+    /// The validated instruments, each key within its bound ([`sensor_bounds`]).
+    fn build(&self, c: &Checker) -> Result<Sensors> {
+        use sensor_bounds as b;
+        Ok(Sensors {
+            latency_s: [
+                c.bound(&b::LATENCY_YAW_RATE, self.latency_yaw_rate_s)?,
+                c.bound(&b::LATENCY_AY, self.latency_ay_s)?,
+            ],
+            bias: [c.bound(&b::BIAS_YAW_RATE, self.bias_yaw_rate_radps)?, c.bound(&b::BIAS_AY, self.bias_ay_mps2)?],
+            accel_position_m: [c.bound(&b::ACCEL_X, self.accel_x_m)?, c.bound(&b::ACCEL_Y, self.accel_y_m)?],
+        })
+    }
 }
 
 /// Raw `[roll]` section: what the 4-DOF roll model needs beyond the bicycle's data.
@@ -181,12 +278,17 @@ impl VehicleFile {
             Some(l) => l.build(&c)?,
             None => Lateral::default(),
         };
+        let sensors = match &self.sensors {
+            Some(s) => Some(s.build(&c)?),
+            None => None,
+        };
         let powertrain = match &self.powertrain {
             Some(p) => Some(p.build(&c)?),
             None => None,
         };
         Ok(Vehicle {
             lateral,
+            sensors,
             powertrain,
             tyre_ranges: crate::tyre::declared_ranges(&tyre_path),
             name: self.name.clone(),
@@ -251,14 +353,64 @@ impl LateralSection {
     /// The validated extensions, each within its bound ([`lateral_bounds`]).
     fn build(&self, c: &Checker) -> Result<Lateral> {
         use lateral_bounds as b;
-        Ok(Lateral {
+        let lat = Lateral {
             steer_compliance_rad_per_kn: c.bound(&b::STEER_COMPLIANCE, self.steer_compliance_rad_per_kn)?,
             mu_scale: c.bound(&b::MU_SCALE, self.mu_scale)?,
             steer_lag_s: c.bound(&b::STEER_LAG, self.steer_lag_s)?,
             relaxation_length_y_m: c.bound(&b::RELAXATION_LENGTH, self.relaxation_length_y_m)?,
             load_transfer_height_m: c.bound(&b::LOAD_TRANSFER_HEIGHT, self.load_transfer_height_m)?,
             thermal_mu_per_k: c.bound(&b::THERMAL_MU, self.thermal_mu_per_k)?,
-        })
+            stiffness_scale: [
+                c.bound(&b::STIFFNESS_SCALE_FRONT, self.stiffness_scale_front)?,
+                c.bound(&b::STIFFNESS_SCALE_REAR, self.stiffness_scale_rear)?,
+            ],
+            mu_axle_scale: [
+                c.bound(&b::MU_SCALE_FRONT, self.mu_scale_front)?,
+                c.bound(&b::MU_SCALE_REAR, self.mu_scale_rear)?,
+            ],
+            load_sensitivity: [
+                c.bound(&b::LOAD_SENSITIVITY_MU, self.load_sensitivity_mu)?,
+                c.bound(&b::LOAD_SENSITIVITY_STIFFNESS, self.load_sensitivity_stiffness)?,
+            ],
+            slip_relaxation_m: [
+                c.bound(&b::RELAXATION_FRONT, self.relaxation_length_front_m)?,
+                c.bound(&b::RELAXATION_REAR, self.relaxation_length_rear_m)?,
+            ],
+            slip_relaxation_saturating: self.slip_relaxation_saturating,
+            tread_mu_per_kj: c.bound(&b::TREAD_MU_PER_KJ, self.tread_mu_per_kj)?,
+            tread_heat_capacity_j_per_k: c.bound(&b::TREAD_HEAT_CAPACITY, self.tread_heat_capacity_j_per_k)?,
+            tread_cooling_time_s: c.bound(&b::TREAD_COOLING_TIME, self.tread_cooling_time_s)?,
+        };
+        Self::check_forms(c, &lat)?;
+        Ok(lat)
+    }
+
+    /// The forms that exclude one another: transient slip on both axles or neither, and not
+    /// beside the force relaxation (two forms of one tyre relaxation); the saturating flag only
+    /// with transient slip.
+    fn check_forms(c: &Checker, lat: &Lateral) -> Result<()> {
+        let [front, rear] = lat.slip_relaxation_m;
+        c.require(
+            "lateral.relaxation_length_rear_m",
+            rear,
+            (front > 0.0) == (rear > 0.0),
+            "expected relaxation_length_front_m and relaxation_length_rear_m both > 0 (transient slip) or both 0",
+        )?;
+        c.require(
+            "lateral.relaxation_length_front_m",
+            front,
+            !(lat.transient_slip() && lat.relaxation_length_y_m > 0.0),
+            "expected 0 when relaxation_length_y_m > 0: transient slip per axle and the force relaxation are two \
+             forms of tyre relaxation; set one",
+        )?;
+        let saturating = lat.slip_relaxation_saturating && !lat.transient_slip();
+        c.require(
+            "lateral.slip_relaxation_saturating",
+            0.0,
+            !saturating,
+            "expected false unless relaxation_length_front_m and relaxation_length_rear_m are > 0",
+        )?;
+        Ok(())
     }
 }
 

@@ -133,7 +133,10 @@ mod tests {
     /// is reported MAX_ONSETS times, then once as `events_suppressed`, then no more.
     #[test]
     fn onset_and_recovery_once_and_flapping_is_capped() {
-        let (u, env) = (Inputs::default(), Environment { mu: 0.1, surface_temp_c: -3.0 });
+        let (u, env) = (
+            Inputs::default(),
+            Environment { mu: 0.1, surface_temp_c: -3.0, regions: crate::vehicle::ground::GroundRegions::NONE },
+        );
         let mut w = Watch::default();
         let mut ev = Vec::new();
         for k in 0..100 {

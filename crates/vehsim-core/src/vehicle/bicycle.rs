@@ -28,9 +28,19 @@
 //!   relaxed Fy acts on the body (the longitudinal force is relaxed through the slip ratio);
 //! - lateral load transfer: each axle's tyres carry Fz/2 +- m vx r h / track x (axle share of the
 //!   weight), so the tyre's load sensitivity lowers the axle force;
-//! - friction: mu_e = mu s_mu max(1 + k_T (T_contact - T_surface), 0.1), where T_contact comes
+//! - friction: mu_e = mu s_mu max(1 + k_T (T_contact - T_surface), 0.1) s_i, where T_contact comes
 //!   from the contact-temperature estimator (isothermal unless the manoeuvre sets
-//!   `[contact] model = "atiim"`).
+//!   `[contact] model = "atiim"`) and s_i is axle i's friction factor;
+//! - friction regions of the manoeuvre's ground (`[[surface.patch]]`, `[[surface.band]]`): axle
+//!   i's friction times the regions' factor at its own ground position ([`super::ground`]);
+//! - per-axle cornering stiffness: axle i's tyres see c_i alpha (slope at 0 scaled by c_i, peak
+//!   unchanged);
+//! - load sensitivities (with load transfer): each tyre's friction and slip angle scaled by
+//!   max(1 - k z, 0.05), z = Fz / Fz0 - 1 ([`lateral::load_factor`]);
+//! - transient slip: the tyres carry lagged slip angles alpha_i (states in the relaxed-force
+//!   slots), d(alpha_i)/dt = (max(|vx|, 1 m/s) / sigma_i) (alpha_kin,i - alpha_i), sigma_i
+//!   optionally shortened by the tyre's local slope ([`lateral::saturating_relaxation_length`]);
+//!   the steer compliance then acts through the force at the lagged front slip angle.
 
 use nalgebra::SVector;
 
@@ -67,9 +77,12 @@ pub mod ix {
     pub const KAPPA_F: usize = 8;
     /// Rear relaxed slip ratio, dimensionless (positive driving).
     pub const KAPPA_R: usize = 9;
-    /// Front relaxed axle lateral force, N (positive left; used only with a lateral relaxation length).
+    /// Front relaxed axle lateral force, N (positive left; used only with a lateral relaxation
+    /// length); under transient slip (`lateral.relaxation_length_front_m`) the lagged front slip
+    /// angle, rad, instead.
     pub const FY_F: usize = 10;
-    /// Rear relaxed axle lateral force, N (positive left; used only with a lateral relaxation length).
+    /// Rear relaxed axle lateral force, N (as [`FY_F`]; the lagged rear slip angle under
+    /// transient slip).
     pub const FY_R: usize = 11;
     /// Lagged road-wheel angle delta_l, rad (positive left; used only with a steering lag).
     pub const DELTA_L: usize = 12;
@@ -96,7 +109,12 @@ pub struct Bicycle {
 /// Per-axle intermediate quantities of one evaluation.
 struct Axles {
     vxw: [f64; 2],
+    /// Slip angles the tyres carry (the lagged ones under transient slip), rad.
     alpha: [f64; 2],
+    /// Kinematic slip angles (what the lagged ones relax towards under transient slip), rad.
+    alpha_kin: [f64; 2],
+    /// Transient-slip rates |vx| / sigma_i per axle, 1/s (0 without transient slip).
+    slip_rate: [f64; 2],
     /// Force per axle (two tyres).
     f: [TyreForces; 2],
     /// Wheel torque balance per axle: drive - brake - rolling resistance, N m.
@@ -138,7 +156,7 @@ impl Bicycle {
                 alpha_rad: 0.0,
                 camber_rad: 0.0,
                 vx_mps: 0.0,
-                mu_surface: env.mu * self.vehicle.lateral.mu_scale,
+                mu_surface: env.mu * self.vehicle.lateral.mu_scale * self.vehicle.lateral.mu_axle_scale[i],
                 surface_temp_c: env.surface_temp_c,
                 contact_temp_c: env.surface_temp_c,
             };
@@ -159,6 +177,12 @@ impl Bicycle {
         if lat.relaxation_length_y_m > 0.0 {
             // With relaxation the acting front force is a state: no iteration needed.
             return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]));
+        }
+        if lat.transient_slip() {
+            // Transient slip: the front force follows the lagged slip angle (a state), so the
+            // compliance acts through it without iteration.
+            let fy = self.axles_at(x, u, env, steer).f[0].fy_n;
+            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, fy));
         }
         // Steer compliance: effective steer delta - c Fy_f with the steady-state front force, a
         // fixed point (none without compliance).
@@ -221,7 +245,11 @@ impl Bicycle {
         let vf = (vx * cos_d + (vy + v.a_m * r) * sin_d, -vx * sin_d + (vy + v.a_m * r) * cos_d);
         let vr = (vx, vy - v.b_m * r);
         let vxw = [vf.0, vr.0];
-        let alpha = [slip_angle(vf.0, vf.1), slip_angle(vr.0, vr.1)];
+        let alpha_kin = [slip_angle(vf.0, vf.1), slip_angle(vr.0, vr.1)];
+        let lat = &v.lateral;
+        // Under transient slip the tyres carry the lagged slip angles (states).
+        let alpha = if lat.transient_slip() { [x[ix::FY_F], x[ix::FY_R]] } else { alpha_kin };
+        let mut slip_rate = [0.0; 2];
         let omega = [x[ix::OMEGA_F], x[ix::OMEGA_R]];
         let front_share = v.drive_front_share();
         let drive = [u.drive_torque_nm * front_share, u.drive_torque_nm * (1.0 - front_share)];
@@ -235,22 +263,10 @@ impl Bicycle {
         let mut torque = [0.0; 2];
         let mut load = [0.0; 2];
         for i in 0..2 {
-            let input = self.tyre_input(x, u, env, i, alpha[i], vxw[i]);
-            let dfz = self.load_transfer(x, i);
-            f[i] = if dfz == 0.0 && v.tyre.same_on_both_sides() {
-                let left = &v.tyre.mounted[0];
-                let t = match &self.prepared[i] {
-                    Some(p) => left.forces_prepared(p, &input),
-                    None => left.forces(&input),
-                };
-                TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
-            } else {
-                // Each tyre at its own load (a lifted tyre carries nothing); the right one
-                // (outer in a left turn) gains the transfer.
-                lateral::axle_forces(self.fz_tyre[i], dfz, |side, fz| {
-                    v.tyre.on(side).forces(&TyreInput { fz_n: fz, ..input })
-                })
-            };
+            f[i] = self.axle_force(x, u, env, i, alpha[i], vxw[i]);
+            if lat.transient_slip() {
+                slip_rate[i] = self.slip_rate(x, u, env, i, alpha[i], vxw[i]);
+            }
             let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
             load[i] = resist + radius * f[i].fx_n;
@@ -274,7 +290,57 @@ impl Bicycle {
                 torque[i] += t * shares_of(front_share)[i] - drive[i];
             }
         }
-        Axles { vxw, alpha, f, torque, cos_d, sin_d }
+        Axles { vxw, alpha, alpha_kin, slip_rate, f, torque, cos_d, sin_d }
+    }
+
+    /// Force of axle `i`'s two tyres at slip angle `alpha` (rad) and wheel-axis forward speed
+    /// `vxw` (m/s): twice one tyre's for a tyre that is its own mirror image without load
+    /// transfer, else each tyre at its own load ([`lateral::axle_forces`]) and, with load
+    /// sensitivities, its own friction and stiffness factor ([`lateral::load_sensitive_input`]).
+    fn axle_force(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        i: usize,
+        alpha: f64,
+        vxw: f64,
+    ) -> TyreForces {
+        let v = &self.vehicle;
+        let input = self.tyre_input(x, u, env, i, alpha, vxw);
+        let dfz = self.load_transfer(x, i);
+        if dfz == 0.0 && v.tyre.same_on_both_sides() {
+            let left = &v.tyre.mounted[0];
+            let t = match &self.prepared[i] {
+                Some(p) => left.forces_prepared(p, &input),
+                None => left.forces(&input),
+            };
+            TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
+        } else {
+            // Each tyre at its own load (a lifted tyre carries nothing); the right one
+            // (outer in a left turn) gains the transfer.
+            let (fz0, k) = (self.fz_tyre[i], v.lateral.load_sensitivity);
+            lateral::axle_forces(fz0, dfz, |side, fz| {
+                let at_load = TyreInput { fz_n: fz, ..input };
+                let input = if k == [0.0; 2] { at_load } else { lateral::load_sensitive_input(at_load, fz0, k) };
+                v.tyre.on(side).forces(&input)
+            })
+        }
+    }
+
+    /// Transient-slip rate of axle `i` at its lagged slip angle `alpha` (rad), 1/s:
+    /// max(|vx|, 1 m/s) / sigma_i, with sigma_i shortened by the tyre's local slope in the
+    /// saturating form ([`lateral::saturating_relaxation_length`]).
+    fn slip_rate(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, i: usize, alpha: f64, vxw: f64) -> f64 {
+        let lat = &self.vehicle.lateral;
+        let mut sigma = lat.slip_relaxation_m[i];
+        if lat.slip_relaxation_saturating {
+            let eps = lateral::SLIP_SLOPE_STEP_RAD;
+            let fy = |a: f64| self.axle_force(x, u, env, i, a, vxw).fy_n;
+            let slope = |a: f64| fy(a + eps) - fy(a - eps);
+            sigma = lateral::saturating_relaxation_length(sigma, slope(alpha) / slope(0.0));
+        }
+        lateral::relaxation_rate(x[ix::VX], sigma)
     }
 
     /// The input of axle `i`'s tyres at its static load share, slip angle `alpha` (rad) and
@@ -294,10 +360,18 @@ impl Bicycle {
             let rise = u.contact_temp_c[i] - env.surface_temp_c;
             mu *= lateral::thermal_friction_factor(lat.thermal_mu_per_k, rise);
         }
+        // The per-axle friction and cornering-stiffness factors (1 by default: exact).
+        mu *= lat.mu_axle_scale[i];
+        if !env.regions.is_empty() {
+            // Friction regions on the ground, at this axle's own position.
+            let l = [self.vehicle.a_m, -self.vehicle.b_m][i];
+            let (xa, ya) = super::ground::axle_position(x[ix::X], x[ix::Y], x[ix::YAW], l);
+            mu *= env.regions.factor(xa, ya);
+        }
         TyreInput {
             fz_n: self.fz_tyre[i],
             kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
-            alpha_rad: alpha,
+            alpha_rad: alpha * lat.stiffness_scale[i],
             camber_rad: 0.0,
             vx_mps: vxw,
             mu_surface: mu,
@@ -337,6 +411,11 @@ impl Bicycle {
         }
         if lat.steer_lag_s > 0.0 {
             d[ix::DELTA_L] = (u.steer_rad - x[ix::DELTA_L]) / lat.steer_lag_s;
+        }
+        if lat.transient_slip() {
+            // The lagged slip angles (in the relaxed-force slots) relax towards the kinematic ones.
+            d[ix::FY_F] = ax.slip_rate[0] * (ax.alpha_kin[0] - x[ix::FY_F]);
+            d[ix::FY_R] = ax.slip_rate[1] * (ax.alpha_kin[1] - x[ix::FY_R]);
         }
         d
     }
@@ -387,6 +466,7 @@ impl VehicleModel<N> for Bicycle {
     const TYRES: usize = 2;
 
     fn state_names(&self) -> [&'static str; N] {
+        let slip = self.vehicle.lateral.transient_slip();
         [
             "x_m",
             "y_m",
@@ -398,8 +478,8 @@ impl VehicleModel<N> for Bicycle {
             "omega_rear_radps",
             "kappa_front",
             "kappa_rear",
-            "fy_front_relaxed_n",
-            "fy_rear_relaxed_n",
+            if slip { "alpha_front_lagged_rad" } else { "fy_front_relaxed_n" },
+            if slip { "alpha_rear_lagged_rad" } else { "fy_rear_relaxed_n" },
             "steer_lagged_rad",
         ]
     }

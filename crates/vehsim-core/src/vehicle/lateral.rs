@@ -6,7 +6,7 @@
 //! Sign conventions (ISO 8855): lateral forces positive to the left, the yaw rate r positive
 //! turning left, so vx r > 0 in a left turn, which loads the right (outer) tyres.
 
-use crate::tyre::{TyreForces, TyreSide};
+use crate::tyre::{TyreForces, TyreInput, TyreSide};
 
 /// Floor on |vx| in the lateral relaxation rate, m/s (keeps a relaxed force decaying at rest).
 pub(crate) const V_RELAX_MPS: f64 = 1.0;
@@ -93,6 +93,49 @@ pub fn compliant_steer<T>(
 /// (negative: friction falls) and dT the contact-temperature rise above the surface, K.
 pub fn thermal_friction_factor(mu_per_k: f64, rise_k: f64) -> f64 {
     (1.0 + mu_per_k * rise_k).max(THERMAL_FLOOR)
+}
+
+/// Floor of a load-sensitivity factor ([`load_factor`]): a tyre keeps 5 % of its friction or
+/// stiffness however far its load rises.
+pub const LOAD_FACTOR_FLOOR: f64 = 0.05;
+/// Floor on the ratio of the local to the initial tyre slope in the saturating transient-slip
+/// form ([`saturating_relaxation_length`]).
+pub const SLIP_SLOPE_FLOOR: f64 = 0.25;
+/// Half-step of the central difference of an axle's lateral force in slip angle, rad, that the
+/// saturating transient-slip form takes its local slope from.
+pub const SLIP_SLOPE_STEP_RAD: f64 = 2e-3;
+
+/// Load-sensitivity factor of one tyre: max(1 - k z, [`LOAD_FACTOR_FLOOR`]) with its relative
+/// load change z = Fz / Fz0 - 1 (`fz_n` its load, `fz0_n` its static load, N, > 0) and the
+/// sensitivity `k` (per unit of z; > 0: the property falls as the load rises). Friction and
+/// cornering stiffness each take their own k (`lateral.load_sensitivity_mu`, `_stiffness`).
+pub fn load_factor(k: f64, fz_n: f64, fz0_n: f64) -> f64 {
+    (1.0 - k * (fz_n / fz0_n - 1.0)).max(LOAD_FACTOR_FLOOR)
+}
+
+/// A tyre's input under the fitted load sensitivities [k_mu, k_c] at its load `input.fz_n`
+/// against the static tyre load `fz0_n` (N): the slip angle scaled by the stiffness factor and the
+/// surface friction by the friction factor ([`load_factor`]).
+pub fn load_sensitive_input(input: TyreInput, fz0_n: f64, [k_mu, k_c]: [f64; 2]) -> TyreInput {
+    TyreInput {
+        alpha_rad: input.alpha_rad * load_factor(k_c, input.fz_n, fz0_n),
+        mu_surface: input.mu_surface * load_factor(k_mu, input.fz_n, fz0_n),
+        ..input
+    }
+}
+
+/// Relaxation length of the saturating transient-slip form, m: the nominal `sigma_m` times the
+/// ratio of the axle force's local slope dFy/dalpha to its slope at alpha = 0 (`slope_ratio`),
+/// clamped to [[`SLIP_SLOPE_FLOOR`], 1] (a string model's relaxation length is the cornering
+/// stiffness over the carcass stiffness, so it shortens as the tyre saturates); the nominal length
+/// when the ratio is not finite.
+pub fn saturating_relaxation_length(sigma_m: f64, slope_ratio: f64) -> f64 {
+    let ratio = slope_ratio.clamp(SLIP_SLOPE_FLOOR, 1.0);
+    if ratio.is_finite() {
+        sigma_m * ratio
+    } else {
+        sigma_m
+    }
 }
 
 #[cfg(test)]

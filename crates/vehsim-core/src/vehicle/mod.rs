@@ -9,10 +9,12 @@
 pub mod bicycle;
 pub mod capability;
 pub mod condition;
+pub mod ground;
 pub mod lateral;
 pub mod params;
 pub mod powertrain;
 pub mod roll4dof;
+pub mod sensors;
 pub mod single_track;
 pub mod wheel;
 
@@ -23,7 +25,7 @@ use crate::contact::TyreContact;
 pub use bicycle::Bicycle;
 pub use capability::MAX_LAGS;
 pub use condition::Condition;
-pub use params::{lateral_bounds, DriveLayout, Lateral, Roll, Vehicle, AIR_DENSITY, GRAVITY};
+pub use params::{lateral_bounds, sensor_bounds, DriveLayout, Lateral, Roll, Sensors, Vehicle, AIR_DENSITY, GRAVITY};
 pub use roll4dof::Roll4Dof;
 
 /// Inputs at one instant of a step (the controllers' ramps, and an open-loop steer, evaluated at
@@ -86,6 +88,8 @@ pub struct Environment {
     pub mu: f64,
     /// Bulk surface (ice) temperature, degC.
     pub surface_temp_c: f64,
+    /// Friction regions on the ground (none by default; the bicycle model applies them per axle).
+    pub regions: ground::GroundRegions,
 }
 
 /// Rigid-body kinematics of the vehicle in the ground frame (ISO 8855).

@@ -36,10 +36,49 @@ pub mod lateral_bounds {
     pub const LOAD_TRANSFER_HEIGHT: Bound = Bound::closed("lateral.load_transfer_height_m", 0.0, 2.0, "m");
     /// `lateral.thermal_mu_per_k`: [-2, 0] 1/K (friction may only fall as the contact warms).
     pub const THERMAL_MU: Bound = Bound::closed("lateral.thermal_mu_per_k", -2.0, 0.0, "1/K");
+    /// `lateral.stiffness_scale_front`: [0.2, 5], dimensionless (the front tyres see c_f alpha).
+    pub const STIFFNESS_SCALE_FRONT: Bound = Bound::closed("lateral.stiffness_scale_front", 0.2, 5.0, "");
+    /// `lateral.stiffness_scale_rear`: [0.2, 5], dimensionless.
+    pub const STIFFNESS_SCALE_REAR: Bound = Bound::closed("lateral.stiffness_scale_rear", 0.2, 5.0, "");
+    /// `lateral.mu_scale_front`: [0.05, 3], dimensionless (the front tyres' friction factor).
+    pub const MU_SCALE_FRONT: Bound = Bound::closed("lateral.mu_scale_front", 0.05, 3.0, "");
+    /// `lateral.mu_scale_rear`: [0.05, 3], dimensionless.
+    pub const MU_SCALE_REAR: Bound = Bound::closed("lateral.mu_scale_rear", 0.05, 3.0, "");
+    /// `lateral.load_sensitivity_mu`: [-1, 1] per unit of relative load change.
+    pub const LOAD_SENSITIVITY_MU: Bound = Bound::closed("lateral.load_sensitivity_mu", -1.0, 1.0, "");
+    /// `lateral.load_sensitivity_stiffness`: [-1, 1] per unit of relative load change.
+    pub const LOAD_SENSITIVITY_STIFFNESS: Bound = Bound::closed("lateral.load_sensitivity_stiffness", -1.0, 1.0, "");
+    /// `lateral.relaxation_length_front_m`: [0, 10] m (transient slip of the front axle; 0 = off).
+    pub const RELAXATION_FRONT: Bound = Bound::closed("lateral.relaxation_length_front_m", 0.0, 10.0, "m");
+    /// `lateral.relaxation_length_rear_m`: [0, 10] m (transient slip of the rear axle; 0 = off).
+    pub const RELAXATION_REAR: Bound = Bound::closed("lateral.relaxation_length_rear_m", 0.0, 10.0, "m");
+    /// `lateral.tread_mu_per_kj`: [-20, 0] 1/kJ (friction change per kJ of tread heat; 0 = off).
+    pub const TREAD_MU_PER_KJ: Bound = Bound::closed("lateral.tread_mu_per_kj", -20.0, 0.0, "1/kJ");
+    /// `lateral.tread_heat_capacity_j_per_k`: [10, 1e5] J/K (one axle's tread layer).
+    pub const TREAD_HEAT_CAPACITY: Bound = Bound::closed("lateral.tread_heat_capacity_j_per_k", 10.0, 1e5, "J/K");
+    /// `lateral.tread_cooling_time_s`: [0.1, 100] s.
+    pub const TREAD_COOLING_TIME: Bound = Bound::closed("lateral.tread_cooling_time_s", 0.1, 100.0, "s");
 
     /// Every bound above, in the order of [`super::Lateral::values`].
-    pub const ALL: [Bound; 6] =
-        [STEER_COMPLIANCE, MU_SCALE, STEER_LAG, RELAXATION_LENGTH, LOAD_TRANSFER_HEIGHT, THERMAL_MU];
+    pub const ALL: [Bound; 17] = [
+        STEER_COMPLIANCE,
+        MU_SCALE,
+        STEER_LAG,
+        RELAXATION_LENGTH,
+        LOAD_TRANSFER_HEIGHT,
+        THERMAL_MU,
+        STIFFNESS_SCALE_FRONT,
+        STIFFNESS_SCALE_REAR,
+        MU_SCALE_FRONT,
+        MU_SCALE_REAR,
+        LOAD_SENSITIVITY_MU,
+        LOAD_SENSITIVITY_STIFFNESS,
+        RELAXATION_FRONT,
+        RELAXATION_REAR,
+        TREAD_MU_PER_KJ,
+        TREAD_HEAT_CAPACITY,
+        TREAD_COOLING_TIME,
+    ];
 }
 
 /// Validated lateral extensions (the spec layer reads them from a vehicle file's `[lateral]` section); the default changes nothing.
@@ -57,11 +96,28 @@ pub struct Lateral {
     pub load_transfer_height_m: f64,
     /// Friction change per kelvin of contact-temperature rise, 1/K.
     pub thermal_mu_per_k: f64,
+    /// Cornering-stiffness factor per axle (front, rear): the axle's tyres see factor x alpha.
+    pub stiffness_scale: [f64; 2],
+    /// Peak-friction factor per axle (front, rear): the axle's tyres see factor x mu.
+    pub mu_axle_scale: [f64; 2],
+    /// Load sensitivity of each tyre's friction and cornering stiffness under load transfer,
+    /// [k_mu, k_c], per unit of relative load change Fz / Fz0 - 1 ([`super::lateral::load_factor`]).
+    pub load_sensitivity: [f64; 2],
+    /// Transient-slip relaxation length per axle (front, rear), m (0 = off).
+    pub slip_relaxation_m: [f64; 2],
+    /// Whether the transient-slip relaxation length shortens with the tyre's local slope.
+    pub slip_relaxation_saturating: bool,
+    /// Tread state: friction change per kJ of heat stored in one axle's tread, 1/kJ (0 = off).
+    pub tread_mu_per_kj: f64,
+    /// Tread state: heat capacity of one axle's tread layer, J/K.
+    pub tread_heat_capacity_j_per_k: f64,
+    /// Tread state: cooling time constant towards the surface temperature, s.
+    pub tread_cooling_time_s: f64,
 }
 
 impl Lateral {
     /// The values in the order of [`lateral_bounds::ALL`].
-    pub fn values(&self) -> [f64; 6] {
+    pub fn values(&self) -> [f64; 17] {
         [
             self.steer_compliance_rad_per_kn,
             self.mu_scale,
@@ -69,6 +125,17 @@ impl Lateral {
             self.relaxation_length_y_m,
             self.load_transfer_height_m,
             self.thermal_mu_per_k,
+            self.stiffness_scale[0],
+            self.stiffness_scale[1],
+            self.mu_axle_scale[0],
+            self.mu_axle_scale[1],
+            self.load_sensitivity[0],
+            self.load_sensitivity[1],
+            self.slip_relaxation_m[0],
+            self.slip_relaxation_m[1],
+            self.tread_mu_per_kj,
+            self.tread_heat_capacity_j_per_k,
+            self.tread_cooling_time_s,
         ]
     }
 
@@ -76,6 +143,16 @@ impl Lateral {
     pub fn first_active_key(&self) -> Option<&'static str> {
         let off = Lateral::default().values();
         lateral_bounds::ALL.iter().zip(self.values().iter().zip(off)).find(|(_, (v, d))| **v != *d).map(|(b, _)| b.key)
+    }
+
+    /// True when transient slip is on (either axle's relaxation length above 0).
+    pub fn transient_slip(&self) -> bool {
+        self.slip_relaxation_m[0] > 0.0 || self.slip_relaxation_m[1] > 0.0
+    }
+
+    /// Friction change per kelvin of tread-temperature rise, 1/K: q C / 1000 (q per kJ, C in J/K).
+    pub fn tread_mu_per_k(&self) -> f64 {
+        self.tread_mu_per_kj * self.tread_heat_capacity_j_per_k * 1e-3
     }
 }
 
@@ -88,7 +165,58 @@ impl Default for Lateral {
             relaxation_length_y_m: 0.0,
             load_transfer_height_m: 0.0,
             thermal_mu_per_k: 0.0,
+            stiffness_scale: [1.0; 2],
+            mu_axle_scale: [1.0; 2],
+            load_sensitivity: [0.0; 2],
+            slip_relaxation_m: [0.0; 2],
+            slip_relaxation_saturating: false,
+            tread_mu_per_kj: 0.0,
+            tread_heat_capacity_j_per_k: 300.0,
+            tread_cooling_time_s: 3.0,
         }
+    }
+}
+
+/// The allowed ranges of the `[sensors]` keys, each declared once (`vehsim discover` fits the
+/// measurement-chain effects within the same ranges).
+pub mod sensor_bounds {
+    use crate::error::Bound;
+
+    /// `sensors.latency_yaw_rate_s`: [0, 0.5] s (a logger's buffering, a filter's group delay).
+    pub const LATENCY_YAW_RATE: Bound = Bound::closed("sensors.latency_yaw_rate_s", 0.0, 0.5, "s");
+    /// `sensors.latency_ay_s`: [0, 0.5] s.
+    pub const LATENCY_AY: Bound = Bound::closed("sensors.latency_ay_s", 0.0, 0.5, "s");
+    /// `sensors.bias_yaw_rate_radps`: [-0.5, 0.5] rad/s.
+    pub const BIAS_YAW_RATE: Bound = Bound::closed("sensors.bias_yaw_rate_radps", -0.5, 0.5, "rad/s");
+    /// `sensors.bias_ay_mps2`: [-5, 5] m/s^2.
+    pub const BIAS_AY: Bound = Bound::closed("sensors.bias_ay_mps2", -5.0, 5.0, "m/s^2");
+    /// `sensors.accel_x_m`: [-3, 3] m ahead of the CG (within a car's half length).
+    pub const ACCEL_X: Bound = Bound::closed("sensors.accel_x_m", -3.0, 3.0, "m");
+    /// `sensors.accel_y_m`: [-1.5, 1.5] m left of the CG (within a car's half width).
+    pub const ACCEL_Y: Bound = Bound::closed("sensors.accel_y_m", -1.5, 1.5, "m");
+
+    /// Every bound above, in the order of [`super::Sensors::values`].
+    pub const ALL: [Bound; 6] = [LATENCY_YAW_RATE, LATENCY_AY, BIAS_YAW_RATE, BIAS_AY, ACCEL_X, ACCEL_Y];
+}
+
+/// The instruments on the car (the spec layer reads them from a vehicle file's `[sensors]`
+/// section): what turns the simulated yaw rate and lateral acceleration at the CG into the logged
+/// channels. They change only what is logged, never the motion; the default logs the true values.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sensors {
+    /// Latency of the logged yaw rate and lateral acceleration, s.
+    pub latency_s: [f64; 2],
+    /// Constant offsets of the yaw rate (rad/s) and the lateral acceleration (m/s^2).
+    pub bias: [f64; 2],
+    /// Accelerometer position: x ahead of the CG, y to its left, m.
+    pub accel_position_m: [f64; 2],
+}
+
+impl Sensors {
+    /// The values in the order of [`sensor_bounds::ALL`].
+    pub fn values(&self) -> [f64; 6] {
+        let s = self;
+        [s.latency_s[0], s.latency_s[1], s.bias[0], s.bias[1], s.accel_position_m[0], s.accel_position_m[1]]
     }
 }
 
@@ -188,6 +316,9 @@ pub struct Vehicle {
     pub roll: Option<Roll>,
     /// Lateral extensions of the bicycle model (default: none).
     pub lateral: Lateral,
+    /// The instruments (`None` when the file has no `[sensors]` section: nothing measured is
+    /// logged).
+    pub sensors: Option<Sensors>,
     /// The ranges the tyre file declares as measured (plausibility, [`crate::sim::range_check`]).
     pub tyre_ranges: crate::tyre::ranges::TyreRanges,
     /// The powertrain (`None`: the single torque limit, the models' unchanged path).
