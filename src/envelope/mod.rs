@@ -243,20 +243,10 @@ pub fn load(path: &Path) -> Result<Envelope> {
         Some(toml::Value::Table(t)) => t,
         Some(_) => return Err(Error::key(path, "sweep", "expected a table of key = [values]")),
     };
-    let mut keys = Vec::new();
-    let mut lists = Vec::new();
-    for (k, v) in &sweep {
-        if k == SPEED_KEY && kind == Kind::Speed {
-            return Err(Error::key(path, &format!("sweep.{k}"), "is what the envelope searches; it cannot be swept"));
-        }
-        match v {
-            toml::Value::Array(a) if !a.is_empty() => {
-                keys.push(k.clone());
-                lists.push(a.clone());
-            }
-            _ => return Err(Error::key(path, &format!("sweep.{k}"), "expected a non-empty list of values")),
-        }
-    }
+    let refuse = |k: &str| {
+        (k == SPEED_KEY && kind == Kind::Speed).then(|| "is what the envelope searches; it cannot be swept".into())
+    };
+    let (keys, lists) = sweep::swept_lists(path, &sweep, &refuse)?;
     let total: usize = lists.iter().map(|l| l.len()).product();
     if total > 10_000 {
         return Err(Error::key(path, "sweep", format!("{total} combinations; at most 10000 allowed")));

@@ -57,6 +57,30 @@ pub fn value_text(v: &toml::Value) -> String {
     }
 }
 
+/// The swept keys of a `[sweep]` table and their lists of values, in the table's order; a key for
+/// which `refuse` gives a reason, or whose value is not a non-empty list, is bad input naming
+/// `sweep.KEY`.
+pub fn swept_lists(
+    path: &Path,
+    sweep: &toml::Table,
+    refuse: &dyn Fn(&str) -> Option<String>,
+) -> Result<(Vec<String>, Vec<Vec<toml::Value>>)> {
+    let (mut keys, mut lists) = (Vec::new(), Vec::new());
+    for (k, v) in sweep {
+        if let Some(why) = refuse(k) {
+            return Err(Error::key(path, &format!("sweep.{k}"), why));
+        }
+        match v {
+            toml::Value::Array(a) if !a.is_empty() => {
+                keys.push(k.clone());
+                lists.push(a.clone());
+            }
+            _ => return Err(Error::key(path, &format!("sweep.{k}"), "expected a non-empty list of values")),
+        }
+    }
+    Ok((keys, lists))
+}
+
 /// The value index of each swept key for combination `index` (mixed-radix digits, the last key
 /// varying fastest), so that `vehsim run` and `vehsim envelope` number combinations alike.
 pub fn combination(index: usize, lists: &[Vec<toml::Value>]) -> Vec<usize> {
@@ -126,20 +150,8 @@ pub fn from_table_with(
             source,
         });
     };
-    let mut keys = Vec::new();
-    let mut lists = Vec::new();
-    for (k, v) in &sweep {
-        if k == "name" || k == "sweep" || k.starts_with("sweep.") {
-            return Err(Error::key(path, &format!("sweep.{k}"), "cannot be swept"));
-        }
-        match v {
-            toml::Value::Array(a) if !a.is_empty() => {
-                keys.push(k.clone());
-                lists.push(a.clone());
-            }
-            _ => return Err(Error::key(path, &format!("sweep.{k}"), "expected a non-empty list of values")),
-        }
-    }
+    let refuse = |k: &str| (k == "name" || k == "sweep" || k.starts_with("sweep.")).then(|| "cannot be swept".into());
+    let (keys, lists) = swept_lists(path, &sweep, &refuse)?;
     let total = lists.iter().try_fold(1usize, |a, l| a.checked_mul(l.len())).unwrap_or(usize::MAX);
     if total > MAX_RUNS {
         return Err(Error::key(path, "sweep", format!("{total} runs; at most {MAX_RUNS} allowed")));
