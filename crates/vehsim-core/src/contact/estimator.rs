@@ -835,14 +835,7 @@ impl ContactTemperature for AtiimEstimator {
         // whether it is done, and the Illinois side marker (-1 / +1: the end kept last time)
         let mut x = [0.0; MAX_TYRES];
         for i in 0..n {
-            // the last G accepted (closer to its root than the estimate) carried on over the
-            // period by the change between the last two; the guess where there are none
-            let r = &self.recent;
-            x[i] = finite_or(r.latest[i], finite_or(guess[i], finite_or(tyres[i].surface_temp_c, MELT_C)));
-            let ext = x[i] + (r.latest[i] - r.before[i]) * (h / r.period_s);
-            if ext.is_finite() {
-                x[i] = ext;
-            }
+            x[i] = self.first_trial(i, guess[i], &tyres[i], h);
         }
         let mut neg: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
         let mut pos: [Option<(f64, f64)>; MAX_TYRES] = [None; MAX_TYRES];
@@ -870,27 +863,7 @@ impl ContactTemperature for AtiimEstimator {
                     pos[i] = Some((x[i], r));
                 }
                 x[i] = match (neg[i], pos[i]) {
-                    (Some((a, ra)), Some((b, rb))) => {
-                        // Illinois: halve the residual of the end kept twice in a row
-                        let kept = if r < 0.0 { 1 } else { -1 };
-                        let (ra, rb) = match (kept, side[i]) {
-                            (1, 1) => (ra, 0.5 * rb),
-                            (-1, -1) => (0.5 * ra, rb),
-                            _ => (ra, rb),
-                        };
-                        if kept == 1 {
-                            pos[i] = Some((b, rb));
-                        } else {
-                            neg[i] = Some((a, ra));
-                        }
-                        side[i] = kept;
-                        let s = a - ra * (b - a) / (rb - ra);
-                        if s.is_finite() && s > a.min(b) && s < a.max(b) {
-                            s
-                        } else {
-                            0.5 * (a + b)
-                        }
-                    }
+                    (Some(a), Some(b)) => illinois_step(a, b, r, &mut neg[i], &mut pos[i], &mut side[i]),
                     _ if eval == 0 => g, // the plain iteration's next point
                     _ => {
                         done[i] = true; // no bracket from two points: keep the plain value
@@ -902,9 +875,34 @@ impl ContactTemperature for AtiimEstimator {
                 break;
             }
         }
+        self.accept(h, &best[..n], tyres, out);
+    }
+}
+
+impl AtiimEstimator {
+    /// Tyre `i`'s first trial contact temperature over a period of `h` s: the last G accepted
+    /// (closer to its root than the estimate) carried on over the period by the change between
+    /// the last two; the `guess` where there are none (then the tyre's surface, then melting).
+    #[inline(always)]
+    fn first_trial(&self, i: usize, guess: f64, tyre: &TyreContact, h: f64) -> f64 {
+        let r = &self.recent;
+        let x = finite_or(r.latest[i], finite_or(guess, finite_or(tyre.surface_temp_c, MELT_C)));
+        let ext = x + (r.latest[i] - r.before[i]) * (h / r.period_s);
+        if ext.is_finite() {
+            ext
+        } else {
+            x
+        }
+    }
+
+    /// Keep each tyre's accepted point (`best`, per tyre): its bulk temperature, forcing, contact
+    /// temperature (into `out`) and conditions (into `tyres`); the period `h` and each accepted G
+    /// for the next period's first trial.
+    #[inline(always)]
+    fn accept(&mut self, h: f64, best: &[Option<Accepted>], tyres: &mut [TyreContact], out: &mut [f64]) {
         self.recent.period_s = h;
-        for i in 0..n {
-            if let Some((_, tb, x, g, t, f)) = best[i] {
+        for (i, b) in best.iter().enumerate() {
+            if let Some((_, tb, x, g, t, f)) = *b {
                 self.t_bulk_c[i] = tb;
                 self.set_forcing(i, f);
                 out[i] = x;
@@ -912,6 +910,40 @@ impl ContactTemperature for AtiimEstimator {
                 tyres[i] = t;
             }
         }
+    }
+}
+
+/// One Illinois step of a bracketed root search on residual r(T) = T - G(T): the bracket ends
+/// `(a, ra)` (residual < 0) and `(b, rb)` (> 0), the residual `r` just found at the point that
+/// replaced one of them; halves the residual of the end kept twice in a row (`side`: the end kept
+/// last time, -1 or +1), stores the ends back and returns the next trial: the secant through the
+/// ends, or their midpoint where the secant leaves the bracket.
+#[inline(always)]
+fn illinois_step(
+    (a, ra): (f64, f64),
+    (b, rb): (f64, f64),
+    r: f64,
+    neg: &mut Option<(f64, f64)>,
+    pos: &mut Option<(f64, f64)>,
+    side: &mut i8,
+) -> f64 {
+    let kept = if r < 0.0 { 1 } else { -1 };
+    let (ra, rb) = match (kept, *side) {
+        (1, 1) => (ra, 0.5 * rb),
+        (-1, -1) => (0.5 * ra, rb),
+        _ => (ra, rb),
+    };
+    if kept == 1 {
+        *pos = Some((b, rb));
+    } else {
+        *neg = Some((a, ra));
+    }
+    *side = kept;
+    let s = a - ra * (b - a) / (rb - ra);
+    if s.is_finite() && s > a.min(b) && s < a.max(b) {
+        s
+    } else {
+        0.5 * (a + b)
     }
 }
 
