@@ -748,6 +748,35 @@ pub(crate) const MAX_RATE_PER_S: f64 = 25_000.0;
 /// search bisects, assuming that a shorter step stays stable.
 const DIVISIONS_SCANNED: usize = 16;
 
+/// The refusal of a step `h` (s) at which the exponential RK4 is unstable for the model
+/// linearised at straight running at `speeds` (m/s; analyses `a`), with the fastest mode's rate
+/// `lambda` (1/s) and the longest stable step at the worse speed.
+fn step_beyond_bound(
+    path: &Path,
+    h: f64,
+    lambda: f64,
+    a: &[vehsim_core::sim::stability::Analysis; 2],
+    speeds: [f64; 2],
+) -> Error {
+    let (k, bound) =
+        a.iter()
+            .map(|x| x.exp_max_step(0.05))
+            .enumerate()
+            .fold((0, f64::INFINITY), |m, (k, b)| if b < m.1 { (k, b) } else { m });
+    Error::key(
+        path,
+        "integrator.step_s",
+        format!(
+            "{h} s is beyond the stability bound of RK4 for this vehicle, even with the wheel-spin / \
+             transient-slip pairs integrated exactly (the fastest mode has |lambda| = {lambda:.0} 1/s); \
+             expected step_s <= {bound:.4} s (the longest step at which one such step of the model \
+             linearised at straight running at {} m/s has a spectral radius <= 1), or leave step_s \
+             unset for the default",
+            speeds[k]
+        ),
+    )
+}
+
 /// The longest step `period / n` (n = 1, 2, ... below the `period / h` divisions of the plain
 /// step `h`) for which `stable` holds, or `None`. The first `DIVISIONS_SCANNED` counts are tried
 /// in turn (the shipped vehicles settle there); beyond them the count is found by bisection, so
@@ -1045,23 +1074,7 @@ impl ManeuverFile {
             Some(h) => {
                 let exp = rk4 && h * lambda > DEFAULT_H_LAMBDA;
                 if exp && !stable(h) {
-                    let (k, bound) = a
-                        .iter()
-                        .map(|x| x.exp_max_step(0.05))
-                        .enumerate()
-                        .fold((0, f64::INFINITY), |m, (k, b)| if b < m.1 { (k, b) } else { m });
-                    return Err(Error::key(
-                        path,
-                        "integrator.step_s",
-                        format!(
-                            "{h} s is beyond the stability bound of RK4 for this vehicle, even with the wheel-spin / \
-                             transient-slip pairs integrated exactly (the fastest mode has |lambda| = {lambda:.0} 1/s); \
-                             expected step_s <= {bound:.4} s (the longest step at which one such step of the model \
-                             linearised at straight running at {} m/s has a spectral radius <= 1), or leave step_s \
-                             unset for the default",
-                            speeds[k]
-                        ),
-                    ));
+                    return Err(step_beyond_bound(path, h, lambda, &a, speeds));
                 }
                 let cp = i.control_period_s.unwrap_or(h * (default_cp / h).round().max(1.0));
                 Ok((h, cp, exp))
