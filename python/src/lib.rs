@@ -218,9 +218,10 @@ fn summary_json(cfg: &RunConfig, out: &RunOutput, params: &[(String, String)]) -
 
 /// A run's time series as (column names, columns), read from the CSV text the command line writes
 /// (the same numbers to the bit: Rust prints the shortest text that parses back to the same f64;
-/// an empty cell, a value the run does not define, becomes NaN).
-fn timeseries(out: &RunOutput) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = vehsim_spec::run::timeseries_csv(&out.rows);
+/// an empty cell, a value the run does not define, becomes NaN); with the vehicle's `[sensors]`,
+/// the logged channels too, as in timeseries.csv.
+fn timeseries(cfg: &RunConfig, out: &RunOutput) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = vehsim_spec::run::timeseries_csv_with(&out.rows, cfg.vehicle.sensors.as_ref());
     let mut lines = text.lines();
     let names: Vec<String> = lines.next().unwrap_or_default().split(',').map(str::to_string).collect();
     let mut cols: Vec<Vec<f64>> = names.iter().map(|_| Vec::with_capacity(out.rows.len())).collect();
@@ -251,7 +252,7 @@ fn execute(run: &BatchRun, keep_timeseries: bool, stop: &AtomicBool) -> Result<R
                 return Ok(interrupted());
             }
             let status = sweep::RunStatus::of(&out.summary).as_str();
-            let ts = keep_timeseries.then(|| timeseries(&out));
+            let ts = keep_timeseries.then(|| timeseries(cfg, &out));
             Ok((status, Some(summary_json(cfg, &out, &run.params)?), String::new(), ts))
         }
     }

@@ -61,6 +61,23 @@ def test_run_mirrored_steering_mirrors_the_response():
     assert right.summary["peak_yaw_rate_radps"] == pytest.approx(left.summary["peak_yaw_rate_radps"], abs=1e-12)
 
 
+def test_run_logs_the_sensors_of_the_vehicle(root, tmp_path):
+    # a vehicle with [sensors] (as `vehsim discover` writes it): the run also returns the logged
+    # channels, as the command line's timeseries.csv does; without latency and mounting offset
+    # they are the true ones plus the biases
+    text = (root / "vehicles/sedan.toml").read_text()
+    tyre = (root / "vehicles/tyres/srtt_p225_60r16.toml").as_posix()
+    text = text.replace('tyre = "tyres/srtt_p225_60r16.toml"', f'tyre = "{tyre}"')
+    vehicle = tmp_path / "instrumented.toml"
+    vehicle.write_text(text + "\n[sensors]\nbias_yaw_rate_radps = 0.01\nbias_ay_mps2 = -0.2\n")
+    plain = vehsim.run(SINE)
+    r = vehsim.run(SINE, vehicle=str(vehicle))
+    assert "yaw_rate_meas_radps" not in plain.timeseries
+    np.testing.assert_array_equal(r["yaw_rate_radps"], plain["yaw_rate_radps"])
+    np.testing.assert_allclose(r["yaw_rate_meas_radps"], r["yaw_rate_radps"] + 0.01, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(r["ay_meas_mps2"], r["ay_mps2"] - 0.2, rtol=0, atol=1e-14)
+
+
 def test_run_lateral_acceleration_stays_within_the_friction_limit():
     # the SRTT Magic Formula peaks at 1.2 x the surface mu (the tyre file's LMUY scaling), so on
     # mu 0.15 the car cannot corner harder than 0.18 g; the unsaturated linear tyre can

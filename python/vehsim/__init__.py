@@ -74,7 +74,9 @@ class RunResult:
         summary: dict with the run's identity and figures, the keys of the command line's
             summary.json (``end_reason``, ``passed``, ``peak_yaw_rate_radps``, ``events``, ...).
         timeseries: dict channel -> 1-D float64 array, units in the names (``t_s``,
-            ``yaw_rate_radps``, ...); NaN where the run does not define a value.
+            ``yaw_rate_radps``, ...); NaN where the run does not define a value. With the
+            vehicle's ``[sensors]`` section, also the logged ``yaw_rate_meas_radps`` and
+            ``ay_meas_mps2``, as in the command line's timeseries.csv.
         params: the swept values of this run within a sweep (empty for a single run).
         status: ``ok`` or ``failed`` (diverged or spun out; the result is still complete).
     """
