@@ -30,8 +30,8 @@ fn check_interrupted(dir: &Path) -> Result<()> {
     crate::output::signals::check(|| crate::output::replace::kept(dir))
 }
 
-/// Read a spec and expand its sweep ([`vehsim_spec::sweep::load`]), with progress on a terminal
-/// and a stop on SIGINT or SIGTERM while a large sweep validates.
+/// Read a spec and expand its sweep ([`vehsim_spec::sweep::from_table_with`]), with progress on a
+/// terminal and a stop on SIGINT or SIGTERM while a large sweep validates.
 pub fn load(path: &Path) -> Result<Batch> {
     let text = read_input(path)?;
     from_text(path, &text)

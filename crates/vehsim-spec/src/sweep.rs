@@ -6,7 +6,6 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::files::read_input;
 use crate::{ManeuverFile, RunConfig};
 use vehsim_core::error::{Error, Result};
 use vehsim_core::sim::Summary;
@@ -106,21 +105,10 @@ pub fn set_path(table: &mut toml::Table, key: &str, value: toml::Value) -> std::
     Ok(())
 }
 
-/// Read a spec and expand its sweep. Bad input (unreadable file, malformed TOML or sweep, a spec
-/// whose every combination is invalid) is an error; individual invalid combinations are kept as
-/// invalid runs.
-pub fn load(path: &Path) -> Result<Batch> {
-    let text = read_input(path)?;
-    from_text(path, &text)
-}
-
-/// As [`load`], for spec text already read from `path` (named in messages; the vehicle file and
-/// other paths inside the spec are resolved against its folder).
-pub fn from_text(path: &Path, text: &str) -> Result<Batch> {
-    from_table(path, crate::files::parse_toml(path, text)?)
-}
-
-/// As [`load`], for a spec already parsed into a TOML table.
+/// Expand the sweep of a spec read from `path` and parsed into `table` (`path` is named in
+/// messages; the vehicle file and other paths inside the spec are resolved against its folder).
+/// Bad input (a malformed sweep, a spec whose every combination is invalid) is an error;
+/// individual invalid combinations are kept as invalid runs.
 pub fn from_table(path: &Path, table: toml::Table) -> Result<Batch> {
     from_table_with(path, table, &mut |_, _| Ok(()))
 }
