@@ -149,7 +149,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
         s.push_str("# thermal_mu_per_k acts only in manoeuvres with [contact] model = \"atiim\".\n");
     }
     if d.params.tread() {
-        s.push_str("# The tread state (tread_*) is replayed by vehsim discover; vehsim run refuses it.\n");
+        s.push_str("# The tread state (tread_*) is the run's contact-temperature estimate: vehsim run needs [contact] model = \"isothermal\" (the default).\n");
     }
     s.push_str(&body);
     Ok(s)

@@ -14,9 +14,11 @@ use vehsim_core::contact::film::FilmParams;
 use vehsim_core::contact::model::{carcass_stiffness_n_per_m, PatchParams};
 use vehsim_core::contact::patch::{synthesize, tilt_for_slip_angle, PressureGrid, SynthInputs, TreadPattern};
 use vehsim_core::contact::thermal::{gent_modulus_mpa, preset_shore_a, Compound, PRESETS};
+use vehsim_core::contact::tread_state::TreadState;
 use vehsim_core::contact::{ContactTemperature, Isothermal};
 use vehsim_core::error::{Checker, Error, Result};
 use vehsim_core::tyre::friction::IceFriction;
+use vehsim_core::vehicle::params::Lateral;
 
 fn d_inflation() -> f64 {
     241.3
@@ -379,6 +381,25 @@ impl ContactSpec {
             ContactModelKind::Isothermal => Ok(Box::new(Isothermal)),
             ContactModelKind::Atiim => Ok(Box::new(self.build_atiim(file, n_tyres, ice_temp_c)?)),
         }
+    }
+
+    /// The run's estimate for a vehicle whose `[lateral]` section is `lateral`: its tread state
+    /// ([`TreadState`]) when `tread_mu_per_kj` is set (the manoeuvre's validation refuses it beside
+    /// another estimate), else [`ContactSpec::build`]. `tread_heat_capacity_j_per_k` is one axle's
+    /// (as `vehsim discover` fits it, from axle forces); the estimate's conditions are one tyre's,
+    /// so each tyre of the axle carries half the axle's heat in half its capacity.
+    pub fn build_for(
+        &self,
+        file: &Path,
+        lateral: &Lateral,
+        n_tyres: usize,
+        ice_temp_c: f64,
+    ) -> Result<Box<dyn ContactTemperature>> {
+        if lateral.tread_mu_per_kj != 0.0 {
+            let per_tyre_j_per_k = 0.5 * lateral.tread_heat_capacity_j_per_k;
+            return Ok(Box::new(TreadState::new(per_tyre_j_per_k, lateral.tread_cooling_time_s)));
+        }
+        self.build(file, n_tyres, ice_temp_c)
     }
 
     /// The contact model `model` names (`file`, the manoeuvre file, is named in the error).

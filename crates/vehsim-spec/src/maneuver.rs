@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::contact::ContactSpec;
+use crate::contact::{ContactModelKind, ContactSpec};
 use crate::files::{parse_toml, read_input, resolve};
 use crate::vehicle::VehicleFile;
 use vehsim_core::control::{DriverParams, PidParams};
@@ -1018,20 +1018,43 @@ impl ManeuverFile {
                  use the bicycle model",
             ));
         }
-        if vehicle.lateral.tread_mu_per_kj != 0.0 {
-            return Err(Error::key(
-                &vehicle_file,
-                "lateral.tread_mu_per_kj",
-                "the engine's vehicle models do not run the tread state yet (only `vehsim discover` replays it); \
-                 expected 0 to run a manoeuvre (docs/discover.md)",
-            ));
-        }
+        self.check_tread_state(path, &vehicle_file, &vehicle)?;
         // The ice friction law: the Magic Formula tyres take their peak friction from it.
         let mut vehicle = vehicle;
         if let Some(law) = self.surface.friction(path)? {
             vehicle.tyre = vehicle.tyre.on_ice(&law);
         }
         Ok((vehicle_file, vehicle))
+    }
+
+    /// The tread state (`[lateral] tread_*`) is the run's contact-temperature estimate: it cannot
+    /// run beside another estimate (`[contact] model = "atiim"`) or beside the thermal form
+    /// (`thermal_mu_per_k`), which reads the other estimate's temperature.
+    fn check_tread_state(&self, path: &Path, vehicle_file: &Path, vehicle: &Vehicle) -> Result<()> {
+        let lat = &vehicle.lateral;
+        if lat.tread_mu_per_kj == 0.0 {
+            return Ok(());
+        }
+        if lat.thermal_mu_per_k != 0.0 {
+            return Err(Error::key(
+                vehicle_file,
+                "lateral.thermal_mu_per_k",
+                "expected 0 when lateral.tread_mu_per_kj is set: the tread state is the contact temperature \
+                 the friction change reads; keep one thermal form",
+            ));
+        }
+        if self.contact.kind(path)? != ContactModelKind::Isothermal {
+            return Err(Error::key(
+                path,
+                "contact.model",
+                format!(
+                    "expected \"isothermal\" (the default): the vehicle {} sets lateral.tread_mu_per_kj, whose \
+                     tread state is this run's contact-temperature estimate",
+                    vehicle_file.display()
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The integration step and control period (see [`IntegratorSection`]), and whether RK4 is to

@@ -156,7 +156,7 @@ pub(crate) fn execute_with_stop<const N: usize, M: VehicleModel<N>>(
     // The contact table was validated when the spec was built; should building fail here after
     // all, the run goes on isothermal and says so in its events.
     let (mut contact, note): (Box<dyn ContactTemperature>, _) =
-        match cfg.contact.build(&cfg.spec_file, M::TYRES, cfg.env.surface_temp_c) {
+        match cfg.contact.build_for(&cfg.spec_file, &cfg.vehicle.lateral, M::TYRES, cfg.env.surface_temp_c) {
             Ok(c) => (c, None),
             Err(e) => (Box::new(Isothermal), Some(e.to_string())),
         };

@@ -167,8 +167,9 @@ impl StepRun {
         let inner: Box<dyn Stepper> = match cfg.vehicle_model {
             VehicleModelKind::Bicycle => {
                 let model = Bicycle::new(cfg.vehicle.clone()).prepared_for(&cfg.env);
-                let contact = cfg.contact.build(
+                let contact = cfg.contact.build_for(
                     &cfg.spec_file,
+                    &cfg.vehicle.lateral,
                     <Bicycle as VehicleModel<{ bicycle::N }>>::TYRES,
                     cfg.env.surface_temp_c,
                 )?;
@@ -180,8 +181,9 @@ impl StepRun {
                     Error::key(&cfg.vehicle_file, "roll", "the 4-DOF model needs the vehicle's [roll] table")
                 })?;
                 let model = Roll4Dof::new(cfg.vehicle.clone(), roll).prepared_for(&cfg.env);
-                let contact = cfg.contact.build(
+                let contact = cfg.contact.build_for(
                     &cfg.spec_file,
+                    &cfg.vehicle.lateral,
                     <Roll4Dof as VehicleModel<{ roll4dof::N }>>::TYRES,
                     cfg.env.surface_temp_c,
                 )?;

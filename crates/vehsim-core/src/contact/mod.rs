@@ -8,8 +8,9 @@
 //!
 //! Submodules: [`patch`] (pressure grids), [`thermal`] (materials, Shore A), [`heat`] (temperature
 //! rise), [`film`] (water film), [`model`] (the coupled patch solve), [`estimator`] (the
-//! per-step [`ContactTemperature`] for the engine) and [`tread_bulk`] (the tread band's
-//! temperature over a rig run). The rubber-ice friction law they share with the car's tyre is
+//! per-step [`ContactTemperature`] for the engine), [`tread_bulk`] (the tread band's
+//! temperature over a rig run) and [`tread_state`] (the lumped tread heat balance of the vehicle's
+//! `[lateral] tread_*` keys, another per-step estimate). The rubber-ice friction law they share with the car's tyre is
 //! [`crate::tyre::friction`]; the `[contact]` table and scenario files are read by the spec layer,
 //! and `vehsim atiim` is the application's.
 
@@ -20,6 +21,7 @@ pub mod model;
 pub mod patch;
 pub mod thermal;
 pub mod tread_bulk;
+pub mod tread_state;
 
 /// Operating conditions of one tyre at the start of a step (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -356,9 +356,12 @@ impl Bicycle {
     ) -> TyreInput {
         let lat = &self.vehicle.lateral;
         let mut mu = env.mu * lat.mu_scale;
-        if lat.thermal_mu_per_k != 0.0 {
+        // The contact heating's friction change per kelvin: the thermal form's, or the tread
+        // state's (the spec layer allows one of them; with neither, 0 + 0 is exactly 0).
+        let mu_per_k = lat.thermal_mu_per_k + lat.tread_mu_per_k();
+        if mu_per_k != 0.0 {
             let rise = u.contact_temp_c[i] - env.surface_temp_c;
-            mu *= lateral::thermal_friction_factor(lat.thermal_mu_per_k, rise);
+            mu *= lateral::thermal_friction_factor(mu_per_k, rise);
         }
         // The per-axle friction and cornering-stiffness factors (1 by default: exact).
         mu *= lat.mu_axle_scale[i];
