@@ -374,11 +374,61 @@ fn manoeuvre_regions_act_per_axle_in_the_bicycle() {
     for (extra, key) in [
         ("[[surface.patch]]\nmu_scale = 0.5\nx_m = 0.0\ny_m = 0.0\nradius_m = 0.5\n", "surface.patch.radius_m"),
         ("[[surface.band]]\nmu_scale = 3.5\nstart_x_m = 0.0\nlength_m = 10.0\n", "surface.band.mu_scale"),
-        ("[[surface.stretch]]\nmu_scale = 0.5\nstart_m = 0.0\nlength_m = 10.0\n", "stretch"),
+        ("[[surface.stretch]]\nmu_scale = 0.5\nstart_m = -1.0\nlength_m = 10.0\n", "surface.stretch.start_m"),
     ] {
         let case = common::Case::new("wb-regions-bad", "g.toml", &spec(0.15, extra));
         let (code, out, err) = case.run(&["run", "--quiet", "g.toml"]);
         assert_eq!(code, 2, "{key}: {out}{err}");
         assert!(err.contains("g.toml") && err.contains(key), "{key}: {err}");
     }
+}
+
+/// A manoeuvre's `[[surface.stretch]]` acts along the distance the CG has travelled: against the
+/// same run without it, the yaw rate is unchanged (1e-9) while the distance (the trapezoid of the
+/// logged vx, computed here) is more than 20 m before the stretch's start at 40 m, first departs
+/// within 15 m of the start, and differs beyond 60 m. The 4-DOF model refuses it.
+#[test]
+fn manoeuvre_stretch_acts_along_the_distance_travelled() {
+    let spec = |extra: &str, model: &str| {
+        format!(
+            "name = \"g\"\nvehicle = \"{}\"\ntyre_model = \"pacejka\"\nvehicle_model = \"{model}\"\nduration_s = 8.0\n\
+             [surface]\nmu = 0.15\nfriction_law = \"fixed\"\n{extra}[maneuver]\nkind = \"sine_steer\"\nspeed_mps = 10.0\n\
+             steer_amplitude_deg = 3.0\nperiod_s = 2.0\n",
+            sedan().display()
+        )
+    };
+    let run = |text: String| -> Vec<Vec<f64>> {
+        let case = common::Case::new("wb-stretch", "g.toml", &text);
+        let (code, out, err) = case.run(&["run", "--quiet", "g.toml"]);
+        assert_eq!(code, 0, "{out}{err}");
+        let t = std::fs::read_to_string(case.results().join("g/timeseries.csv")).unwrap();
+        t.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect()).collect()
+    };
+    let stretch = "[[surface.stretch]]\nmu_scale = 0.3\nstart_m = 40.0\nlength_m = 1000.0\n";
+    let (p, s) = (run(spec("", "bicycle")), run(spec(stretch, "bicycle")));
+    // Columns 0 (t_s), 4 (vx_mps) and 6 (yaw_rate_radps).
+    let (mut d, mut first_departure, mut after) = (0.0, None, 0);
+    for (k, (rp, rs)) in p.iter().zip(&s).enumerate() {
+        if k > 0 {
+            d += 0.5 * (rp[0] - p[k - 1][0]) * (rp[4] + p[k - 1][4]);
+        }
+        let diff = (rp[6] - rs[6]).abs();
+        if d < 20.0 {
+            assert!(diff < 1e-9, "distance {d} m: {} vs {}", rp[6], rs[6]);
+        }
+        if diff > 1e-6 && first_departure.is_none() {
+            first_departure = Some(d);
+        }
+        if d > 60.0 && diff > 1e-3 {
+            after += 1;
+        }
+    }
+    let at = first_departure.expect("the stretch changes the run");
+    eprintln!("the stretch at 40 m first moves the yaw rate by 1e-6 rad/s at {at:.2} m travelled");
+    assert!((25.0..=41.0).contains(&at), "first departs at {at} m of distance travelled");
+    assert!(after > 20, "{after} rows changed beyond 60 m");
+    let case = common::Case::new("wb-stretch-4dof", "g.toml", &spec(stretch, "roll4dof"));
+    let (code, _, err) = case.run(&["run", "--quiet", "g.toml"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("g.toml") && err.contains("surface.patch") && err.contains("[[surface.stretch]]"), "{err}");
 }

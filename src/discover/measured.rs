@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use vehsim_spec::files::{parse_toml, read_input};
+use vehsim_spec::maneuver::{ground_regions, BandRegion, PatchRegion, StretchRegion};
 
 use vehsim_core::error::{Checker, Error, Result};
 
@@ -78,17 +79,10 @@ pub struct MeasuredRun {
 }
 
 /// Friction regions on a run's ground (sidecar `[[surface.patch]]`, `[[surface.band]]`,
-/// `[[surface.stretch]]`, at most one of each), with the equations of the discovery's friction
-/// forms (docs/discover.md): each a friction factor 1 + (s - 1) w with 1 m logistic edges.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Regions {
-    /// A disc: [scale s, centre X (m), centre Y (m), radius (m)] in the run's ground frame.
-    pub patch: Option<[f64; 4]>,
-    /// A band across X: [scale s, start X (m), length along X (m)].
-    pub band: Option<[f64; 3]>,
-    /// A stretch of the path: [scale s, start (m of distance travelled), length (m)].
-    pub stretch: Option<[f64; 3]>,
-}
+/// `[[surface.stretch]]`, at most one of each): the engine's, with the equations of the
+/// discovery's friction forms (docs/discover.md): each a friction factor 1 + (s - 1) w with 1 m
+/// logistic edges.
+pub use vehsim_core::vehicle::ground::GroundRegions as Regions;
 
 impl MeasuredRun {
     /// Duration, s.
@@ -122,34 +116,6 @@ struct SurfaceSection {
     band: Vec<BandRegion>,
     #[serde(default)]
     stretch: Vec<StretchRegion>,
-}
-
-/// `[[surface.patch]]`: a disc of friction scale `mu_scale` on the ground.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PatchRegion {
-    mu_scale: f64,
-    x_m: f64,
-    y_m: f64,
-    radius_m: f64,
-}
-
-/// `[[surface.band]]`: a band of friction scale `mu_scale` across X.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct BandRegion {
-    mu_scale: f64,
-    start_x_m: f64,
-    length_m: f64,
-}
-
-/// `[[surface.stretch]]`: friction scale `mu_scale` over a stretch of the distance travelled.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct StretchRegion {
-    mu_scale: f64,
-    start_m: f64,
-    length_m: f64,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -406,46 +372,6 @@ pub mod sidecar_bounds {
     pub use vehsim_core::vehicle::ground::region_bounds::*;
 }
 
-/// The regions of a sidecar's `[surface]`, each key within its bound; more than one region of a
-/// kind is refused.
-fn regions(c: &Checker, side: &Path, s: &SurfaceSection) -> Result<Regions> {
-    use sidecar_bounds as b;
-    for (kind, n) in [("patch", s.patch.len()), ("band", s.band.len()), ("stretch", s.stretch.len())] {
-        if n > 1 {
-            return Err(Error::key(side, &format!("surface.{kind}"), format!("{n} regions; at most one of each kind")));
-        }
-    }
-    let scale = |kind: &str, v: f64| {
-        c.require(&format!("surface.{kind}.mu_scale"), v, b::MU_SCALE_REGION.contains(v), &b::MU_SCALE_REGION.allowed())
-    };
-    let within =
-        |key: &str, bound: vehsim_core::error::Bound, v: f64| c.require(key, v, bound.contains(v), &bound.allowed());
-    let mut g = Regions::default();
-    if let Some(p) = s.patch.first() {
-        g.patch = Some([
-            scale("patch", p.mu_scale)?,
-            within("surface.patch.x_m", b::PATCH_XY, p.x_m)?,
-            within("surface.patch.y_m", b::PATCH_XY, p.y_m)?,
-            c.bound(&b::PATCH_RADIUS, p.radius_m)?,
-        ]);
-    }
-    if let Some(p) = s.band.first() {
-        g.band = Some([
-            scale("band", p.mu_scale)?,
-            c.bound(&b::BAND_START, p.start_x_m)?,
-            within("surface.band.length_m", b::REGION_LENGTH, p.length_m)?,
-        ]);
-    }
-    if let Some(p) = s.stretch.first() {
-        g.stretch = Some([
-            scale("stretch", p.mu_scale)?,
-            c.bound(&b::STRETCH_START, p.start_m)?,
-            within("surface.stretch.length_m", b::REGION_LENGTH, p.length_m)?,
-        ]);
-    }
-    Ok(g)
-}
-
 /// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
 /// ice temperature and initial speed, each checked against its allowed range.
 pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<()> {
@@ -463,7 +389,7 @@ pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<(
     if let Some(v) = s.initial.vx {
         run.initial_vx = c.bound(&sidecar_bounds::INITIAL_VX, v)?;
     }
-    run.regions = regions(&c, side, &s.surface)?;
+    run.regions = ground_regions(side, &s.surface.patch, &s.surface.band, &s.surface.stretch)?;
     Ok(())
 }
 

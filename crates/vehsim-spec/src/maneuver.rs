@@ -69,6 +69,10 @@ pub struct SurfaceSection {
     /// Friction bands across X (`[[surface.band]]`, at most one; the bicycle model only).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub band: Vec<BandRegion>,
+    /// Friction stretches of the distance travelled (`[[surface.stretch]]`, at most one; the
+    /// bicycle model only).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stretch: Vec<StretchRegion>,
 }
 
 /// `[[surface.patch]]`: a disc on the ground where the friction is `mu_scale` times the
@@ -99,6 +103,62 @@ pub struct BandRegion {
     pub length_m: f64,
 }
 
+/// `[[surface.stretch]]`: a stretch of the distance the CG travels from the start where the
+/// friction is `mu_scale` times the surface's, with 1 m logistic edges.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StretchRegion {
+    /// Friction scale inside, [0.05, 3].
+    pub mu_scale: f64,
+    /// Start, m of distance travelled, [0, 2000].
+    pub start_m: f64,
+    /// Length, m, [2, 2000].
+    pub length_m: f64,
+}
+
+/// Validated friction regions of a `[surface]` (a manoeuvre's or a measured run's sidecar,
+/// `path` named in messages): each key within its bound, at most one region of each kind.
+pub fn ground_regions(
+    path: &Path,
+    patch: &[PatchRegion],
+    band: &[BandRegion],
+    stretch: &[StretchRegion],
+) -> Result<vehsim_core::vehicle::ground::GroundRegions> {
+    use vehsim_core::vehicle::ground::region_bounds as b;
+    let c = Checker::new(path);
+    for (kind, n) in [("patch", patch.len()), ("band", band.len()), ("stretch", stretch.len())] {
+        if n > 1 {
+            return Err(Error::key(path, &format!("surface.{kind}"), format!("{n} regions; at most one of each kind")));
+        }
+    }
+    let within =
+        |key: &str, bound: vehsim_core::error::Bound, v: f64| c.require(key, v, bound.contains(v), &bound.allowed());
+    let mut g = vehsim_core::vehicle::ground::GroundRegions::NONE;
+    if let Some(p) = patch.first() {
+        g.patch = Some([
+            within("surface.patch.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
+            within("surface.patch.x_m", b::PATCH_XY, p.x_m)?,
+            within("surface.patch.y_m", b::PATCH_XY, p.y_m)?,
+            c.bound(&b::PATCH_RADIUS, p.radius_m)?,
+        ]);
+    }
+    if let Some(p) = band.first() {
+        g.band = Some([
+            within("surface.band.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
+            c.bound(&b::BAND_START, p.start_x_m)?,
+            within("surface.band.length_m", b::REGION_LENGTH, p.length_m)?,
+        ]);
+    }
+    if let Some(p) = stretch.first() {
+        g.stretch = Some([
+            within("surface.stretch.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
+            c.bound(&b::STRETCH_START, p.start_m)?,
+            within("surface.stretch.length_m", b::REGION_LENGTH, p.length_m)?,
+        ]);
+    }
+    Ok(g)
+}
+
 /// Largest `mu` the ice friction law accepts at its reference conditions (ice friction is
 /// 0.05-0.3; studded tyres on rough ice reach about 0.4).
 pub const ICE_MU_MAX: f64 = 0.6;
@@ -106,37 +166,7 @@ pub const ICE_MU_MAX: f64 = 0.6;
 impl SurfaceSection {
     /// The friction regions, each key within its bound, at most one of each kind.
     pub fn regions(&self, path: &Path) -> Result<vehsim_core::vehicle::ground::GroundRegions> {
-        use vehsim_core::vehicle::ground::region_bounds as b;
-        let c = Checker::new(path);
-        for (kind, n) in [("patch", self.patch.len()), ("band", self.band.len())] {
-            if n > 1 {
-                return Err(Error::key(
-                    path,
-                    &format!("surface.{kind}"),
-                    format!("{n} regions; at most one of each kind"),
-                ));
-            }
-        }
-        let within = |key: &str, bound: vehsim_core::error::Bound, v: f64| {
-            c.require(key, v, bound.contains(v), &bound.allowed())
-        };
-        let mut g = vehsim_core::vehicle::ground::GroundRegions::NONE;
-        if let Some(p) = self.patch.first() {
-            g.patch = Some([
-                within("surface.patch.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
-                within("surface.patch.x_m", b::PATCH_XY, p.x_m)?,
-                within("surface.patch.y_m", b::PATCH_XY, p.y_m)?,
-                c.bound(&b::PATCH_RADIUS, p.radius_m)?,
-            ]);
-        }
-        if let Some(p) = self.band.first() {
-            g.band = Some([
-                within("surface.band.mu_scale", b::MU_SCALE_REGION, p.mu_scale)?,
-                c.bound(&b::BAND_START, p.start_x_m)?,
-                within("surface.band.length_m", b::REGION_LENGTH, p.length_m)?,
-            ]);
-        }
-        Ok(g)
+        ground_regions(path, &self.patch, &self.band, &self.stretch)
     }
 
     /// The surface friction law of this surface (None: `mu` is fixed), validated.
@@ -1009,12 +1039,13 @@ impl ManeuverFile {
             ));
         }
         if vehicle_model == VehicleModelKind::Roll4Dof
-            && !(self.surface.patch.is_empty() && self.surface.band.is_empty())
+            && !(self.surface.patch.is_empty() && self.surface.band.is_empty() && self.surface.stretch.is_empty())
         {
             return Err(Error::key(
                 path,
                 "surface.patch",
-                "the 4-DOF model does not model friction regions; remove [[surface.patch]] and [[surface.band]] or \
+                "the 4-DOF model does not model friction regions; remove [[surface.patch]], [[surface.band]] and \
+                 [[surface.stretch]] or \
                  use the bicycle model",
             ));
         }

@@ -182,6 +182,8 @@ struct Ramped {
     /// Drive (positive) or brake (negative) torque, N m.
     torque_nm: f64,
     contact_temp_c: [f64; 4],
+    /// Distance the CG has travelled, m.
+    distance_m: f64,
 }
 
 impl Ramped {
@@ -198,6 +200,7 @@ impl Ramped {
             drive_torque_nm: tq.max(0.0),
             brake_torque_nm: (-tq).max(0.0),
             contact_temp_c: c,
+            distance_m: l(from.distance_m, to.distance_m),
             ..Inputs::default()
         }
     }
@@ -326,6 +329,8 @@ pub struct Simulation<'a, const N: usize, M: VehicleModel<N>> {
     st: Stats,
     spin_dir: (f64, f64),
     k: u64,
+    /// The distance travelled at the last control sample, m, and the forward speed then, m/s.
+    travelled: (f64, f64),
     /// Time and speed target of the last row recorded, s and m/s.
     last_row: Option<(f64, f64)>,
     speed_target: f64,
@@ -365,7 +370,8 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let (spin_sin, spin_cos) = SPIN_OUT_SIDESLIP_RAD.sin_cos();
         // The PID starts preloaded: its output at zero error is the preload torque.
         let preload = controls.preload_nm.clamp(-controls.brake_max_nm, controls.drive_max_nm);
-        let start_inputs = Ramped { steer_rad: 0.0, torque_nm: preload, contact_temp_c: [env.surface_temp_c; 4] };
+        let start_inputs =
+            Ramped { steer_rad: 0.0, torque_nm: preload, contact_temp_c: [env.surface_temp_c; 4], distance_m: 0.0 };
         Self {
             model,
             env,
@@ -392,6 +398,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             temps: [env.surface_temp_c; 4],
             events,
             watch,
+            travelled: (0.0, 0.0),
             st: Stats {
                 peak_r: 0.0,
                 peak_beta_dir: (1.0, 0.0),
@@ -529,22 +536,37 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     fn sample_controls(&mut self, t: f64, record: bool) {
         let hc = self.hc;
         let mut u0 = self.commanded_inputs(t);
+        let vx_now = self.model.kinematics(&self.x).vx_mps;
+        u0.distance_m = self.distance_at_sample(vx_now);
         let previous = self.temps;
         let evaluated = self.estimate_contact(&u0, &previous, record);
         u0.contact_temp_c = self.temps;
         let x_end = self.state_one_period_ahead(&u0, evaluated, record);
         let kin = self.model.kinematics(&x_end);
         let cmd = self.maneuver.command(t + hc, &kin);
-        let from = Ramped { contact_temp_c: u0.contact_temp_c, ..self.ramp_to };
+        let from = Ramped { contact_temp_c: u0.contact_temp_c, distance_m: u0.distance_m, ..self.ramp_to };
         let steer = self.steer_command(t + hc, from.steer_rad, cmd.steer_rad);
         let torque = self.torque_command(t + hc, cmd.speed_target_mps, kin.vx_mps);
         let ahead = self.contact_ahead(from.contact_temp_c, &previous);
-        let to = Ramped { steer_rad: steer, torque_nm: torque, contact_temp_c: ahead };
+        let to = Ramped {
+            steer_rad: steer,
+            torque_nm: torque,
+            contact_temp_c: ahead,
+            distance_m: u0.distance_m + hc * vx_now,
+        };
         (self.ramp_t0, self.ramp_from, self.ramp_to) = (t, from, to);
         self.path_error = self.maneuver.path_error_m();
         if let Some(e) = self.path_error {
             self.st.max_dev = max_opt(self.st.max_dev, e.abs());
         }
+    }
+
+    /// The distance travelled at this sample, m: the last sample's plus the trapezoid of the
+    /// forward speed over the period behind (0 at the first sample); `vx_now` the speed now, m/s.
+    fn distance_at_sample(&mut self, vx_now: f64) -> f64 {
+        let d = if self.k == 0 { 0.0 } else { self.travelled.0 + 0.5 * self.hc * (self.travelled.1 + vx_now) };
+        self.travelled = (d, vx_now);
+        d
     }
 
     /// The inputs at sample time `t`: the end of the previous ramps (the start's values at the

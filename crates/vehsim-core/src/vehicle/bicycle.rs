@@ -369,7 +369,7 @@ impl Bicycle {
             // Friction regions on the ground, at this axle's own position.
             let l = [self.vehicle.a_m, -self.vehicle.b_m][i];
             let (xa, ya) = super::ground::axle_position(x[ix::X], x[ix::Y], x[ix::YAW], l);
-            mu *= env.regions.factor(xa, ya);
+            mu *= env.regions.factor(xa, ya) * env.regions.factor_along(u.distance_m);
         }
         TyreInput {
             fz_n: self.fz_tyre[i],

@@ -2,7 +2,9 @@
 //! friction by 1 + (s - 1) w with w a window of 1 inside it and logistic edges of [`EDGE_M`], so
 //! that friction changes continuously. A region acts on each axle at that axle's own ground
 //! position (X + l cos psi, Y + l sin psi; l = a for the front axle, -b for the rear), so the
-//! front axle meets it first. The engine's bicycle reads them from the manoeuvre's `[surface]`
+//! front axle meets it first. A stretch is the same window along the distance the CG has
+//! travelled since the start (the integral of its forward speed, m; `Inputs::distance_m`), on
+//! both axles at once: the form `vehsim discover` fits where a run has no logged position. The engine's bicycle reads them from the manoeuvre's `[surface]`
 //! ([`super::Environment::regions`]); `vehsim discover`'s replay fits and reads the same ones.
 //!
 //! Ground frame (ISO 8855): X, Y in m, the manoeuvre's start at the origin heading +X.
@@ -37,15 +39,22 @@ pub struct GroundRegions {
     pub patch: Option<[f64; 4]>,
     /// A band across X (any Y): [scale s, start X (m), length along X (m)].
     pub band: Option<[f64; 3]>,
+    /// A stretch of distance travelled: [scale s, start (m), length (m)].
+    pub stretch: Option<[f64; 3]>,
 }
 
 impl GroundRegions {
     /// No regions (a constant for `const` environments).
-    pub const NONE: GroundRegions = GroundRegions { patch: None, band: None };
+    pub const NONE: GroundRegions = GroundRegions { patch: None, band: None, stretch: None };
 
     /// True when no region is set.
     pub fn is_empty(&self) -> bool {
-        self.patch.is_none() && self.band.is_none()
+        self.patch.is_none() && self.band.is_none() && self.stretch.is_none()
+    }
+
+    /// Friction factor of the stretch at `distance_m` travelled (1 without a stretch).
+    pub fn factor_along(&self, distance_m: f64) -> f64 {
+        self.stretch.map_or(1.0, |b| band_factor(b, distance_m))
     }
 
     /// Friction factor at ground point (X, Y), m: the patch's times the band's (1 outside both).
@@ -102,7 +111,7 @@ mod tests {
         let mid = 1.0 - 0.6 / (1.0 + (-15.0f64).exp()).powi(2);
         assert!((band_factor(b, 35.0) - mid).abs() < 1e-15);
         assert_eq!(band_factor(b, -200.0), 1.0);
-        let g = GroundRegions { patch: Some(p), band: Some(b) };
+        let g = GroundRegions { patch: Some(p), band: Some(b), stretch: None };
         assert_eq!(g.factor(15.0, 0.0), 0.75 * band_factor(b, 15.0));
         assert!(GroundRegions::NONE.is_empty() && GroundRegions::NONE.factor(0.0, 0.0) == 1.0);
         let (x, y) = axle_position(1.0, 2.0, std::f64::consts::FRAC_PI_2, 1.5);

@@ -50,6 +50,10 @@ pub struct Inputs {
     /// ABS's cap on each wheel's brake torque, N m (bicycle: per axle [front, rear, -, -]; four
     /// wheels: FL, FR, RL, RR; infinite: no intervention, [`crate::control::abs`]).
     pub brake_cap_nm: [f64; 4],
+    /// Distance the CG has travelled since the start, m: the integral of its forward speed (the
+    /// engine's trapezoid over the control samples, ramped across each period). Read by a friction
+    /// stretch ([`ground::GroundRegions::stretch`]).
+    pub distance_m: f64,
 }
 
 impl Default for Inputs {
@@ -63,6 +67,7 @@ impl Default for Inputs {
             contact_temp_c: [0.0; 4],
             drive_cap_nm: f64::INFINITY,
             brake_cap_nm: [f64::INFINITY; 4],
+            distance_m: 0.0,
         }
     }
 }
