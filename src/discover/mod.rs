@@ -18,6 +18,7 @@ pub mod equivalence;
 pub mod fit;
 pub mod measured;
 pub mod model;
+pub mod region_starts;
 pub mod replay;
 pub mod report;
 pub mod search;

@@ -437,12 +437,15 @@ pub(super) fn fit_effect(
         e.apply(&mut p, v);
         fit_cost(model, data, &p)
     };
-    // The simplex starts from the best of the start value and the effect's start points, so
-    // that it begins in the right basin; an effect with several basins
+    // The simplex starts from the best of the start value, the effect's start points and, for a
+    // friction region, the points placed at the largest disagreement windows
+    // ([`super::region_starts`]), so that it begins in the right basin; an effect with several basins
     // ([`Effect::fit_passes`]) gets a simplex from each of its basins' best starts
     // ([`pass_starts`]), the best kept.
     let x0: Vec<f64> = e.params().iter().map(|d| d.start).collect();
-    let mut ranked: Vec<(f64, Vec<f64>)> = std::iter::once(x0).chain(e.starts()).map(|s| (cost(&s), s)).collect();
+    let placed = super::region_starts::region_starts(e, model, data, base);
+    let mut ranked: Vec<(f64, Vec<f64>)> =
+        std::iter::once(x0).chain(e.starts()).chain(placed).map(|s| (cost(&s), s)).collect();
     // Stable: ties keep the start value first.
     ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut best: Option<(f64, Vec<f64>, EffectParams)> = None;
