@@ -120,6 +120,66 @@ fn sidecar_sets_surface_and_rejects_unknown_keys() {
     assert!(e.contains("surface.mu"), "{e}");
 }
 
+/// A run in degrees per second, degrees and g, said so in its header cells or in its sidecar's
+/// `[units]`, reads as the SI run (to round-off).
+#[test]
+fn columns_in_other_units_are_converted_when_the_header_or_sidecar_says_so() {
+    let si = parse_run(&PathBuf::from("/nonexistent/si.csv"), &csv(|_, l| l)).unwrap();
+    let deg = std::f64::consts::PI / 180.0;
+    let converted = |l: String| {
+        let f: Vec<f64> = l.trim().split(',').map(|v| v.parse().unwrap()).collect();
+        format!("{},{},{},{},{}\n", f[0], f[1] / deg, f[2] * 3.6, f[3] / deg, f[4] / 9.80665)
+    };
+    let dir = common::temp_dir("units");
+    let header = csv(|_, l| converted(l)).replacen(
+        "t,steer,vx,yaw_rate,ay",
+        "t [s],steer [deg],vx [km/h],yaw_rate [deg/s],ay [g]",
+        1,
+    );
+    let p = dir.join("h.csv");
+    std::fs::write(&p, &header).unwrap();
+    let by_header = vehsim::discover::measured::read_run(&p).unwrap();
+    let p = dir.join("s.csv");
+    std::fs::write(&p, csv(|_, l| converted(l))).unwrap();
+    std::fs::write(dir.join("s.toml"), "[units]\nsteer = \"deg\"\nvx = \"km/h\"\nyaw_rate = \"deg/s\"\nay = \"g\"\n")
+        .unwrap();
+    let by_sidecar = vehsim::discover::measured::read_run(&p).unwrap();
+    for r in [&by_header, &by_sidecar] {
+        for (a, b) in [(&r.steer, &si.steer), (&r.vx, &si.vx), (&r.yaw_rate, &si.yaw_rate), (&r.ay, &si.ay)] {
+            assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + y.abs())));
+        }
+    }
+}
+
+/// A unit not listed for its column, a sidecar unit for a column the run lacks, and a header and a
+/// sidecar that disagree: exit 2 naming the file, the column or key and what is allowed.
+#[test]
+fn bad_units_are_named() {
+    let text = csv(|_, l| l).replacen("ay\n", "ay [ft/s^2]\n", 1);
+    expect_bad("unit-header", &text, &["header", "unit 'ft/s^2' of column 'ay'", "allowed: m/s^2, g"]);
+    let dir = common::temp_dir("units-bad");
+    let p = dir.join("r.csv");
+    for (csv_text, side, needles) in [
+        (csv(|_, l| l), "[units]\nx = \"m\"\n", vec!["r.toml", "units.x", "has no column 'x'"]),
+        (csv(|_, l| l), "[units]\nbrake = \"bar\"\n", vec!["units.brake", "not a column of the run format"]),
+        (csv(|_, l| l), "[units]\nyaw_rate = \"rpm\"\n", vec!["units.yaw_rate", "allowed: rad/s, deg/s"]),
+        (
+            csv(|_, l| l).replacen("yaw_rate", "yaw_rate [rad/s]", 1),
+            "[units]\nyaw_rate = \"deg/s\"\n",
+            vec!["units.yaw_rate", "header", "'rad/s'", "give one unit"],
+        ),
+    ] {
+        std::fs::write(&p, csv_text).unwrap();
+        std::fs::write(dir.join("r.toml"), side).unwrap();
+        let e = vehsim::discover::measured::read_run(&p).unwrap_err();
+        let msg = e.to_string();
+        assert_eq!(e.exit_code(), 2, "{msg}");
+        for n in needles {
+            assert!(msg.contains(n), "lacks '{n}': {msg}");
+        }
+    }
+}
+
 /// The provider and baseline-model flags take the spec files' names: anything else is a usage
 /// error (exit 2) that lists them, before any file is read.
 #[test]

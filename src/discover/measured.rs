@@ -10,13 +10,15 @@
 //! value almost certainly means degrees or a steering-wheel angle), vx must not be negative (beyond
 //! 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s (a car does not turn
 //! on the spot). Each violation is one bad-input error that names the file and the row or column
-//! (exit code 2).
+//! (exit code 2). A column in another common unit says so in its header cell (`yaw_rate [deg/s]`)
+//! or the sidecar's `[units]`, and is converted to SI first ([`super::units`]).
 //!
 //! Sidecar `RUN.toml` (same stem): `[surface] mu` (peak friction, (0, 2], default 1.0 with a
 //! notice), `[surface] ice_temp_c` (degC; when given the run is on ice, otherwise it is taken as a
 //! non-ice surface at -3 degC for temperature-dependent tyres), `[initial] vx` (m/s, default the
 //! first measured vx).
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -103,6 +105,9 @@ struct Sidecar {
     surface: SurfaceSection,
     #[serde(default)]
     initial: InitialSection,
+    /// Units of the run's columns when not SI (`yaw_rate = "deg/s"`; [`super::units`]).
+    #[serde(default)]
+    units: BTreeMap<String, String>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -130,25 +135,59 @@ pub fn read_run(path: &Path) -> Result<MeasuredRun> {
     parse_run(path, &text)
 }
 
-/// Parse and validate the text of a measured run read from `path` (the sidecar is looked up next to it).
+/// Parse and validate the text of a measured run read from `path` (the sidecar is looked up next
+/// to it: its `[units]` apply to the CSV, the rest to the run).
 pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
-    let mut run = parse_run_csv(path, text)?;
-    read_sidecar(&mut run)?;
+    let side = path.with_extension("toml");
+    if !side.exists() {
+        let mut run = parse_run_csv(path, text)?;
+        run.notices.push(format!(
+            "{}: no sidecar {}; surface mu = 1.0 assumed, not ice (no contact heating)",
+            path.display(),
+            side.display()
+        ));
+        return Ok(run);
+    }
+    let side_text = read_input(&side)?;
+    let units = parse_toml::<Sidecar>(&side, &side_text)?.units;
+    let mut run = parse_run_csv_with(path, text, &side, &units)?;
+    apply_sidecar(&mut run, &side, &side_text)?;
     Ok(run)
 }
 
 /// Parse and validate the CSV text of a measured run alone: no sidecar is looked up, so the run
 /// keeps the defaults (mu 1.0, -3 degC, the first measured vx). `path` names the file in messages.
 pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
+    parse_run_csv_with(path, text, path, &BTreeMap::new())
+}
+
+/// [`parse_run_csv`] with the column units `units` of the sidecar `side` (named in messages).
+fn parse_run_csv_with(path: &Path, text: &str, side: &Path, units: &BTreeMap<String, String>) -> Result<MeasuredRun> {
     let mut rdr = csv::ReaderBuilder::new().has_headers(true).trim(csv::Trim::All).from_reader(text.as_bytes());
-    let headers: Vec<String> = rdr
+    let cells: Vec<String> = rdr
         .headers()
         .map_err(|e| Error::input(path, format!("cannot read the header row: {e}")))?
         .iter()
         .map(|s| s.to_string())
         .collect();
+    let split: Vec<(&str, Option<&str>)> = cells.iter().map(|c| super::units::split_header(c)).collect();
+    let headers: Vec<String> = split.iter().map(|(n, _)| n.to_string()).collect();
     let (used, notices) = header_columns(path, &headers)?;
-    let cols = read_columns(path, &mut rdr, &used)?;
+    let mut cols = read_columns(path, &mut rdr, &used)?;
+    for ((ci, name), col) in used.iter().zip(&mut cols) {
+        let f = column_factor(path, side, name, split[*ci].1, units.get(name))?;
+        if f != 1.0 {
+            col.iter_mut().for_each(|v| *v *= f);
+        }
+    }
+    if let Some(k) = units.keys().find(|k| !headers.contains(k)) {
+        let what = if super::units::units_of(k).is_empty() {
+            format!("'{k}' is not a column of the run format ({}, {})", REQUIRED.join(", "), OPTIONAL.join(", "))
+        } else {
+            format!("the run {} has no column '{k}'", path.display())
+        };
+        return Err(Error::key(side, &format!("units.{k}"), what));
+    }
     let get = |name: &str| -> Vec<f64> {
         used.iter().position(|(_, n)| n == name).map(|j| cols[j].clone()).unwrap_or_default()
     };
@@ -344,17 +383,21 @@ fn check_channels(path: &Path, steer: &[f64], vx: &[f64], yaw_rate: &[f64]) -> R
     Ok(())
 }
 
-fn read_sidecar(run: &mut MeasuredRun) -> Result<()> {
-    let side = run.path.with_extension("toml");
-    if !side.exists() {
-        run.notices.push(format!(
-            "{}: no sidecar {}; surface mu = 1.0 assumed, not ice (no contact heating)",
-            run.path.display(),
-            side.display()
-        ));
-        return Ok(());
+/// The factor to SI of column `name` of the run `path`: from the unit of its header cell
+/// (`header`), else of the sidecar `side`'s `[units]` (`listed`); 1 without either. A unit not
+/// allowed for the column, or a header and a sidecar that disagree, is bad input.
+fn column_factor(path: &Path, side: &Path, name: &str, header: Option<&str>, listed: Option<&String>) -> Result<f64> {
+    let key = format!("units.{name}");
+    match (header, listed) {
+        (Some(h), Some(l)) if h != l => Err(Error::key(
+            side,
+            &key,
+            format!("'{l}', but the header of {} gives the column in '{h}'; give one unit", path.display()),
+        )),
+        (Some(h), _) => super::units::si_factor(name, h).map_err(|e| Error::input(path, format!("header: {e}"))),
+        (None, Some(l)) => super::units::si_factor(name, l).map_err(|e| Error::key(side, &key, e)),
+        (None, None) => Ok(1.0),
     }
-    apply_sidecar(run, &side, &read_input(&side)?)
 }
 
 /// The allowed ranges of the sidecar's keys: the surface friction is the manoeuvre file's own

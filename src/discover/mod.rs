@@ -27,6 +27,7 @@ pub mod sensors;
 pub mod stanford;
 pub mod synth;
 pub mod uncertainty;
+pub mod units;
 
 use std::path::{Path, PathBuf};
 
