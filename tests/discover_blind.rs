@@ -492,3 +492,27 @@ fn exponential_lag_update_matches_a_fine_step_reference() {
         }
     }
 }
+
+/// Why a set is left above the noise (`discover::why`): with the candidates restricted so that
+/// the hidden effect cannot be named, a short patch is diagnosed as localised (most of the excess
+/// in little of the time) and a lower rear cornering stiffness as spread.
+#[test]
+fn a_set_left_above_the_noise_says_why() {
+    let m = model();
+    let diagnose = |e: Effect, v: &[f64]| {
+        let mut p = EffectParams::default();
+        e.apply(&mut p, v);
+        let data = Dataset::new(synth::generate(&m, &p, 3).into_iter().map(|r| r.0).collect());
+        let d = discover(&m, &data, &[Effect::SensorBias]);
+        let last = vehsim::discover::select::simulate_all(&m, &data, &d.params);
+        let w = vehsim::discover::why::above_noise(&data, &d, &last).expect("left above the noise");
+        eprintln!("{}: {:?}", e.label(), w.sentences);
+        w
+    };
+    let patch = diagnose(Effect::FrictionPatch, &[0.5, 60.0, 0.0, 6.0]);
+    assert_eq!(patch.kind, "localised");
+    assert!(patch.nearest_miss.is_some() && patch.sentences.iter().any(|s| s.starts_with("Localised")));
+    let stiffness = diagnose(Effect::AxleStiffness, &[1.0, 0.7]);
+    assert_eq!(stiffness.kind, "spread");
+    assert!(!stiffness.bins_above.is_empty(), "a model error across the range shows in the operating bins");
+}

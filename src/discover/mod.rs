@@ -28,6 +28,7 @@ pub mod stanford;
 pub mod synth;
 pub mod uncertainty;
 pub mod units;
+pub mod why;
 
 use std::path::{Path, PathBuf};
 

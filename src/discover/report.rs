@@ -190,8 +190,10 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let windows = disagreement_windows(data, &sims.base);
     let windows_after = disagreement_windows(data, &sims.last);
     let regions = operating_regions(data, &sims.base);
-    let report = report_json(opts, data, d, &sims, [&windows, &windows_after], &regions);
-    let md = markdown(opts, data, d, &windows, &windows_after, &regions);
+    let why = super::why::above_noise(data, d, &sims.last);
+    let mut report = report_json(opts, data, d, &sims, [&windows, &windows_after], &regions);
+    report["above_noise"] = json!(why);
+    let md = markdown(opts, data, d, [&windows, &windows_after], &regions, why.as_ref());
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
     let surface = surface_toml(d);
@@ -366,9 +368,9 @@ fn markdown(
     opts: &DiscoverOptions,
     data: &Dataset,
     d: &Discovery,
-    windows: &[Window],
-    windows_after: &[Window],
+    [windows, windows_after]: [&[Window]; 2],
     regions: &[super::select::RegionBin],
+    why: Option<&super::why::AboveNoise>,
 ) -> String {
     let mut s = String::new();
     md_header(&mut s, opts, data, d);
@@ -376,6 +378,7 @@ fn markdown(
     md_accepted(&mut s, d);
     md_folds(&mut s, d);
     md_remaining(&mut s, d, windows_after);
+    md_why(&mut s, why);
     md_jackknife(&mut s, d);
     md_dropped(&mut s, d);
     md_rejected(&mut s, d);
@@ -476,6 +479,16 @@ fn md_remaining(s: &mut String, d: &Discovery, windows_after: &[Window]) {
         }
         for w in w {
             let _ = writeln!(s, "- {}: {:.2}–{:.2} s (excess {:.1})", w.run, w.t0_s, w.t1_s, w.excess);
+        }
+    }
+}
+
+/// report.md: why the data are left above the noise ([`super::why`]), when they are.
+fn md_why(s: &mut String, why: Option<&super::why::AboveNoise>) {
+    if let Some(w) = why {
+        let _ = writeln!(s, "\n## Why the data are left above the noise\n");
+        for line in &w.sentences {
+            let _ = writeln!(s, "- {line}");
         }
     }
 }
