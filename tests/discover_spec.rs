@@ -196,7 +196,7 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                 let env = Environment {
                     mu,
                     surface_temp_c: ice_c,
-                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
                 };
                 for [vx, vy, r, fyf, fyr, delta_l, steer] in states {
                     // Under transient slip the relaxed-force slots hold lagged slip angles, rad.
@@ -212,7 +212,15 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                     let db = bicycle.derivatives(&x, &u, &env);
                     let db = [db[ix::VY], db[ix::R], db[ix::FY_F], db[ix::FY_R], db[ix::DELTA_L]];
                     let dr =
-                        replay.lateral_derivatives(&p, [vy, r, fyf, fyr, delta_l], steer, vx, mu, (ice_c, contact_c));
+                        replay.lateral_derivatives(
+                            &p,
+                            [vy, r, fyf, fyr, delta_l],
+                            steer,
+                            vx,
+                            mu,
+                            (ice_c, contact_c),
+                            vehsim_core::vehicle::road::Road::FLAT,
+                        );
                     for (k, (b, e)) in db.iter().zip(&dr).enumerate() {
                         let rel = (b - e).abs() / b.abs().max(e.abs()).max(f64::MIN_POSITIVE);
                         worst = worst.max(rel);

@@ -73,6 +73,8 @@ pub struct MeasuredRun {
     pub initial_vx: f64,
     /// Friction regions on the run's ground, from its sidecar (none by default).
     pub regions: Regions,
+    /// The run's road: constant bank and grade from its sidecar's `[road]` (flat by default).
+    pub road: vehsim_core::vehicle::road::Road,
     /// Notices for the user (ignored columns, defaults taken).
     pub notices: Vec<String>,
 }
@@ -109,6 +111,7 @@ struct Sidecar {
     surface: SurfaceSection,
     #[serde(default)]
     initial: InitialSection,
+    road: Option<vehsim_spec::maneuver::RoadSection>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -201,6 +204,7 @@ pub fn parse_run_csv(path: &Path, text: &str) -> Result<MeasuredRun> {
             .collect(),
         initial_vx: vx[0],
         regions: Default::default(),
+        road: Default::default(),
         t,
         steer,
         vx,
@@ -404,6 +408,8 @@ pub mod sidecar_bounds {
     pub const INITIAL_VX: Bound = Bound::closed("initial.vx", -m::SPEED_MPS.hi, m::SPEED_MPS.hi, "m/s");
     /// The friction regions' ranges (declared with the engine's regions).
     pub use vehsim_core::vehicle::ground::region_bounds::*;
+    /// The road's bank and grade (declared with the engine's road).
+    pub use vehsim_core::vehicle::road::road_bounds::{BANK_DEG, GRADE_DEG};
 }
 
 /// The regions of a sidecar's `[surface]`, each key within its bound; more than one region of a
@@ -464,6 +470,10 @@ pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<(
         run.initial_vx = c.bound(&sidecar_bounds::INITIAL_VX, v)?;
     }
     run.regions = regions(&c, side, &s.surface)?;
+    if let Some(r) = s.road {
+        // Within its bounds, and a grade the run's tyres can climb at its speed.
+        run.road = r.road(side, run.mu)?;
+    }
     Ok(())
 }
 

@@ -172,6 +172,7 @@ impl RunModel<'_> {
             contact_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
             on_ice: run.on_ice,
             tread_rise_k: [0.0; 2],
+            road: self.p.road.unwrap_or(run.road),
         }
     }
 
@@ -532,7 +533,7 @@ pub(super) fn replay(
     let env = Environment {
         mu: run.mu,
         surface_temp_c: run.ice_temp_c,
-        regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+        regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
     };
     let mut maneuver = ReplayDrive { ch: &ch, closed };
     let mut isothermal = Isothermal;
@@ -619,7 +620,7 @@ mod tests {
         let env = Environment {
             mu: run.mu,
             surface_temp_c: run.ice_temp_c,
-            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
         };
         let u = |t: f64| Inputs {
             t_s: t,
