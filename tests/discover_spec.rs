@@ -6,6 +6,7 @@ mod common;
 use std::process::Command;
 
 use common::BIN;
+use vehsim_core::vehicle::road::Road;
 
 #[test]
 fn improved_vehicle_spec_from_discover_runs_with_vehsim_run() {
@@ -70,8 +71,9 @@ fn lateral_section_mu_scale_and_steer_compliance_act_as_documented() {
 /// scale, thermal friction at a given contact temperature), alone and together, at fixed states
 /// (vy, r, the relaxed axle forces, the lagged steer, the steer and vx; the bicycle's wheels free
 /// rolling, omega = vx / R_e with relaxed slip ratios 0, so its tyres are at zero slip ratio as
-/// the replay's), the two models' dvy/dt, dr/dt and lag-state derivatives agree to 1e-12
-/// relative. Tyres: every provider on the shipped sedan, and a Magic Formula tyre edited to have
+/// the replay's), on a flat road and on two banked and graded ones (the road's gravity and axle
+/// loads, `[road]` of a manoeuvre and of a run's sidecar), the two models' dvy/dt, dr/dt and
+/// lag-state derivatives agree to 1e-12 relative. Tyres: every provider on the shipped sedan, and a Magic Formula tyre edited to have
 /// a longitudinal force at zero slip (PHX1, PVX1) and an aligning moment, so that the
 /// Fx_f sin(delta) and Mz terms are exercised too.
 #[test]
@@ -192,11 +194,14 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
             let p = EffectParams::of_vehicle(&v);
             let bicycle = Bicycle::new(v.clone());
             let replay = ReplayModel::new(v);
-            for mu in [0.15, 1.0] {
+            // Flat, a left-high downhill road and a right-high uphill one.
+            let roads = [Road::FLAT, Road::from_deg(6.0, -5.0), Road::from_deg(-20.0, 4.0)];
+            for (mu, road) in [0.15, 1.0].into_iter().flat_map(|mu| roads.map(|r| (mu, r))) {
                 let env = Environment {
                     mu,
                     surface_temp_c: ice_c,
-                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
+                    regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                    road,
                 };
                 for [vx, vy, r, fyf, fyr, delta_l, steer] in states {
                     // Under transient slip the relaxed-force slots hold lagged slip angles, rad.
@@ -211,22 +216,21 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                     };
                     let db = bicycle.derivatives(&x, &u, &env);
                     let db = [db[ix::VY], db[ix::R], db[ix::FY_F], db[ix::FY_R], db[ix::DELTA_L]];
-                    let dr =
-                        replay.lateral_derivatives(
-                            &p,
-                            [vy, r, fyf, fyr, delta_l],
-                            steer,
-                            vx,
-                            mu,
-                            (ice_c, contact_c),
-                            vehsim_core::vehicle::road::Road::FLAT,
-                        );
+                    let dr = replay.lateral_derivatives(
+                        &p,
+                        [vy, r, fyf, fyr, delta_l],
+                        steer,
+                        vx,
+                        mu,
+                        (ice_c, contact_c),
+                        road,
+                    );
                     for (k, (b, e)) in db.iter().zip(&dr).enumerate() {
                         let rel = (b - e).abs() / b.abs().max(e.abs()).max(f64::MIN_POSITIVE);
                         worst = worst.max(rel);
                         assert!(
                             rel <= 1e-12,
-                            "{tyre}, {name}, mu {mu}, state {:?}: derivative {k} (vy, r, Fy_f, Fy_r, delta_l) \
+                            "{tyre}, {name}, mu {mu}, {road:?}, state {:?}: derivative {k} (vy, r, Fy_f, Fy_r, delta_l) \
                              bicycle {b:e}, replay {e:e}, relative {rel:.1e}",
                             [vx, vy, r, fyf, fyr, delta_l, steer]
                         );

@@ -533,7 +533,8 @@ pub(super) fn replay(
     let env = Environment {
         mu: run.mu,
         surface_temp_c: run.ice_temp_c,
-        regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
+        regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+        road: vehsim_core::vehicle::road::Road::FLAT,
     };
     let mut maneuver = ReplayDrive { ch: &ch, closed };
     let mut isothermal = Isothermal;
@@ -620,7 +621,8 @@ mod tests {
         let env = Environment {
             mu: run.mu,
             surface_temp_c: run.ice_temp_c,
-            regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
         };
         let u = |t: f64| Inputs {
             t_s: t,

@@ -1097,7 +1097,8 @@ impl ManeuverFile {
         let env = Environment {
             mu: self.surface.mu,
             surface_temp_c: self.surface.temperature_c,
-            regions: vehsim_core::vehicle::ground::GroundRegions::NONE, road: vehsim_core::vehicle::road::Road::FLAT,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
         };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];
