@@ -221,9 +221,8 @@ fn engine_and_replay_lateral_derivatives_agree_to_round_off() {
                         [vy, r, fyf, fyr, delta_l],
                         steer,
                         vx,
-                        mu,
+                        (mu, road),
                         (ice_c, contact_c),
-                        road,
                     );
                     for (k, (b, e)) in db.iter().zip(&dr).enumerate() {
                         let rel = (b - e).abs() / b.abs().max(e.abs()).max(f64::MIN_POSITIVE);

@@ -622,20 +622,19 @@ impl ReplayModel {
     /// The derivatives of the lateral states [vy (m/s), r (rad/s), Fy_f, Fy_r (N, the relaxed
     /// axle forces), delta_e (rad, the lagged steer)] at those states `lateral`, under the steer
     /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
-    /// effects' scale), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
+    /// effects' scale) and the road `road` (bank and grade), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
     /// equations the replay integrates, at one instant, lags included (their entries are 0 when
     /// the effect that uses them is off). Under transient slip the third and fourth entries are
     /// the lagged slip angles alpha_f, alpha_r (rad) and their rates instead, as in the engine's
-    /// bicycle. `road` is the run's bank and grade. For checks against the engine's bicycle model.
+    /// bicycle. For checks against the engine's bicycle model.
     pub fn lateral_derivatives(
         &self,
         p: &EffectParams,
         lateral: [f64; 5],
         steer_rad: f64,
         vx_mps: f64,
-        mu: f64,
+        (mu, road): (f64, Road),
         (ice_c, contact_c): (f64, [f64; 2]),
-        road: Road,
     ) -> [f64; 5] {
         let d = Drive {
             steer: steer_rad,
