@@ -219,3 +219,19 @@ fn road_intervals_cover_the_truth() {
     }
     assert!(covered[0] >= 7 && covered[1] >= 7, "{covered:?} of 8");
 }
+
+/// `vehsim synth --effect road` refuses a grade the ice manoeuvres' tyres cannot climb (mu 0.15:
+/// at most 8.5 deg) and a bank outside its bound, exit 2 naming the flag.
+#[test]
+fn synth_refuses_a_road_the_manoeuvres_cannot_drive() {
+    let dir = common::temp_dir("road-synth-bad");
+    for params in ["grade_deg=9", "bank_deg=36"] {
+        let sedan = sedan();
+        let args =
+            ["synth", "--effect", "road", "--params", params, "--vehicle", sedan.to_str().unwrap(), "--out", "runs"];
+        let (code, out, err) = common::vehsim(&dir, &args);
+        assert_eq!(code, 2, "{params}: {out}{err}");
+        assert!(err.contains("--params"), "{err}");
+        assert!(!dir.join("runs").exists());
+    }
+}
