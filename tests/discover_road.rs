@@ -45,7 +45,7 @@ fn discover_all(runs: &[MeasuredRun]) -> Discovery {
 /// in the sidecars) names `road`, alone, each parameter's interval (widened to 3.09 standard
 /// errors, the family-wise level of the blind suite) containing its true value,
 /// and is explained; the fitted pair written as the sidecars' `[road]` replays the discovery's
-/// final gap to 1e-9. Measured (seed 1): bank 3, grade 4 recovered as 2.9945 (2.988 to 3.001) and
+/// final gap to 1e-9; appended to a manoeuvre, `vehsim run` drives on the fitted road. Measured (seed 1): bank 3, grade 4 recovered as 2.9945 (2.988 to 3.001) and
 /// 4.047 (3.993 to 4.093); bank -4, grade 0 as -4.0085 (-4.016 to -4.001), grade -0.040
 /// (-0.090 to 0.027): the bank 2.3 standard errors off (0.2 % of it), as the noisy measured steer
 /// and speed the replay is driven by bias it slightly. (Calibration over seeds:
@@ -80,6 +80,17 @@ fn a_banked_graded_set_names_the_road_and_recovers_it() {
             assert!((got.ay_mps2 - want.ay_mps2).abs() <= 1e-9, "{got:?} {want:?}");
         }
         assert!(d.final_scores.rss_held < 0.1 * d.baseline.rss_held);
+        // The same fragment appended to a manoeuvre: `vehsim run` drives on the fitted road.
+        let m = format!(
+            "name = \"fitted\"\nvehicle = \"{}\"\ntyre_model = \"pacejka\"\nduration_s = 3.0\n[surface]\nmu = 1.0\n\
+             [maneuver]\nkind = \"sine_steer\"\nspeed_mps = 20.0\nsteer_amplitude_deg = 2.0\nperiod_s = 3.0\n{text}",
+            sedan().display()
+        );
+        let case = common::Case::new("road-fitted-run", "fitted.toml", &m);
+        let (code, out, err) = case.run(&["run", "--quiet", "fitted.toml"]);
+        assert_eq!(code, 0, "{out}{err}");
+        let cfg = vehsim_spec::run::load(&case.dir.join("fitted.toml")).unwrap();
+        assert_eq!(cfg.env.road, vehsim_core::vehicle::road::Road::from_deg(fe.params[0].1, fe.params[1].1));
     }
 }
 
