@@ -154,7 +154,8 @@ pub enum Effect {
     FrictionBand,
     SensorLatency,
     AccelPosition,
-    /// The road's constant bank and grade, one pair for every run of the set ([`super::road`]).
+    /// The road's constant bank and grade, one pair for every run of the set
+    /// ([`vehsim_core::vehicle::road`]).
     Road,
 }
 
