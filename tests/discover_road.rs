@@ -170,6 +170,8 @@ fn bad_road_keys_are_refused_naming_file_and_key() {
         ("[surface]\nmu = 0.15\n[road]\ngrade_deg = -25.0\n", "road.grade_deg", "[-20, 20]"),
         ("[surface]\nmu = 0.15\n[road]\ngrade_deg = 10.0\n", "road.grade_deg", "mu cos(bank)"),
         ("[surface]\nmu = 0.15\n[road]\nslope_deg = 1.0\n", "slope_deg", ""),
+        ("[surface]\nmu = 0.15\n[road]\nbank_deg = nan\n", "road.bank_deg", "[-35, 35]"),
+        ("[surface]\nmu = 0.15\n[road]\ngrade_deg = inf\n", "road.grade_deg", "[-20, 20]"),
     ] {
         let mut r = run.clone();
         let err = apply_sidecar(&mut r, Path::new("RUN.toml"), text).unwrap_err().to_string();
