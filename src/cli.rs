@@ -197,7 +197,8 @@ pub enum Command {
     /// effect switched on (or `none`).
     Synth {
         /// tyre_relaxation, load_transfer, thermal_friction, friction_change, steer_compliance,
-        /// sensor_bias, axle_cornering_stiffness, axle_peak_friction, yaw_inertia or none; the
+        /// sensor_bias, axle_cornering_stiffness, axle_peak_friction, yaw_inertia, road (bank_deg,
+        /// grade_deg: the same road on every run, not written to the sidecars) or none; the
         /// --params names pick the form (steer_lag_s: steering lag; stretch_*: a stretch; patch_*:
         /// a ground patch; relaxation_length_front_m: transient slip; load_sensitivity_*).
         #[arg(long)]

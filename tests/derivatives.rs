@@ -43,8 +43,12 @@ fn inputs() -> Inputs {
     }
 }
 
-const ENV: Environment =
-    Environment { mu: 0.3, surface_temp_c: -3.0, regions: vehsim_core::vehicle::ground::GroundRegions::NONE };
+const ENV: Environment = Environment {
+    mu: 0.3,
+    surface_temp_c: -3.0,
+    regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+    road: vehsim_core::vehicle::road::Road::FLAT,
+};
 
 fn check(model: &str, tyre: &str, names: &[&str], d: &[f64]) {
     let path = fixture(model, tyre);

@@ -34,6 +34,7 @@ fn steady_run(steer: f64, vx: f64, ice_c: f64, secs: f64) -> MeasuredRun {
         on_ice: true,
         initial_vx: vx,
         regions: Default::default(),
+        road: Default::default(),
         notices: Vec::new(),
     }
 }

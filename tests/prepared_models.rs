@@ -23,6 +23,7 @@ mod bicycle {
                 mu: 0.15,
                 surface_temp_c: -3.0,
                 regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                road: vehsim_core::vehicle::road::Road::FLAT,
             };
             let (plain, prepared) = (Bicycle::new(v.clone()), Bicycle::new(v.clone()).prepared_for(&env));
             assert!(prepared.has_prepared_curves());
@@ -64,8 +65,12 @@ mod roll4dof {
     #[test]
     fn mirrored_state_gives_mirrored_derivative() {
         let m = sedan();
-        let env =
-            Environment { mu: 0.15, surface_temp_c: -3.0, regions: vehsim_core::vehicle::ground::GroundRegions::NONE };
+        let env = Environment {
+            mu: 0.15,
+            surface_temp_c: -3.0,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
+        };
         let mut x = m.initial_state(1.0, 2.0, 0.3, 12.0);
         let vals = [(ix::VY, 0.4), (ix::R, 0.2), (ix::PHI, 0.01), (ix::P, -0.05), (ix::AX_LAG, 0.3), (ix::AY_LAG, 1.1)];
         for (i, v) in vals {
@@ -120,6 +125,7 @@ mod roll4dof {
                 mu: 0.15,
                 surface_temp_c: -3.0,
                 regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+                road: vehsim_core::vehicle::road::Road::FLAT,
             };
             let (plain, prepared) = (Roll4Dof::new(v.clone(), roll.clone()), Roll4Dof::new(v, roll).prepared_for(&env));
             let mut x = plain.initial_state(0.0, 0.0, 0.2, 10.0);
@@ -152,8 +158,12 @@ mod roll4dof {
     #[test]
     fn standstill_is_an_equilibrium() {
         let m = sedan();
-        let env =
-            Environment { mu: 0.15, surface_temp_c: -3.0, regions: vehsim_core::vehicle::ground::GroundRegions::NONE };
+        let env = Environment {
+            mu: 0.15,
+            surface_temp_c: -3.0,
+            regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
+        };
         let x = m.initial_state(0.0, 0.0, 0.0, 0.0);
         let d = m.derivatives(&x, &Inputs::default(), &env);
         assert!(d.iter().all(|v| *v == 0.0), "{d:?}");

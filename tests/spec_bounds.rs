@@ -39,6 +39,8 @@ fn readme_manoeuvre_rows_give_the_declared_intervals() {
         ("`[surface] mu`", bounds::MU),
         ("`[integrator] step_s`", bounds::STEP_S),
         ("`[integrator] control_period_s`", bounds::CONTROL_PERIOD_S),
+        ("`[road] bank_deg`", vehsim_core::vehicle::road::road_bounds::BANK_DEG),
+        ("`[road] grade_deg`", vehsim_core::vehicle::road::road_bounds::GRADE_DEG),
     ] {
         let line = text.lines().find(|l| l.starts_with(&format!("| {row} |"))).unwrap_or_else(|| panic!("{row}"));
         assert!(line.contains(&b.interval()), "README row {row} should give {}: {line}", b.interval());

@@ -7,6 +7,7 @@ use super::measured::sidecar_bounds as rb;
 use super::model::EffectParams;
 use vehsim_core::error::Bound;
 use vehsim_core::vehicle::lateral_bounds as lb;
+use vehsim_core::vehicle::road::road_bounds as roadb;
 use vehsim_core::vehicle::sensor_bounds as sb;
 
 /// One parameter of an effect.
@@ -67,6 +68,17 @@ const fn pdb(name: &'static str, b: Bound, start: f64, scale: f64) -> ParamDef {
     pd(name, unit_of(b), start, scale, b.lo, b.hi, None)
 }
 
+/// A parameter that is a `[road]` key of a run's sidecar (and of a manoeuvre): its name (the key
+/// without `road.`), unit and range from the key's declared bound; its no-effect value is 0 (a
+/// flat road).
+const fn pdr(b: Bound, start: f64, scale: f64) -> ParamDef {
+    let name = b.key.split_at(ROAD.len()).1;
+    pd(name, unit_of(b), start, scale, b.lo, b.hi, Some(0.0))
+}
+
+/// The section prefix of the `[road]` keys.
+pub const ROAD: &str = "road.";
+
 /// The key of a friction region's parameter in a sidecar's `[[surface.<form>]]` table: the
 /// parameter's name without its form's prefix (`patch_x_m` is `x_m` of `[[surface.patch]]`).
 pub fn region_key<'a>(form: &str, param: &'a str) -> &'a str {
@@ -110,6 +122,8 @@ pub enum InVehicleSpec {
     /// A property of the instruments (offsets, latencies, the accelerometer's position): the
     /// vehicle spec's `[sensors]` section.
     Instruments,
+    /// The road's bank and grade: a run sidecar's (and a manoeuvre's) `[road]` section.
+    RoadGeometry,
 }
 
 /// A candidate effect. Some effects come in several forms, tried as separate candidates under
@@ -140,11 +154,14 @@ pub enum Effect {
     FrictionBand,
     SensorLatency,
     AccelPosition,
+    /// The road's constant bank and grade, one pair for every run of the set
+    /// ([`vehsim_core::vehicle::road`]).
+    Road,
 }
 
 impl Effect {
     /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 19] = [
+    pub const TRIED: [Effect; 20] = [
         Effect::SensorBias,
         Effect::SensorLatency,
         Effect::AccelPosition,
@@ -164,13 +181,14 @@ impl Effect {
         Effect::AxleStiffness,
         Effect::AxleFriction,
         Effect::YawInertia,
+        Effect::Road,
     ];
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 19] = Self::TRIED;
+    pub const ALL: [Effect; 20] = Self::TRIED;
 
     /// Every name accepted on the command line.
-    pub const NAMES: [&'static str; 11] = [
+    pub const NAMES: [&'static str; 12] = [
         "tyre_relaxation",
         "load_transfer",
         "thermal_friction",
@@ -182,6 +200,7 @@ impl Effect {
         "axle_cornering_stiffness",
         "axle_peak_friction",
         "yaw_inertia",
+        "road",
     ];
 
     pub fn name(self) -> &'static str {
@@ -199,6 +218,7 @@ impl Effect {
             Effect::AxleStiffness => "axle_cornering_stiffness",
             Effect::AxleFriction => "axle_peak_friction",
             Effect::YawInertia => "yaw_inertia",
+            Effect::Road => "road",
         }
     }
 
@@ -281,6 +301,9 @@ impl Effect {
                 "each axle's slip angle lags over its own relaxation length, shortening as the tyre saturates"
             }
             Effect::YawInertia => "the yaw moment of inertia differs from the vehicle's by a factor",
+            Effect::Road => {
+                "the road is banked and graded: gravity pulls the car across and along the road plane (which the accelerometer does not log) and shifts the axle loads"
+            }
         }
     }
 
@@ -408,6 +431,7 @@ impl Effect {
                 const { &[pdl(lb::MU_SCALE_FRONT, None, 1.0, 0.2, ONE), pdl(lb::MU_SCALE_REAR, None, 1.0, 0.2, ONE)] }
             }
             Effect::YawInertia => const { &[pd("yaw_inertia_scale", "1", 1.0, 0.2, 0.3, 3.0, ONE)] },
+            Effect::Road => const { &[pdr(roadb::BANK_DEG, 0.0, 2.0), pdr(roadb::GRADE_DEG, 0.0, 2.0)] },
             Effect::LoadTransferSensitive => {
                 const {
                     &[
@@ -475,6 +499,7 @@ impl Effect {
             Effect::YawInertia => InVehicleSpec::YawInertiaScale,
             Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
             Effect::SensorBias | Effect::SensorLatency | Effect::AccelPosition => InVehicleSpec::Instruments,
+            Effect::Road => InVehicleSpec::RoadGeometry,
         }
     }
 
@@ -511,6 +536,7 @@ impl Effect {
                 p.slip_relaxation_saturating = self == Effect::TransientSlipSaturating;
             }
             Effect::FrictionBand => p.band = [v[0], v[1], v[2]],
+            Effect::Road => p.road = Some(vehsim_core::vehicle::road::Road::from_deg(v[0], v[1])),
             Effect::ThermalState => {
                 // Friction change per kelvin = per kJ of tread heat x the heat capacity in kJ/K.
                 p.tread_mu_per_k = v[0] * v[1] * 1e-3;
@@ -562,6 +588,16 @@ mod tests {
         for b in sb::ALL {
             let d = defs.iter().find(|d| format!("{SENSORS}{}", d.name) == b.key).expect(b.key);
             assert_eq!((d.lo, d.hi, d.unit), (b.lo, b.hi, unit_of(b)), "{}", b.key);
+        }
+    }
+
+    /// The road effect's parameters are the `[road]` keys, with their declared ranges.
+    #[test]
+    fn road_parameters_are_the_declared_road_keys() {
+        let defs = Effect::Road.params();
+        assert_eq!(defs.len(), roadb::ALL.len());
+        for (d, b) in defs.iter().zip(roadb::ALL) {
+            assert_eq!((format!("{ROAD}{}", d.name), d.lo, d.hi, d.unit), (b.key.to_string(), b.lo, b.hi, unit_of(b)));
         }
     }
 

@@ -76,6 +76,8 @@ pub struct MeasuredRun {
     pub initial_vx: f64,
     /// Friction regions on the run's ground, from its sidecar (none by default).
     pub regions: Regions,
+    /// The run's road: constant bank and grade from its sidecar's `[road]` (flat by default).
+    pub road: vehsim_core::vehicle::road::Road,
     /// Notices for the user (ignored columns, defaults taken).
     pub notices: Vec<String>,
 }
@@ -108,6 +110,7 @@ struct Sidecar {
     /// Units of the run's columns when not SI (`yaw_rate = "deg/s"`; [`super::units`]).
     #[serde(default)]
     units: BTreeMap<String, String>,
+    road: Option<vehsim_spec::maneuver::RoadSection>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -206,6 +209,7 @@ fn parse_run_csv_with(path: &Path, text: &str, side: &Path, units: &BTreeMap<Str
             .collect(),
         initial_vx: vx[0],
         regions: Default::default(),
+        road: Default::default(),
         t,
         steer,
         vx,
@@ -413,6 +417,8 @@ pub mod sidecar_bounds {
     pub const INITIAL_VX: Bound = Bound::closed("initial.vx", -m::SPEED_MPS.hi, m::SPEED_MPS.hi, "m/s");
     /// The friction regions' ranges (declared with the engine's regions).
     pub use vehsim_core::vehicle::ground::region_bounds::*;
+    /// The road's bank and grade (declared with the engine's road).
+    pub use vehsim_core::vehicle::road::road_bounds::{BANK_DEG, GRADE_DEG};
 }
 
 /// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
@@ -433,6 +439,10 @@ pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<(
         run.initial_vx = c.bound(&sidecar_bounds::INITIAL_VX, v)?;
     }
     run.regions = ground_regions(side, &s.surface.patch, &s.surface.band, &s.surface.stretch)?;
+    if let Some(r) = s.road {
+        // Within its bounds, and a grade the run's tyres can climb at its speed.
+        run.road = r.road(side, run.mu)?;
+    }
     Ok(())
 }
 

@@ -257,6 +257,14 @@ pub fn cli_synth(
             };
             let vals = synth::parse_params(e, params)?;
             e.apply(&mut p, &vals);
+            if let Some(road) = p.road {
+                // A grade the tyres of a manoeuvre's surface cannot climb at a held speed.
+                for m in &plan {
+                    if let Some(why) = road.too_steep(m.mu) {
+                        return Err(Error::usage("--params", format!("on {} (mu {}): {why}", m.id, m.mu)));
+                    }
+                }
+            }
         } else if !params.is_empty() {
             return Err(Error::usage("--params", "effect 'none' takes no parameters"));
         }

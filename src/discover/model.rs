@@ -77,6 +77,13 @@
 //! - `sensor_latency`, `accelerometer_position`: the measurement chain ([`super::sensors`]).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
+//!
+//! The run's road (sidecar `[road]`, [`vehsim_core::vehicle::road`]; part of the baseline, flat
+//! by default): gravity's lateral component in the road plane m g_y acts on the body at the CG,
+//!   m (dvy/dt + r vx) = Fx_f sin(delta_e) + Fy_f cos(delta_e) + Fy_r + m g_y,
+//! while the simulated accelerometer logs the tyre forces over the mass (specific force), and each
+//! tyre carries its axle's normal load on the bank and grade at the vehicle's CG height. The
+//! prescribed vx needs no longitudinal balance, so g_x acts only through the axle loads.
 
 use std::path::Path;
 
@@ -89,6 +96,7 @@ use vehsim_core::contact::TyreContact;
 use vehsim_core::control::driver::Driver;
 use vehsim_core::path::RefPath;
 use vehsim_core::tyre::{TyreForces, TyreInput, TyreModel};
+use vehsim_core::vehicle::road::Road;
 use vehsim_core::vehicle::wheel::slide_speed;
 use vehsim_core::vehicle::Vehicle;
 use vehsim_core::vehicle::{ground, lateral, single_track};
@@ -151,6 +159,9 @@ pub struct EffectParams {
     pub tread_heat_capacity_j_per_k: f64,
     /// Cooling time constant of the tread temperature towards the ice temperature, s (> 0).
     pub tread_cooling_s: f64,
+    /// The road's bank and grade on every run, replacing each run's own (its sidecar's `[road]`)
+    /// while the road effect is fitted (None: each run's own).
+    pub road: Option<Road>,
 }
 
 impl Default for EffectParams {
@@ -180,6 +191,7 @@ impl Default for EffectParams {
             tread_mu_per_k: 0.0,
             tread_heat_capacity_j_per_k: 300.0,
             tread_cooling_s: 3.0,
+            road: None,
         }
     }
 }
@@ -368,6 +380,8 @@ pub(super) struct Drive {
     /// Tread-temperature rise per axle above the ice, K, capped at melting (0 unless the
     /// tread-temperature state is on).
     pub(super) tread_rise_k: [f64; 2],
+    /// The run's road: bank and grade (flat unless its sidecar gives `[road]`).
+    pub(super) road: Road,
 }
 
 /// Steady-state axle forces, effective steer and slip angles of one state.
@@ -395,7 +409,10 @@ impl ReplayModel {
     /// angle `alpha`, with load transfer `dfz` across the axle (N, added to the right tyre, taken
     /// from the left: [`lateral::axle_forces`]).
     fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> TyreForces {
+        // The level road's static tyre load (the load sensitivities' reference) and the tyre's
+        // load on the run's road.
         let half = 0.5 * self.fz_axle[axle];
+        let on_road = self.tyre_load(axle, &d.road);
         let mut thermal = if p.thermal_mu_per_k == 0.0 {
             1.0
         } else {
@@ -428,11 +445,22 @@ impl ReplayModel {
         };
         let tyre = &self.vehicle.tyre;
         if dfz == 0.0 && tyre.same_on_both_sides() {
-            let t = eval(&*tyre.mounted[0], half);
+            let t = eval(&*tyre.mounted[0], on_road);
             TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
         } else {
-            lateral::axle_forces(half, dfz, |side, fz| eval(&**tyre.on(side), fz))
+            lateral::axle_forces(on_road, dfz, |side, fz| eval(&**tyre.on(side), fz))
         }
+    }
+
+    /// Static load of one tyre of `axle` on `road`, N: the level one on a flat road, else half the
+    /// axle's normal load on the bank and grade at the vehicle's CG height (the engine's bicycle's
+    /// own, [`Road::axle_loads_n`]).
+    fn tyre_load(&self, axle: usize, road: &Road) -> f64 {
+        if road.is_flat() {
+            return 0.5 * self.fz_axle[axle];
+        }
+        let v = &self.vehicle;
+        0.5 * road.axle_loads_n(v.mass_kg, v.a_m, v.b_m, v.cg_height_m)[axle]
     }
 
     fn load_transfer(&self, axle: usize, vx: f64, r: f64, p: &EffectParams) -> f64 {
@@ -552,6 +580,9 @@ impl ReplayModel {
             }
         }
         let (fy, mz) = self.lateral_loads(&f, &acting);
+        // The road's lateral gravity acts on the body at the CG, not on the accelerometer
+        // (which logs fy / m: see [`Self::ay`]).
+        let fy = if d.road.is_flat() { fy } else { fy + v.mass_kg * d.road.gravity_in_plane().1 };
         let mut dx = State::zeros();
         (dx[ix::VY], dx[ix::R]) =
             single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2 * p.yaw_inertia_scale, d.vx, x[ix::R], fy, mz);
@@ -591,7 +622,7 @@ impl ReplayModel {
     /// The derivatives of the lateral states [vy (m/s), r (rad/s), Fy_f, Fy_r (N, the relaxed
     /// axle forces), delta_e (rad, the lagged steer)] at those states `lateral`, under the steer
     /// `steer_rad` (rad), the forward speed `vx_mps` (m/s), the surface friction `mu` (before the
-    /// effects' scale), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
+    /// effects' scale) and the road `road` (bank and grade), with `(ice_c, contact_c)` the ice and the axles' contact temperatures (degC): the
     /// equations the replay integrates, at one instant, lags included (their entries are 0 when
     /// the effect that uses them is off). Under transient slip the third and fourth entries are
     /// the lagged slip angles alpha_f, alpha_r (rad) and their rates instead, as in the engine's
@@ -602,7 +633,7 @@ impl ReplayModel {
         lateral: [f64; 5],
         steer_rad: f64,
         vx_mps: f64,
-        mu: f64,
+        (mu, road): (f64, Road),
         (ice_c, contact_c): (f64, [f64; 2]),
     ) -> [f64; 5] {
         let d = Drive {
@@ -615,6 +646,7 @@ impl ReplayModel {
             contact_c,
             on_ice: true,
             tread_rise_k: [0.0; 2],
+            road,
         };
         let mut x = State::zeros();
         x.as_mut_slice()[..5].copy_from_slice(&lateral);
@@ -654,7 +686,7 @@ impl ReplayModel {
         let fy = Self::acting(x, &f, p).map(|a| a.fy_n);
         let vx = d.vx.abs().max(V_FLOOR);
         std::array::from_fn(|i| TyreContact {
-            fz_n: 0.5 * self.fz_axle[i],
+            fz_n: self.tyre_load(i, &d.road),
             roll_speed_mps: vx,
             slide_speed_mps: slide_speed(0.0, f.alpha[i], vx),
             friction_force_n: 0.5 * fy[i].abs(),

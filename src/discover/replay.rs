@@ -172,6 +172,7 @@ impl RunModel<'_> {
             contact_c: [u.contact_temp_c[0], u.contact_temp_c[1]],
             on_ice: run.on_ice,
             tread_rise_k: [0.0; 2],
+            road: self.p.road.unwrap_or(run.road),
         }
     }
 
@@ -533,6 +534,7 @@ pub(super) fn replay(
         mu: run.mu,
         surface_temp_c: run.ice_temp_c,
         regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+        road: vehsim_core::vehicle::road::Road::FLAT,
     };
     let mut maneuver = ReplayDrive { ch: &ch, closed };
     let mut isothermal = Isothermal;
@@ -620,6 +622,7 @@ mod tests {
             mu: run.mu,
             surface_temp_c: run.ice_temp_c,
             regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
         };
         let u = |t: f64| Inputs {
             t_s: t,

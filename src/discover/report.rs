@@ -111,7 +111,7 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
                 inertia = st.params.first().map(|p| p.1);
                 continue;
             }
-            InVehicleSpec::Road => {
+            InVehicleSpec::Road | InVehicleSpec::RoadGeometry => {
                 road.push(effect.label());
                 continue;
             }
@@ -167,6 +167,14 @@ pub fn surface_toml(d: &Discovery) -> Option<String> {
          # to a run's sidecar RUN.toml to replay them as part of its baseline.\n",
     );
     let mut any = false;
+    for fe in d.final_effects.iter().filter(|fe| fe.effect.in_vehicle_spec() == InVehicleSpec::RoadGeometry) {
+        // The road's bank and grade: the sidecar's `[road]`, keys named as the parameters.
+        let _ = writeln!(s, "\n# The road's bank and grade, fitted as one pair for every run of the set.\n[road]");
+        for (k, v, _) in &fe.params {
+            let _ = writeln!(s, "{k} = {}", toml::Value::Float(*v));
+        }
+        any = true;
+    }
     for fe in d.final_effects.iter().filter(|fe| fe.effect.in_vehicle_spec() == InVehicleSpec::Road) {
         let form = fe.effect.form();
         let _ = writeln!(s, "\n[[surface.{form}]]");

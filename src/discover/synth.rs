@@ -74,6 +74,7 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::AxleStiffness => vec![1.0, 0.7],
         Effect::AxleFriction => vec![1.0, 0.8],
         Effect::YawInertia => vec![1.4],
+        Effect::Road => vec![3.0, 4.0],
         Effect::TransientSlip | Effect::TransientSlipSaturating => vec![0.8, 1.4],
     }
 }
@@ -215,6 +216,7 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
         on_ice: m.surface == "ice",
         initial_vx: v0,
         regions: Default::default(),
+        road: Default::default(),
         notices: Vec::new(),
     };
     let sim = if m.kind == "lane" {
@@ -308,6 +310,7 @@ pub fn engine_run(cfg: &vehsim_spec::maneuver::RunConfig, spec: &Path) -> Result
         steer: pick(&|r| r.inputs.steer_rad),
         initial_vx: vx[0],
         regions: Default::default(),
+        road: Default::default(),
         vx,
         yaw_rate: pick(&|r| r.obs.kin.yaw_rate_radps),
         ay: pick(&|r| r.obs.ay_mps2),

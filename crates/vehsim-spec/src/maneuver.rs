@@ -75,6 +75,34 @@ pub struct SurfaceSection {
     pub stretch: Vec<StretchRegion>,
 }
 
+/// `[road]`: the road's constant bank and grade ([`vehsim_core::vehicle::road`]; the bicycle
+/// model only). Geometry of the road, not a property of its surface's grip, so a section of its
+/// own rather than keys of `[surface]`; a measured run's sidecar takes the same section.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadSection {
+    /// Bank angle, deg, positive when the road's left edge is higher (default 0).
+    #[serde(default)]
+    pub bank_deg: f64,
+    /// Grade angle, deg, positive uphill in the direction of travel (default 0).
+    #[serde(default)]
+    pub grade_deg: f64,
+}
+
+impl RoadSection {
+    /// The road, each key within its bound and the grade within what tyres of peak friction
+    /// `mu` can climb at a held speed ([`vehsim_core::vehicle::road::Road::too_steep`]).
+    pub fn road(&self, path: &Path, mu: f64) -> Result<vehsim_core::vehicle::road::Road> {
+        use vehsim_core::vehicle::road::{road_bounds as b, Road};
+        let c = Checker::new(path);
+        let road = Road::from_deg(c.bound(&b::BANK_DEG, self.bank_deg)?, c.bound(&b::GRADE_DEG, self.grade_deg)?);
+        match road.too_steep(mu) {
+            Some(why) => Err(Error::key(path, "road.grade_deg", why)),
+            None => Ok(road),
+        }
+    }
+}
+
 /// `[[surface.patch]]`: a disc on the ground where the friction is `mu_scale` times the
 /// surface's, with a 1 m logistic edge ([`vehsim_core::vehicle::ground`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -657,6 +685,9 @@ pub struct ManeuverFile {
     pub duration_s: Option<f64>,
     /// Road surface: friction coefficient, temperature and friction law (`[surface]`).
     pub surface: SurfaceSection,
+    /// The road's constant bank and grade (`[road]`; absent: flat).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub road: Option<RoadSection>,
     /// The manoeuvre table; its `kind` selects the parameter set (see `ManeuverSpec`).
     pub maneuver: toml::Table,
     /// Speed PID gains (`[speed_control]`; default kp 2000, ki 1000, kd 0, each >= 0).
@@ -904,6 +935,10 @@ impl ManeuverFile {
                 mu: self.surface.mu,
                 surface_temp_c: self.surface.temperature_c,
                 regions: self.surface.regions(path)?,
+                road: match &self.road {
+                    Some(r) => r.road(path, self.surface.mu)?,
+                    None => vehsim_core::vehicle::road::Road::FLAT,
+                },
             },
             maneuver,
             kind,
@@ -1049,6 +1084,13 @@ impl ManeuverFile {
                  use the bicycle model",
             ));
         }
+        if let (VehicleModelKind::Roll4Dof, Some(_)) = (vehicle_model, &self.road) {
+            return Err(Error::key(
+                path,
+                "road",
+                "the 4-DOF model does not model a banked or graded road; remove [road] or use the bicycle model",
+            ));
+        }
         self.check_tread_state(path, &vehicle_file, &vehicle)?;
         // The ice friction law: the Magic Formula tyres take their peak friction from it.
         let mut vehicle = vehicle;
@@ -1110,6 +1152,7 @@ impl ManeuverFile {
             mu: self.surface.mu,
             surface_temp_c: self.surface.temperature_c,
             regions: vehsim_core::vehicle::ground::GroundRegions::NONE,
+            road: vehsim_core::vehicle::road::Road::FLAT,
         };
         let (lo, hi) = maneuver.speed_range_mps();
         let speeds = [lo.max(1.0), hi.max(1.0)];

@@ -358,8 +358,12 @@ mod tests {
     use crate::tyre::LinearTyre;
     use crate::vehicle::{Inputs, Kinematics, Observation};
 
-    const ENV: Environment =
-        Environment { mu: 0.15, surface_temp_c: -3.0, regions: crate::vehicle::ground::GroundRegions::NONE };
+    const ENV: Environment = Environment {
+        mu: 0.15,
+        surface_temp_c: -3.0,
+        regions: crate::vehicle::ground::GroundRegions::NONE,
+        road: crate::vehicle::road::Road::FLAT,
+    };
 
     /// A row at time t with axle forces (front, rear) and lateral acceleration ay; 4000 N per tyre.
     fn row(t: f64, fy: [f64; 2], ay: f64, path: f64) -> Row {

@@ -135,7 +135,12 @@ mod tests {
     fn onset_and_recovery_once_and_flapping_is_capped() {
         let (u, env) = (
             Inputs::default(),
-            Environment { mu: 0.1, surface_temp_c: -3.0, regions: crate::vehicle::ground::GroundRegions::NONE },
+            Environment {
+                mu: 0.1,
+                surface_temp_c: -3.0,
+                regions: crate::vehicle::ground::GroundRegions::NONE,
+                road: crate::vehicle::road::Road::FLAT,
+            },
         );
         let mut w = Watch::default();
         let mut ev = Vec::new();

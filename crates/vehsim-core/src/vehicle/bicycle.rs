@@ -41,6 +41,11 @@
 //!   slots), d(alpha_i)/dt = (max(|vx|, 1 m/s) / sigma_i) (alpha_kin,i - alpha_i), sigma_i
 //!   optionally shortened by the tyre's local slope ([`lateral::saturating_relaxation_length`]);
 //!   the steer compliance then acts through the force at the lagged front slip angle.
+//! - the road's bank and grade (a manoeuvre's `[road]`, [`super::road`]): gravity's in-plane
+//!   components g_x, g_y added to dvx/dt and (as the force m g_y at the CG) to the lateral
+//!   balance, and each tyre's static load that of its axle on the road (scaled by the normal
+//!   component, shifted rearwards uphill at the CG height); the observed accelerations stay the
+//!   contact forces over the mass (what an accelerometer logs).
 
 use nalgebra::SVector;
 
@@ -189,6 +194,17 @@ impl Bicycle {
         lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d), |ax| ax.f[0].fy_n).1
     }
 
+    /// Static load of one tyre of axle `i` on the road of `env`, N: the level one on a flat road,
+    /// else half the axle's normal load on the bank and grade ([`super::road::Road::axle_loads_n`],
+    /// at the vehicle's CG height).
+    fn tyre_load(&self, env: &Environment, i: usize) -> f64 {
+        if env.road.is_flat() {
+            return self.fz_tyre[i];
+        }
+        let v = &self.vehicle;
+        0.5 * env.road.axle_loads_n(v.mass_kg, v.a_m, v.b_m, v.cg_height_m)[i]
+    }
+
     /// Lateral load transfer per axle (added to one tyre, taken from the other), N.
     fn load_transfer(&self, x: &SVector<f64, N>, axle: usize) -> f64 {
         let v = &self.vehicle;
@@ -226,7 +242,7 @@ impl Bicycle {
         let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
         for (i, o) in out.iter_mut().take(2).enumerate() {
             *o = TyreContact {
-                fz_n: self.fz_tyre[i],
+                fz_n: self.tyre_load(env, i),
                 roll_speed_mps: (omega[i] * radius).abs(),
                 slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
                 friction_force_n: 0.5 * (acting[i].fx_n * acting[i].fx_n + acting[i].fy_n * acting[i].fy_n).sqrt(),
@@ -311,16 +327,18 @@ impl Bicycle {
         let dfz = self.load_transfer(x, i);
         if dfz == 0.0 && v.tyre.same_on_both_sides() {
             let left = &v.tyre.mounted[0];
-            let t = match &self.prepared[i] {
-                Some(p) => left.forces_prepared(p, &input),
-                None => left.forces(&input),
+            // (the prepared curves hold the level road's static loads only)
+            let t = match (&self.prepared[i], env.road.is_flat()) {
+                (Some(p), true) => left.forces_prepared(p, &input),
+                _ => left.forces(&input),
             };
             TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
         } else {
             // Each tyre at its own load (a lifted tyre carries nothing); the right one
             // (outer in a left turn) gains the transfer.
+            // The load sensitivities relative to the level road's static load fz0.
             let (fz0, k) = (self.fz_tyre[i], v.lateral.load_sensitivity);
-            lateral::axle_forces(fz0, dfz, |side, fz| {
+            lateral::axle_forces(self.tyre_load(env, i), dfz, |side, fz| {
                 let at_load = TyreInput { fz_n: fz, ..input };
                 let input = if k == [0.0; 2] { at_load } else { lateral::load_sensitive_input(at_load, fz0, k) };
                 v.tyre.on(side).forces(&input)
@@ -372,7 +390,7 @@ impl Bicycle {
             mu *= env.regions.factor(xa, ya) * env.regions.factor_along(u.distance_m);
         }
         TyreInput {
-            fz_n: self.fz_tyre[i],
+            fz_n: self.tyre_load(env, i),
             kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
             alpha_rad: alpha * lat.stiffness_scale[i],
             camber_rad: 0.0,
@@ -388,6 +406,7 @@ impl Bicycle {
         &self,
         x: &SVector<f64, N>,
         u: &Inputs,
+        env: &Environment,
         ax: &Axles,
         (fx, fy, mz): (f64, f64, f64),
     ) -> SVector<f64, N> {
@@ -401,6 +420,14 @@ impl Bicycle {
         d[ix::Y] = vx * s + vy * c;
         d[ix::YAW] = r;
         d[ix::VX] = fx / v.mass_kg + r * vy;
+        // The road's gravity in its plane acts at the CG (no yaw moment; none on a flat road).
+        let fy = if env.road.is_flat() {
+            fy
+        } else {
+            let (gx, gy) = env.road.gravity_in_plane();
+            d[ix::VX] += gx;
+            fy + v.mass_kg * gy
+        };
         (d[ix::VY], d[ix::R]) = single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2, vx, r, fy, mz);
         d[ix::OMEGA_F] = ax.torque[0] / self.axle_inertia;
         d[ix::OMEGA_R] = ax.torque[1] / self.axle_inertia;
@@ -428,6 +455,7 @@ impl Bicycle {
         &self,
         x: &SVector<f64, N>,
         u: &Inputs,
+        env: &Environment,
         ax: &Axles,
         acting: &[TyreForces; 2],
         (fx, fy, _): (f64, f64, f64),
@@ -445,7 +473,7 @@ impl Bicycle {
             fz_n: {
                 // vx r > 0 (turning left) moves load to the right (outer) tyres.
                 let [[(_, fr), (_, fl)], [(_, rr), (_, rl)]] =
-                    [0, 1].map(|i| lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i)));
+                    [0, 1].map(|i| lateral::tyre_loads(self.tyre_load(env, i), self.load_transfer(x, i)));
                 [fl, fr, rl, rr]
             },
             roll_rad: 0.0,
@@ -509,9 +537,9 @@ impl VehicleModel<N> for Bicycle {
         }
         let loads = self.body_loads(&ax, &acting, x[ix::VX]);
         if let Some(o) = extras.observation {
-            *o = self.observation_of(x, u, &ax, &acting, loads);
+            *o = self.observation_of(x, u, env, &ax, &acting, loads);
         }
-        self.derivative_of(x, u, &ax, loads)
+        self.derivative_of(x, u, env, &ax, loads)
     }
 
     fn spin_slip(&self) -> Option<SpinSlip> {
@@ -550,7 +578,7 @@ impl Monitored<N> for Bicycle {
         let ax = self.axles(x, u, env);
         for i in 0..2 {
             let input = self.tyre_input(x, u, env, i, ax.alpha[i], ax.vxw[i]);
-            let [right, left] = lateral::tyre_loads(self.fz_tyre[i], self.load_transfer(x, i));
+            let [right, left] = lateral::tyre_loads(self.tyre_load(env, i), self.load_transfer(x, i));
             for ((side, fz), name) in [(left, "left"), (right, "right")] {
                 if let Some((kind, detail)) = tyre.on(side).departure(&TyreInput { fz_n: fz, ..input }) {
                     out.push((kind, format!("{} {name} tyre: {detail}", ["front", "rear"][i])));

@@ -13,6 +13,7 @@ pub mod ground;
 pub mod lateral;
 pub mod params;
 pub mod powertrain;
+pub mod road;
 pub mod roll4dof;
 pub mod sensors;
 pub mod single_track;
@@ -95,6 +96,8 @@ pub struct Environment {
     pub surface_temp_c: f64,
     /// Friction regions on the ground (none by default; the bicycle model applies them per axle).
     pub regions: ground::GroundRegions,
+    /// The road's constant bank and grade (flat by default; the bicycle model applies them).
+    pub road: road::Road,
 }
 
 /// Rigid-body kinematics of the vehicle in the ground frame (ISO 8855).
