@@ -1,4 +1,7 @@
-//! Start points of the friction-region fits placed where the residuals are: a short, mild region
+//! The friction-region forms against the runs' paths: start points of their fits placed where the
+//! residuals are, and the check that a fitted region is a region at all.
+//!
+//! **Placed starts.** A short, mild region
 //! falls between the fixed grids of [`super::effects::Effect::starts`] (discs of 12 or 30 m,
 //! windows of 25 m and more), and the simplex does not find it from there, because the objective
 //! is flat away from the region.
@@ -19,6 +22,12 @@
 //! the parameters' bounds. A window's response lags the region (the yaw response takes a few
 //! tenths of a second to build and to decay), so the window spans more than the region; the
 //! smaller sizes allow for that.
+//!
+//! **Whole-run regions.** A fitted region whose weight is at least 1/2 at [`WHOLE_SHARE`] or more of
+//! the samples of the runs (every run, fitted and held out, at the CG's pose or distance as above)
+//! covers the whole of what was driven: on these runs it is the global friction change with a
+//! parameter or three more, not a place. [`region_coverage`] gives that share, and the search does
+//! not name such a region (its reason says so), so the global form is named instead.
 
 use super::effects::Effect;
 use super::measured::MeasuredRun;
@@ -115,4 +124,36 @@ pub fn region_starts(e: Effect, model: &ReplayModel, data: &Dataset, base: &Effe
         }
     }
     out
+}
+
+/// Share of samples a region covers, at or above which it is the global change ([`region_coverage`]).
+pub const WHOLE_SHARE: f64 = 0.95;
+
+/// The share of all samples of `data`'s runs at which the region of form `e` with parameters
+/// `values` (in the order of `e.params()`) has a weight of at least 1/2, at the CG's pose or
+/// distance travelled ([`poses`]); None for a form that is not a friction region.
+pub fn region_coverage(e: Effect, values: &[f64], data: &Dataset) -> Option<f64> {
+    use vehsim_core::vehicle::ground::{band_factor, patch_factor};
+    let weight = |p: &[f64; 4]| -> f64 {
+        // The factor of a region of scale 0 is 1 - w: its weight w.
+        match (e, values) {
+            (Effect::FrictionPatch, [_, x0, y0, r]) => 1.0 - patch_factor([0.0, *x0, *y0, *r], p[0], p[1]),
+            (Effect::FrictionBand, [_, x0, len]) => 1.0 - band_factor([0.0, *x0, *len], p[0]),
+            (Effect::FrictionStretch, [_, d0, len]) => 1.0 - band_factor([0.0, *d0, *len], p[3]),
+            _ => f64::NAN,
+        }
+    };
+    if !matches!(e, Effect::FrictionPatch | Effect::FrictionBand | Effect::FrictionStretch) {
+        return None;
+    }
+    let (mut inside, mut all) = (0usize, 0usize);
+    for r in &data.runs {
+        for p in poses(r) {
+            all += 1;
+            if weight(&p) >= 0.5 {
+                inside += 1;
+            }
+        }
+    }
+    Some(if all > 0 { inside as f64 / all as f64 } else { 0.0 })
 }

@@ -201,6 +201,15 @@ impl<'a> Search<'a> {
                 );
                 continue;
             }
+            if let Some(share) = super::region_starts::region_coverage(*e, &t.values, self.data) {
+                if share >= super::region_starts::WHOLE_SHARE {
+                    t.reason = format!(
+                        "the region covers {:.0} % of the runs' samples: on these runs it is the global friction change",
+                        100.0 * share
+                    );
+                    continue;
+                }
+            }
             let mut with = self.accepted.clone();
             with.push((*e, t.values.clone()));
             let (vals, ivs) = refine(self.model, self.data, &self.base, &with);
