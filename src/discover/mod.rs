@@ -26,6 +26,7 @@ pub mod sensors;
 pub mod stanford;
 pub mod synth;
 pub mod uncertainty;
+pub mod vehicle_params;
 
 use std::path::{Path, PathBuf};
 
@@ -233,7 +234,7 @@ pub fn cli_synth(
                 None => {
                     return Err(Error::usage(
                         "--effect",
-                        format!("'{effect}' is not an effect; allowed: none, {}", Effect::NAMES.join(", ")),
+                        format!("'{effect}' is not an effect; allowed: none, {}", Effect::names().join(", ")),
                     ))
                 }
                 Some(_) => Effect::from_name_and_params(effect, &given).ok_or_else(|| {
