@@ -6,13 +6,14 @@
 
 use super::measured::MeasuredRun;
 use super::model::EffectParams;
-use vehsim_core::vehicle::sensors::derivative;
+use vehsim_core::vehicle::sensors::longitudinal_acceleration;
 use vehsim_core::vehicle::Sensors;
 
 /// Turn the replayed yaw rate `r` and CG lateral acceleration `ay` of `run` (at its sample times)
 /// into the logged channels with the instruments of `p`. The longitudinal acceleration that a
-/// turned accelerometer mixes in (m/s^2) is the run's logged `ax` when it has one, else the
-/// derivative of its measured speed (central differences, as `vehsim run` takes it from its own).
+/// turned accelerometer mixes in (m/s^2) is the run's logged `ax` when it has one, else the slope
+/// of its measured speed over ±0.5 s ([`longitudinal_acceleration`], as `vehsim run` takes it
+/// from its own speed).
 pub fn measure(r: &mut [f64], ay: &mut [f64], run: &MeasuredRun, p: &EffectParams) {
     let s = Sensors {
         latency_s: p.latency_s,
@@ -25,7 +26,7 @@ pub fn measure(r: &mut [f64], ay: &mut [f64], run: &MeasuredRun, p: &EffectParam
     let ax = match (p.accel_yaw_misalignment_rad != 0.0, run.channel("ax")) {
         (false, _) => Vec::new(),
         (true, Some(ax)) => ax.to_vec(),
-        (true, None) => derivative(&run.vx, &run.t),
+        (true, None) => longitudinal_acceleration(&run.vx, &run.t),
     };
     vehsim_core::vehicle::sensors::measure(r, ay, &run.t, &s, &ax);
 }
