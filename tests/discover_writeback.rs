@@ -202,8 +202,14 @@ fn vehicle_parameters_close_the_loop_through_their_own_keys() {
 
 #[test]
 fn new_sensor_forms_close_the_loop_through_the_sensors_section() {
-    for (e, seed) in [(Effect::SensorScale, 10), (Effect::ClockSkew, 11), (Effect::AccelOrientation, 12)] {
-        let t = close_loop(e, &["sine_dry", "step_ice"], seed);
+    // A clock skew shows where the signal changes all along the run (a delay growing from 0 at the
+    // start): two sine steers; the step's signal changes only near its start.
+    for (e, plan, seed) in [
+        (Effect::SensorScale, ["sine_dry", "step_ice"], 10),
+        (Effect::ClockSkew, ["sine_dry", "sine_ice"], 11),
+        (Effect::AccelOrientation, ["sine_dry", "step_ice"], 12),
+    ] {
+        let t = close_loop(e, &plan, seed);
         assert!(t.contains("[sensors]"), "{t}");
     }
 }

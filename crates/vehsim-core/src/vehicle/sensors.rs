@@ -14,7 +14,7 @@
 //! - **Mounting orientation** (θ, rad): the accelerometer's y axis turned θ towards +x (a yaw
 //!   misalignment) senses a_y,log = a_y cos θ + a_x sin θ, with a_x the longitudinal
 //!   acceleration (the caller's: a logged `ax`, or [`longitudinal_acceleration`], the speed's
-//!   slope over ±[`AX_HALF_WINDOW_S`]). A roll misalignment φ
+//!   slope over ±0.5 s). A roll misalignment φ
 //!   would add g sin φ (gravity seen by the tilted axis), a constant: the offset below stands for
 //!   it, so it has no key of its own.
 //! - **Scale per channel** (s_r, s_a, dimensionless): each channel multiplied by its factor.
@@ -103,10 +103,10 @@ fn skewed(v: &mut [f64], t: &[f64], rate: f64, tau: f64) {
 /// measured speed of white noise σ_v gives a slope of noise σ_v·√2/(2w): 0.028 m/s^2 for
 /// σ_v = 0.02 m/s (the synthetic runs'), where central differences at 100 Hz would give 1.4 m/s^2;
 /// the price is that a_x is averaged over 1 s (its changes within a second are smoothed).
-pub const AX_HALF_WINDOW_S: f64 = 0.5;
+const AX_HALF_WINDOW_S: f64 = 0.5;
 
 /// The longitudinal acceleration (m/s^2) at every sample time from the forward speed `vx` (m/s)
-/// at increasing times `t` (s): (v(t + w) − v(t − w)) / (2w), w = [`AX_HALF_WINDOW_S`], v linear
+/// at increasing times `t` (s): (v(t + w) − v(t − w)) / (2w), w = 0.5 s, v linear
 /// between samples, the window cut to the run's span at its ends; zeros for fewer than two samples.
 pub fn longitudinal_acceleration(vx: &[f64], t: &[f64]) -> Vec<f64> {
     let n = vx.len().min(t.len());
