@@ -197,7 +197,9 @@ pub enum Command {
     /// effect switched on (or `none`).
     Synth {
         /// tyre_relaxation, load_transfer, thermal_friction, friction_change, steer_compliance,
-        /// sensor_bias, axle_cornering_stiffness, axle_peak_friction, yaw_inertia, road (bank_deg,
+        /// sensor_bias, sensor_latency, accelerometer_position, sensor_scale, clock_skew,
+        /// accelerometer_orientation, axle_cornering_stiffness, axle_peak_friction, a vehicle
+        /// parameter (yaw_inertia, mass, cg_to_front_axle, cg_to_rear_axle), road (bank_deg,
         /// grade_deg: the same road on every run, not written to the sidecars) or none; the
         /// --params names pick the form (steer_lag_s: steering lag; stretch_*: a stretch; patch_*:
         /// a ground patch; relaxation_length_front_m: transient slip; load_sensitivity_*).

@@ -133,9 +133,14 @@ fn close_loop(effect: Effect, plan: &[&str], seed: u64) -> String {
     let _ = std::fs::remove_dir_all(&dir);
     let spec = write_improved(&dir, &d);
     let text = std::fs::read_to_string(&spec).unwrap();
-    // Every fitted parameter is a key of the spec (no header-only list).
+    // Every fitted parameter is a key of the spec (no header-only list); a vehicle parameter's
+    // is its own body key.
     for (k, _, _) in &d.final_effects[0].params {
-        assert!(text.contains(&format!("{k} = ")), "{}: {k} missing from\n{text}", effect.label());
+        let key = match effect {
+            Effect::VehicleParam(i) => vehsim::discover::vehicle_params::TABLE[i].bound.key,
+            _ => k.as_str(),
+        };
+        assert!(text.contains(&format!("{key} = ")), "{}: {key} missing from\n{text}", effect.label());
     }
     assert!(!text.contains("no key for yet"), "{text}");
     assert_gap_reproduced(&effect.label(), &runs, &d, &spec);
@@ -175,6 +180,47 @@ fn sensor_effects_close_the_loop_through_the_sensors_section() {
     }
 }
 
+/// The vehicle parameters generated from the table: the improved spec sets the key itself to the
+/// fitted value (the spec's times the factor), e.g. `mass_kg = 2000` for mass x 1.25.
+#[test]
+fn vehicle_parameters_close_the_loop_through_their_own_keys() {
+    use vehsim::discover::vehicle_params::TABLE;
+    for (i, row) in TABLE.iter().enumerate() {
+        let e = Effect::VehicleParam(i);
+        let (runs, d) = discover_hidden(e, &["sine_dry", "step_ice"], 9);
+        assert_eq!(d.named, vec![e], "{}", e.label());
+        let dir = std::env::temp_dir().join(format!("vehsim_wb_{}_{}", row.effect, std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let spec = write_improved(&dir, &d);
+        let text = std::fs::read_to_string(&spec).unwrap();
+        let fitted = d.final_effects[0].params[0].1;
+        let mut v = model_of(&sedan()).vehicle;
+        let want = *(row.field)(&mut v) * fitted;
+        let line = text.lines().find(|l| l.starts_with(&format!("{} = ", row.bound.key))).unwrap();
+        let got: f64 = line.split(" = ").nth(1).unwrap().parse().unwrap();
+        eprintln!("{}: factor {fitted:.5}, written {line}", row.effect);
+        assert_eq!(got, want, "{line}");
+        assert!((fitted - row.synth).abs() < 0.02 * row.synth, "{fitted}");
+        assert_gap_reproduced(row.effect, &runs, &d, &spec);
+        run_maneuver(&dir, &spec, false);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn new_sensor_forms_close_the_loop_through_the_sensors_section() {
+    // A clock skew shows where the signal changes all along the run (a delay growing from 0 at the
+    // start): two sine steers; the step's signal changes only near its start.
+    for (e, plan, seed) in [
+        (Effect::SensorScale, ["sine_dry", "step_ice"], 10),
+        (Effect::ClockSkew, ["sine_dry", "sine_ice"], 11),
+        (Effect::AccelOrientation, ["sine_dry", "step_ice"], 12),
+    ] {
+        let t = close_loop(e, &plan, seed);
+        assert!(t.contains("[sensors]"), "{t}");
+    }
+}
+
 #[test]
 fn tread_state_closes_the_loop_in_the_replay_and_runs_in_vehsim_run() {
     close_loop(Effect::ThermalState, &["step_ice", "ramp_ice"], 8);
@@ -208,7 +254,10 @@ fn keys_outside_their_bounds_are_exit_2_naming_file_and_key() {
         ("[sensors]\nlatency_ay_s = 0.6\n", "sensors.latency_ay_s", "[0, 0.5]"),
         ("[sensors]\nbias_yaw_rate_radps = -0.7\n", "sensors.bias_yaw_rate_radps", "[-0.5, 0.5]"),
         ("[sensors]\naccel_y_m = 2.0\n", "sensors.accel_y_m", "[-1.5, 1.5]"),
-        ("[sensors]\nscale_ay = 1.0\n", "scale_ay", "latency_yaw_rate_s"),
+        ("[sensors]\nscale_ay = 2.5\n", "sensors.scale_ay", "[0.5, 2]"),
+        ("[sensors]\nclock_skew_ppm = 30000.0\n", "sensors.clock_skew_ppm", "[-20000, 20000]"),
+        ("[sensors]\naccel_yaw_misalignment_rad = -0.4\n", "sensors.accel_yaw_misalignment_rad", "[-0.35, 0.35]"),
+        ("[sensors]\ngain_ay = 1.0\n", "gain_ay", "latency_yaw_rate_s"),
     ] {
         let case = common::Case::new("wb-bounds", "b.toml", &spec);
         let text = std::fs::read_to_string(case.dir.join("sedan.toml")).unwrap();

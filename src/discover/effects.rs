@@ -5,6 +5,7 @@
 
 use super::measured::sidecar_bounds as rb;
 use super::model::EffectParams;
+use super::vehicle_params as vp;
 use vehsim_core::error::Bound;
 use vehsim_core::vehicle::lateral_bounds as lb;
 use vehsim_core::vehicle::road::road_bounds as roadb;
@@ -62,6 +63,13 @@ const fn pds(b: Bound, start: f64, scale: f64) -> ParamDef {
     pd(name, unit_of(b), start, scale, b.lo, b.hi, Some(0.0))
 }
 
+/// A `[sensors]` scale factor: name, unit and range from the key's declared bound, start and
+/// no-effect value 1.
+const fn pds1(b: Bound, scale: f64) -> ParamDef {
+    let name = b.key.split_at(SENSORS.len()).1;
+    pd(name, unit_of(b), 1.0, scale, b.lo, b.hi, Some(1.0))
+}
+
 /// A parameter that places a friction region on the ground (no no-effect value), with the unit and
 /// range of the sidecar key's declared bound ([`super::measured::sidecar_bounds`]).
 const fn pdb(name: &'static str, b: Bound, start: f64, scale: f64) -> ParamDef {
@@ -115,8 +123,9 @@ pub enum InVehicleSpec {
     /// `[lateral]` keys: each of the effect's parameters, named as its key (its bound is the
     /// key's); the saturating transient slip also sets `slip_relaxation_saturating = true`.
     Lateral,
-    /// A factor on the vehicle's `yaw_inertia_kgm2`.
-    YawInertiaScale,
+    /// A factor on a body key of the vehicle (`mass_kg`, `yaw_inertia_kgm2`, ...: the
+    /// [`vp::TABLE`] entry's key), written as the key's new value.
+    Body,
     /// A property of the road (a friction change at some place), not of the vehicle.
     Road,
     /// A property of the instruments (offsets, latencies, the accelerometer's position): the
@@ -145,7 +154,8 @@ pub enum Effect {
     SensorBias,
     AxleStiffness,
     AxleFriction,
-    YawInertia,
+    /// A physical parameter of the vehicle spec: entry `i` of [`vp::TABLE`].
+    VehicleParam(usize),
     TransientSlip,
     TransientSlipSaturating,
     FrictionPatch,
@@ -157,51 +167,78 @@ pub enum Effect {
     /// The road's constant bank and grade, one pair for every run of the set
     /// ([`vehsim_core::vehicle::road`]).
     Road,
+    SensorScale,
+    ClockSkew,
+    AccelOrientation,
+}
+
+/// The hand-written candidates, in the order tried (the generated vehicle parameters follow them).
+const LISTED: [Effect; 22] = [
+    Effect::SensorBias,
+    Effect::SensorLatency,
+    Effect::AccelPosition,
+    Effect::SteerCompliance,
+    Effect::SteerLag,
+    Effect::TyreRelaxation,
+    Effect::TransientSlip,
+    Effect::TransientSlipSaturating,
+    Effect::FrictionChange,
+    Effect::FrictionStretch,
+    Effect::FrictionPatch,
+    Effect::FrictionBand,
+    Effect::ThermalFriction,
+    Effect::ThermalState,
+    Effect::LoadTransfer,
+    Effect::LoadTransferSensitive,
+    Effect::AxleStiffness,
+    Effect::AxleFriction,
+    Effect::SensorScale,
+    Effect::ClockSkew,
+    Effect::AccelOrientation,
+    Effect::Road,
+];
+
+/// Number of candidates: the listed ones and one per vehicle parameter.
+const N_TRIED: usize = LISTED.len() + vp::N;
+
+/// The listed candidates, then [`Effect::VehicleParam`] for every entry of [`vp::TABLE`].
+const fn tried() -> [Effect; N_TRIED] {
+    let mut out = [Effect::SensorBias; N_TRIED];
+    let mut i = 0;
+    while i < LISTED.len() {
+        out[i] = LISTED[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < vp::N {
+        out[LISTED.len() + j] = Effect::VehicleParam(j);
+        j += 1;
+    }
+    out
 }
 
 impl Effect {
-    /// Every candidate the discovery tries, in a fixed order.
-    pub const TRIED: [Effect; 20] = [
-        Effect::SensorBias,
-        Effect::SensorLatency,
-        Effect::AccelPosition,
-        Effect::SteerCompliance,
-        Effect::SteerLag,
-        Effect::TyreRelaxation,
-        Effect::TransientSlip,
-        Effect::TransientSlipSaturating,
-        Effect::FrictionChange,
-        Effect::FrictionStretch,
-        Effect::FrictionPatch,
-        Effect::FrictionBand,
-        Effect::ThermalFriction,
-        Effect::ThermalState,
-        Effect::LoadTransfer,
-        Effect::LoadTransferSensitive,
-        Effect::AxleStiffness,
-        Effect::AxleFriction,
-        Effect::YawInertia,
-        Effect::Road,
-    ];
+    /// Every candidate the discovery tries, in a fixed order: the listed ones, then one per
+    /// vehicle parameter of [`vp::TABLE`].
+    pub const TRIED: [Effect; N_TRIED] = tried();
 
     /// Every candidate, in the order of [`Self::TRIED`].
-    pub const ALL: [Effect; 20] = Self::TRIED;
+    pub const ALL: [Effect; N_TRIED] = Self::TRIED;
 
-    /// Every name accepted on the command line.
-    pub const NAMES: [&'static str; 12] = [
-        "tyre_relaxation",
-        "load_transfer",
-        "thermal_friction",
-        "friction_change",
-        "steer_compliance",
-        "sensor_bias",
-        "sensor_latency",
-        "accelerometer_position",
-        "axle_cornering_stiffness",
-        "axle_peak_friction",
-        "yaw_inertia",
-        "road",
-    ];
+    /// The yaw-inertia candidate (the vehicle parameter that keeps its earlier name).
+    #[allow(non_upper_case_globals)]
+    pub const YawInertia: Effect = Effect::VehicleParam(0);
+
+    /// Every name accepted on the command line (each effect once, in the order of [`Self::ALL`]).
+    pub fn names() -> Vec<&'static str> {
+        let mut out: Vec<&'static str> = Vec::new();
+        for e in Self::ALL {
+            if !out.contains(&e.name()) {
+                out.push(e.name());
+            }
+        }
+        out
+    }
 
     pub fn name(self) -> &'static str {
         match self {
@@ -217,7 +254,10 @@ impl Effect {
             Effect::AccelPosition => "accelerometer_position",
             Effect::AxleStiffness => "axle_cornering_stiffness",
             Effect::AxleFriction => "axle_peak_friction",
-            Effect::YawInertia => "yaw_inertia",
+            Effect::VehicleParam(i) => vp::TABLE[i].effect,
+            Effect::SensorScale => "sensor_scale",
+            Effect::ClockSkew => "clock_skew",
+            Effect::AccelOrientation => "accelerometer_orientation",
             Effect::Road => "road",
         }
     }
@@ -300,7 +340,14 @@ impl Effect {
             Effect::TransientSlipSaturating => {
                 "each axle's slip angle lags over its own relaxation length, shortening as the tyre saturates"
             }
-            Effect::YawInertia => "the yaw moment of inertia differs from the vehicle's by a factor",
+            Effect::VehicleParam(i) => vp::TABLE[i].describe,
+            Effect::SensorScale => "the logged yaw rate and lateral acceleration are scaled, each by its own factor",
+            Effect::ClockSkew => {
+                "the inertial unit's clock runs fast or slow against the logger's, so its channels drift in time"
+            }
+            Effect::AccelOrientation => {
+                "the accelerometer is turned in yaw, so its lateral axis also senses the longitudinal acceleration"
+            }
             Effect::Road => {
                 "the road is banked and graded: gravity pulls the car across and along the road plane (which the accelerometer does not log) and shifts the axle loads"
             }
@@ -430,7 +477,10 @@ impl Effect {
             Effect::AxleFriction => {
                 const { &[pdl(lb::MU_SCALE_FRONT, None, 1.0, 0.2, ONE), pdl(lb::MU_SCALE_REAR, None, 1.0, 0.2, ONE)] }
             }
-            Effect::YawInertia => const { &[pd("yaw_inertia_scale", "1", 1.0, 0.2, 0.3, 3.0, ONE)] },
+            Effect::VehicleParam(i) => std::slice::from_ref(&vp::DEFS[i]),
+            Effect::SensorScale => const { &[pds1(sb::SCALE_YAW_RATE, 0.05), pds1(sb::SCALE_AY, 0.05)] },
+            Effect::ClockSkew => const { &[pds(sb::CLOCK_SKEW, 0.0, 2000.0)] },
+            Effect::AccelOrientation => const { &[pds(sb::ACCEL_YAW, 0.0, 0.05)] },
             Effect::Road => const { &[pdr(roadb::BANK_DEG, 0.0, 2.0), pdr(roadb::GRADE_DEG, 0.0, 2.0)] },
             Effect::LoadTransferSensitive => {
                 const {
@@ -496,9 +546,14 @@ impl Effect {
             | Effect::TransientSlipSaturating
             | Effect::LoadTransferSensitive
             | Effect::ThermalState => InVehicleSpec::Lateral,
-            Effect::YawInertia => InVehicleSpec::YawInertiaScale,
+            Effect::VehicleParam(_) => InVehicleSpec::Body,
             Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
-            Effect::SensorBias | Effect::SensorLatency | Effect::AccelPosition => InVehicleSpec::Instruments,
+            Effect::SensorBias
+            | Effect::SensorLatency
+            | Effect::AccelPosition
+            | Effect::SensorScale
+            | Effect::ClockSkew
+            | Effect::AccelOrientation => InVehicleSpec::Instruments,
             Effect::Road => InVehicleSpec::RoadGeometry,
         }
     }
@@ -525,7 +580,10 @@ impl Effect {
             Effect::AccelPosition => p.accel_position_m = [v[0], v[1]],
             Effect::AxleStiffness => p.stiffness_scale = [v[0], v[1]],
             Effect::AxleFriction => p.mu_axle_scale = [v[0], v[1]],
-            Effect::YawInertia => p.yaw_inertia_scale = v[0],
+            Effect::VehicleParam(i) => p.body_scale[i] = v[0],
+            Effect::SensorScale => p.sensor_scale = [v[0], v[1]],
+            Effect::ClockSkew => p.clock_skew_ppm = v[0],
+            Effect::AccelOrientation => p.accel_yaw_misalignment_rad = v[0],
             Effect::FrictionPatch => p.patch = [v[0], v[1], v[2], v[3]],
             Effect::LoadTransferSensitive => {
                 p.load_transfer_height_m = v[0];
@@ -566,7 +624,7 @@ mod tests {
                         written.push(d.name);
                     }
                 }
-                InVehicleSpec::YawInertiaScale => assert_eq!(e.params().len(), 1, "{}", e.label()),
+                InVehicleSpec::Body => assert_eq!(e.params().len(), 1, "{}", e.label()),
                 _ => {}
             }
         }
@@ -599,6 +657,33 @@ mod tests {
         for (d, b) in defs.iter().zip(roadb::ALL) {
             assert_eq!((format!("{ROAD}{}", d.name), d.lo, d.hi, d.unit), (b.key.to_string(), b.lo, b.hi, unit_of(b)));
         }
+    }
+
+    /// The vehicle-parameter candidates are generated from the table: one per entry, in its order,
+    /// after the listed ones, each with the entry's name, parameter and fitting range, written
+    /// back to the entry's own key. (A table of one more entry makes one more candidate: nothing
+    /// else lists them.)
+    #[test]
+    fn one_candidate_per_vehicle_parameter_of_the_table() {
+        let generated: Vec<Effect> =
+            Effect::TRIED.iter().copied().filter(|e| matches!(e, Effect::VehicleParam(_))).collect();
+        assert_eq!(generated.len(), vp::TABLE.len());
+        assert_eq!(&Effect::TRIED[..LISTED.len()], &LISTED);
+        for (i, (e, row)) in generated.iter().zip(&vp::TABLE).enumerate() {
+            assert_eq!(*e, Effect::VehicleParam(i));
+            assert_eq!((e.name(), e.in_vehicle_spec()), (row.effect, InVehicleSpec::Body));
+            let d = e.params();
+            assert_eq!(
+                (d.len(), d[0].name, d[0].lo, d[0].hi, d[0].null),
+                (1, row.param, row.fit[0], row.fit[1], Some(1.0))
+            );
+            assert_eq!(Effect::find(row.effect, ""), Some(*e));
+            let mut p = EffectParams::default();
+            e.apply(&mut p, &[1.1]);
+            assert_eq!(p.body_scale[i], 1.1);
+        }
+        assert_eq!(Effect::YawInertia.name(), "yaw_inertia");
+        assert!(Effect::names().contains(&"mass"));
     }
 
     #[test]

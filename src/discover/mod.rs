@@ -28,6 +28,7 @@ pub mod stanford;
 pub mod synth;
 pub mod uncertainty;
 pub mod units;
+pub mod vehicle_params;
 pub mod why;
 
 use std::path::{Path, PathBuf};
@@ -236,7 +237,7 @@ pub fn cli_synth(
                 None => {
                     return Err(Error::usage(
                         "--effect",
-                        format!("'{effect}' is not an effect; allowed: none, {}", Effect::NAMES.join(", ")),
+                        format!("'{effect}' is not an effect; allowed: none, {}", Effect::names().join(", ")),
                     ))
                 }
                 Some(_) => Effect::from_name_and_params(effect, &given).ok_or_else(|| {

@@ -73,8 +73,10 @@
 //!   leaves the peak force unchanged (it is reached at a slip angle 1/c_i times the tyre's).
 //! - `axle_peak_friction`: each axle's tyres see the surface friction s_i mu_e, so the peak force
 //!   scales by s_i (for providers whose force saturates at mu Fz).
-//! - `yaw_inertia`: I_z is replaced by s_I I_z.
-//! - `sensor_latency`, `accelerometer_position`: the measurement chain ([`super::sensors`]).
+//! - vehicle parameters ([`super::vehicle_params`]: `yaw_inertia`, `mass`, the CG position): the
+//!   replay runs the vehicle with the key scaled by its factor ([`ReplayModel::simulate`]).
+//! - `sensor_latency`, `accelerometer_position`, `sensor_scale`, `clock_skew`,
+//!   `accelerometer_orientation`: the measurement chain ([`super::sensors`]).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
 //!
@@ -137,8 +139,15 @@ pub struct EffectParams {
     pub stiffness_scale: [f64; 2],
     /// Peak-friction factor per axle (front, rear), 1 (1 = off; typical 0.5-1.5).
     pub mu_axle_scale: [f64; 2],
-    /// Yaw-inertia factor, 1 (1 = off; typical 0.7-1.5).
-    pub yaw_inertia_scale: f64,
+    /// Factors on the vehicle's physical parameters, in the order of
+    /// [`super::vehicle_params::TABLE`] (1 = the spec's value).
+    pub body_scale: [f64; super::vehicle_params::N],
+    /// Scale factors of the logged yaw rate and lateral acceleration, 1 (1 = off).
+    pub sensor_scale: [f64; 2],
+    /// The inertial unit's clock runs fast against the logger's by this much, ppm (0 = off).
+    pub clock_skew_ppm: f64,
+    /// The accelerometer's y axis turned towards +x by this angle, rad (0 = off).
+    pub accel_yaw_misalignment_rad: f64,
     /// Transient-slip relaxation length per axle (front, rear), m (0 = off; typical 0.3-1.5).
     pub slip_relaxation_m: [f64; 2],
     /// Whether the transient-slip relaxation length shortens with the tyre's local slope.
@@ -182,7 +191,10 @@ impl Default for EffectParams {
             accel_position_m: [0.0; 2],
             stiffness_scale: [1.0; 2],
             mu_axle_scale: [1.0; 2],
-            yaw_inertia_scale: 1.0,
+            body_scale: [1.0; super::vehicle_params::N],
+            sensor_scale: [1.0; 2],
+            clock_skew_ppm: 0.0,
+            accel_yaw_misalignment_rad: 0.0,
             slip_relaxation_m: [0.0; 2],
             slip_relaxation_saturating: false,
             patch: [1.0, 0.0, 0.0, 0.0],
@@ -214,6 +226,9 @@ impl EffectParams {
             bias_ay_mps2: s.bias[1],
             latency_s: s.latency_s,
             accel_position_m: s.accel_position_m,
+            sensor_scale: s.scale,
+            clock_skew_ppm: s.clock_skew_ppm,
+            accel_yaw_misalignment_rad: s.accel_yaw_misalignment_rad,
             stiffness_scale: l.stiffness_scale,
             mu_axle_scale: l.mu_axle_scale,
             slip_relaxation_m: l.slip_relaxation_m,
@@ -584,8 +599,7 @@ impl ReplayModel {
         // (which logs fy / m: see [`Self::ay`]).
         let fy = if d.road.is_flat() { fy } else { fy + v.mass_kg * d.road.gravity_in_plane().1 };
         let mut dx = State::zeros();
-        (dx[ix::VY], dx[ix::R]) =
-            single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2 * p.yaw_inertia_scale, d.vx, x[ix::R], fy, mz);
+        (dx[ix::VY], dx[ix::R]) = single_track::lateral_rates(v.mass_kg, v.yaw_inertia_kgm2, d.vx, x[ix::R], fy, mz);
         let (sp, cp) = x[ix::PSI].sin_cos();
         dx[ix::X] = d.vx * cp - x[ix::VY] * sp;
         dx[ix::Y] = d.vx * sp + x[ix::VY] * cp;
@@ -712,7 +726,7 @@ impl ReplayModel {
     pub(super) fn initial_state(&self, run: &MeasuredRun, p: &EffectParams, d0: &Drive) -> State {
         let mut x = State::zeros();
         x[ix::VY] = run.channel("vy").map_or(0.0, |v| v[0]);
-        x[ix::R] = run.yaw_rate[0] - p.bias_yaw_rate_radps;
+        x[ix::R] = (run.yaw_rate[0] - p.bias_yaw_rate_radps) / p.sensor_scale[0];
         x[ix::DELTA_E] = d0.steer;
         x[ix::VX] = d0.vx;
         if p.sigma_y_m > 0.0 {
@@ -739,7 +753,17 @@ impl ReplayModel {
     /// is integrated with the samples on step boundaries; any other on a uniform grid of steps
     /// across it, the simulated channels interpolated to its samples.
     pub fn simulate(&self, run: &MeasuredRun, p: &EffectParams) -> Simulated {
-        super::replay::replay(self, run, &p.with_regions(&run.regions), None).0
+        let (m, p) = self.for_params(p);
+        super::replay::replay(m.as_ref().unwrap_or(self), run, &p.with_regions(&run.regions), None).0
+    }
+
+    /// The model of the vehicle with the factors of `p.body_scale` applied to its parameters
+    /// ([`super::vehicle_params::scaled_vehicle`]; None when all are 1: this model), and `p`
+    /// with those factors reset to 1.
+    fn for_params(&self, p: &EffectParams) -> (Option<ReplayModel>, EffectParams) {
+        let scaled = super::vehicle_params::scaled_vehicle(&self.vehicle, &p.body_scale)
+            .map(|v| ReplayModel { reference_step_s: self.reference_step_s, ..ReplayModel::new(v) });
+        (scaled, EffectParams { body_scale: [1.0; super::vehicle_params::N], ..*p })
     }
 
     /// Drive a run closed loop on the engine ([`super::replay`]): `driver` follows `path` from
@@ -756,7 +780,9 @@ impl ReplayModel {
         path: &RefPath,
         driver: &mut Driver,
     ) -> (Vec<f64>, Simulated) {
-        let (sim, steer) = super::replay::replay(self, run, &p.with_regions(&run.regions), Some((path, driver)));
+        let (m, p) = self.for_params(p);
+        let model = m.as_ref().unwrap_or(self);
+        let (sim, steer) = super::replay::replay(model, run, &p.with_regions(&run.regions), Some((path, driver)));
         (steer, sim)
     }
 }

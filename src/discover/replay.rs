@@ -572,7 +572,7 @@ pub(super) fn replay(
         steer.push(r.steer);
     }
     // What the instruments log: the accelerometer's place, the channels' latency, their offsets.
-    super::sensors::measure(&mut out.yaw_rate, &mut out.ay, &run.t, p);
+    super::sensors::measure(&mut out.yaw_rate, &mut out.ay, run, p);
     out.yaw_rate.iter_mut().for_each(|v| *v += p.bias_yaw_rate_radps);
     out.ay.iter_mut().for_each(|v| *v += p.bias_ay_mps2);
     (out, steer)
@@ -890,7 +890,8 @@ mod tests {
     fn a_diverging_replay_holds_its_last_sample_within_bounds() {
         let m = model();
         let runs = synth::generate(&m, &EffectParams::default(), 5);
-        let p = EffectParams { yaw_inertia_scale: 6e-5, ..EffectParams::default() };
+        let mut p = EffectParams::default();
+        p.body_scale[0] = 6e-5;
         let s = m.simulate(&runs[1].0, &p);
         assert!(!s.ok);
         assert!(s.yaw_rate.iter().chain(&s.ay).chain(&s.vy).all(|v| v.is_finite()));

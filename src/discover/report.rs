@@ -100,15 +100,17 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
     let section = |t: &toml::Table, name: &str| t.get(name).and_then(|v| v.as_table()).cloned().unwrap_or_default();
     let (mut lateral, mut sensors) = (section(&table, "lateral"), section(&table, "sensors"));
     let mut road = Vec::new();
-    let mut inertia = None;
+    let mut body = Vec::new();
     // The effects still named at the end (a dropped one has a step but no final effect).
     for st in &d.final_effects {
         let effect = st.effect;
         let into = match effect.in_vehicle_spec() {
             InVehicleSpec::Lateral => &mut lateral,
             InVehicleSpec::Instruments => &mut sensors,
-            InVehicleSpec::YawInertiaScale => {
-                inertia = st.params.first().map(|p| p.1);
+            InVehicleSpec::Body => {
+                if let (Effect::VehicleParam(i), Some(p)) = (effect, st.params.first()) {
+                    body.push((super::vehicle_params::TABLE[i].bound.key, p.1));
+                }
                 continue;
             }
             InVehicleSpec::Road | InVehicleSpec::RoadGeometry => {
@@ -129,8 +131,11 @@ pub fn improved_vehicle_toml(opts: &DiscoverOptions, d: &Discovery) -> Result<St
             table.insert(name.into(), toml::Value::Table(t));
         }
     }
-    if let (Some(f), Some(iz)) = (inertia, table.get("yaw_inertia_kgm2").and_then(|v| v.as_float())) {
-        table.insert("yaw_inertia_kgm2".into(), toml::Value::Float(iz * f));
+    // A vehicle parameter's key set to its fitted value: the spec's times the factor.
+    for (key, f) in body {
+        if let Some(x) = table.get(key).and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64))) {
+            table.insert(key.into(), toml::Value::Float(x * f));
+        }
     }
     let body = toml::to_string(&table).map_err(|e| Error::Run(e.to_string()))?;
     let mut s = format!(

@@ -16,8 +16,8 @@ use super::effects::Effect;
 use super::equivalence::{self, Class};
 use super::model::{EffectParams, ReplayModel, Simulated};
 use super::select::{
-    apply_flat, fit_effect, fit_jointly, redundant, score, simulate_all, Dataset, Discovery, Dropped, FinalEffect,
-    Fold, Scores, Step, Trial, Verdict, BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
+    apply_flat, fit_effect, fit_jointly, fit_ranked, ranked_starts, redundant, score, simulate_all, Dataset, Discovery,
+    Dropped, FinalEffect, Fold, Scores, Step, Trial, Verdict, BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
 };
 use super::uncertainty::{refine, significant, Interval};
 
@@ -63,6 +63,21 @@ fn worst(r: [f64; 2]) -> f64 {
 
 /// A round's trial: the candidate, its scores and the parameters with it switched on.
 type Fitted = (Effect, Trial, EffectParams);
+
+/// How many one-parameter candidates a round fits by simplex: those whose 7-point scan reaches the
+/// lowest fitted cost. The others keep their scan's best point (scored like any trial, not
+/// accepted, reason "screened out"). Every one-parameter candidate costs its 7 scan replays per
+/// round; only these also cost a simplex (about 20 replays more each), so a candidate generated
+/// from the vehicle spec adds 7 replays of the fitted runs per round, not a fit.
+pub const SCREEN_KEEP: usize = 6;
+
+/// A candidate of a round after the screen: fitted by simplex from its ranked starts, or screened
+/// out at its scan's best point.
+struct Screened {
+    effect: Effect,
+    ranked: Vec<(f64, Vec<f64>)>,
+    fit: bool,
+}
 
 /// The search between rounds.
 struct Search<'a> {
@@ -155,14 +170,43 @@ impl<'a> Search<'a> {
         true
     }
 
-    /// Every candidate left fitted on the fitted samples (in parallel) and scored.
-    fn fit_candidates(&self) -> Vec<Fitted> {
-        let (round, k_params, current) = (self.round, self.k_params, self.current);
-        self.left
+    /// The candidates left after the screen ([`SCREEN_KEEP`]): every one-parameter candidate's
+    /// scan, the best of them kept for the simplex; every other candidate is fitted.
+    fn screen(&self) -> Vec<Screened> {
+        let mut out: Vec<Screened> = self
+            .left
             .par_iter()
             .map(|&e| {
-                let t = std::time::Instant::now();
-                let (vals, pc) = fit_effect(self.model, self.data, &self.p, e);
+                let scanned = e.params().len() == 1;
+                let ranked = if scanned { ranked_starts(self.model, self.data, &self.p, e) } else { Vec::new() };
+                Screened { effect: e, ranked, fit: !scanned }
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..out.len()).filter(|&i| !out[i].fit).collect();
+        // Stable: ties keep the candidates' order.
+        order.sort_by(|&a, &b| out[a].ranked[0].0.total_cmp(&out[b].ranked[0].0));
+        for &i in order.iter().take(SCREEN_KEEP) {
+            out[i].fit = true;
+        }
+        out
+    }
+
+    /// Every candidate left fitted on the fitted samples (in parallel; one-parameter candidates
+    /// after the screen) and scored.
+    fn fit_candidates(&self) -> Vec<Fitted> {
+        let (round, k_params, current) = (self.round, self.k_params, self.current);
+        self.screen()
+            .par_iter()
+            .map(|c| {
+                let (e, t) = (c.effect, std::time::Instant::now());
+                let (vals, pc) = match (c.fit, c.ranked.is_empty()) {
+                    (true, true) => fit_effect(self.model, self.data, &self.p, e),
+                    (true, false) => fit_ranked(self.model, self.data, &self.p, e, &c.ranked),
+                    (false, _) => {
+                        let v = c.ranked[0].1.clone();
+                        (v.clone(), apply_flat(&self.p, &[(e, v)]))
+                    }
+                };
                 let sc = score(self.data, &simulate_all(self.model, self.data, &pc));
                 let k = k_params + e.params().len();
                 let trial = Trial {
@@ -172,7 +216,13 @@ impl<'a> Search<'a> {
                     delta_bic: current.bic_held(k_params) - sc.bic_held(k),
                     heldout_rss_ratio: sc.rss_held / current.rss_held.max(1e-300),
                     intervals: Vec::new(),
-                    reason: String::new(),
+                    reason: if c.fit {
+                        String::new()
+                    } else {
+                        format!(
+                            "screened out: its 7-point scan was not among the {SCREEN_KEEP} best one-parameter scans"
+                        )
+                    },
                     values: vals,
                     scores: sc,
                 };
@@ -192,6 +242,9 @@ impl<'a> Search<'a> {
     /// Trials tested and failed get their reason.
     fn choose(&self, trials: &mut [Fitted]) -> Option<(usize, Vec<Vec<f64>>)> {
         for (j, (e, t, _)) in trials.iter_mut().enumerate() {
+            if !t.reason.is_empty() {
+                continue;
+            }
             if !(t.delta_bic > BIC_MIN && t.heldout_rss_ratio < 1.0 - MIN_GAIN) {
                 t.reason = format!(
                     "held-out dBIC {:.1} (needs > {BIC_MIN}) or RSS ratio {:.3} (needs < {:.2})",

@@ -432,6 +432,17 @@ pub(super) fn fit_effect(
     base: &EffectParams,
     e: Effect,
 ) -> (Vec<f64>, EffectParams) {
+    fit_ranked(model, data, base, e, &ranked_starts(model, data, base, e))
+}
+
+/// The fitted cost of candidate `e` (over `base`) at its start value and at each of its start
+/// points ([`Effect::starts`]: the 7-point scan of a one-parameter effect), best first.
+pub(super) fn ranked_starts(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    e: Effect,
+) -> Vec<(f64, Vec<f64>)> {
     let cost = |v: &[f64]| {
         let mut p = *base;
         e.apply(&mut p, v);
@@ -448,8 +459,23 @@ pub(super) fn fit_effect(
         std::iter::once(x0).chain(e.starts()).chain(placed).map(|s| (cost(&s), s)).collect();
     // Stable: ties keep the start value first.
     ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    ranked
+}
+
+/// The fit of candidate `e` from its starts `ranked` ([`ranked_starts`]).
+pub(super) fn fit_ranked(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    e: Effect,
+    ranked: &[(f64, Vec<f64>)],
+) -> (Vec<f64>, EffectParams) {
+    // The simplex starts from the best of the start value and the effect's start points, so
+    // that it begins in the right basin; an effect with several basins
+    // ([`Effect::fit_passes`]) gets a simplex from each of its basins' best starts
+    // ([`pass_starts`]), the best kept.
     let mut best: Option<(f64, Vec<f64>, EffectParams)> = None;
-    for s in pass_starts(e, &ranked) {
+    for s in pass_starts(e, ranked) {
         let (mut vals, p) = fit_jointly(model, data, base, &[(e, s)]);
         let c = fit_cost(model, data, &p);
         if best.as_ref().is_none_or(|b| c < b.0) {

@@ -73,7 +73,10 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::AccelPosition => vec![1.2, 0.4],
         Effect::AxleStiffness => vec![1.0, 0.7],
         Effect::AxleFriction => vec![1.0, 0.8],
-        Effect::YawInertia => vec![1.4],
+        Effect::VehicleParam(i) => vec![super::vehicle_params::TABLE[i].synth],
+        Effect::SensorScale => vec![1.05, 0.92],
+        Effect::ClockSkew => vec![8000.0],
+        Effect::AccelOrientation => vec![0.2],
         Effect::Road => vec![3.0, 4.0],
         Effect::TransientSlip | Effect::TransientSlipSaturating => vec![0.8, 1.4],
     }

@@ -270,7 +270,8 @@ pub fn timeseries_csv_with(rows: &[Row], sensors: Option<&vehsim_core::vehicle::
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
         let r: Vec<f64> = rows.iter().map(|r| r.obs.kin.yaw_rate_radps).collect();
         let ay: Vec<f64> = rows.iter().map(|r| r.obs.ay_mps2).collect();
-        vehsim_core::vehicle::sensors::logged(&t, &r, &ay, s)
+        let vx: Vec<f64> = rows.iter().map(|r| r.obs.kin.vx_mps).collect();
+        vehsim_core::vehicle::sensors::logged(&t, &r, &ay, &vx, s)
     });
     let mut s = String::with_capacity(rows.len() * 400);
     s.push_str(&COLUMNS.join(","));

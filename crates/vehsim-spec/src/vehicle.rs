@@ -192,6 +192,19 @@ pub struct SensorsSection {
     /// Accelerometer position left of the CG, m ([-1.5, 1.5]).
     #[serde(default)]
     pub accel_y_m: f64,
+    /// Scale factor of the logged yaw rate (default 1; [0.5, 2]).
+    #[serde(default = "one")]
+    pub scale_yaw_rate: f64,
+    /// Scale factor of the logged lateral acceleration (default 1; [0.5, 2]).
+    #[serde(default = "one")]
+    pub scale_ay: f64,
+    /// The inertial unit's clock runs fast against the logger's by this much, ppm (default 0;
+    /// [-20000, 20000]).
+    #[serde(default)]
+    pub clock_skew_ppm: f64,
+    /// The accelerometer's y axis turned towards +x by this angle, rad (default 0; [-0.35, 0.35]).
+    #[serde(default)]
+    pub accel_yaw_misalignment_rad: f64,
 }
 
 impl SensorsSection {
@@ -205,6 +218,9 @@ impl SensorsSection {
             ],
             bias: [c.bound(&b::BIAS_YAW_RATE, self.bias_yaw_rate_radps)?, c.bound(&b::BIAS_AY, self.bias_ay_mps2)?],
             accel_position_m: [c.bound(&b::ACCEL_X, self.accel_x_m)?, c.bound(&b::ACCEL_Y, self.accel_y_m)?],
+            scale: [c.bound(&b::SCALE_YAW_RATE, self.scale_yaw_rate)?, c.bound(&b::SCALE_AY, self.scale_ay)?],
+            clock_skew_ppm: c.bound(&b::CLOCK_SKEW, self.clock_skew_ppm)?,
+            accel_yaw_misalignment_rad: c.bound(&b::ACCEL_YAW, self.accel_yaw_misalignment_rad)?,
         })
     }
 }
@@ -321,12 +337,17 @@ impl VehicleFile {
     /// vehicle (a 40 t lorry, a bus) by a wide margin; they keep a mistyped unit or exponent
     /// from reaching the engine (where it makes a run take hours).
     fn check_body(&self, c: &Checker) -> Result<()> {
-        c.positive_up_to("mass_kg", self.mass_kg, 100_000.0, "kg")?;
-        c.positive_up_to("yaw_inertia_kgm2", self.yaw_inertia_kgm2, 1e6, "kg m^2")?;
-        c.positive_up_to("cg_to_front_axle_m", self.cg_to_front_axle_m, 10.0, "m")?;
-        c.positive_up_to("cg_to_rear_axle_m", self.cg_to_rear_axle_m, 10.0, "m")?;
-        c.positive_up_to("track_m", self.track_m, 5.0, "m")?;
-        c.range("cg_height_m", self.cg_height_m, 0.0, 5.0)?;
+        use vehsim_core::vehicle::body_bounds as bb;
+        for (b, v) in [
+            (bb::MASS, self.mass_kg),
+            (bb::YAW_INERTIA, self.yaw_inertia_kgm2),
+            (bb::CG_TO_FRONT, self.cg_to_front_axle_m),
+            (bb::CG_TO_REAR, self.cg_to_rear_axle_m),
+            (bb::TRACK, self.track_m),
+        ] {
+            c.positive_up_to(b.key, v, b.hi, b.unit)?;
+        }
+        c.range(bb::CG_HEIGHT.key, self.cg_height_m, bb::CG_HEIGHT.lo, bb::CG_HEIGHT.hi)?;
         c.positive_up_to("body_width_m", self.body_width_m, 5.0, "m")?;
         c.range("front_overhang_m", self.front_overhang_m, 0.0, 5.0)?;
         let wheelbase = self.cg_to_front_axle_m + self.cg_to_rear_axle_m;

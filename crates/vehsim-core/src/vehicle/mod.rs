@@ -26,7 +26,9 @@ use crate::contact::TyreContact;
 pub use bicycle::Bicycle;
 pub use capability::MAX_LAGS;
 pub use condition::Condition;
-pub use params::{lateral_bounds, sensor_bounds, DriveLayout, Lateral, Roll, Sensors, Vehicle, AIR_DENSITY, GRAVITY};
+pub use params::{
+    body_bounds, lateral_bounds, sensor_bounds, DriveLayout, Lateral, Roll, Sensors, Vehicle, AIR_DENSITY, GRAVITY,
+};
 pub use roll4dof::Roll4Dof;
 
 /// Inputs at one instant of a step (the controllers' ramps, and an open-loop steer, evaluated at

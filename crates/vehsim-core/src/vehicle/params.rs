@@ -194,15 +194,60 @@ pub mod sensor_bounds {
     pub const ACCEL_X: Bound = Bound::closed("sensors.accel_x_m", -3.0, 3.0, "m");
     /// `sensors.accel_y_m`: [-1.5, 1.5] m left of the CG (within a car's half width).
     pub const ACCEL_Y: Bound = Bound::closed("sensors.accel_y_m", -1.5, 1.5, "m");
+    /// `sensors.scale_yaw_rate`: [0.5, 2], dimensionless (a gyro's scale-factor error: a few % by
+    /// datasheet, up to a factor 2 for a wrong sensitivity range or unit setting).
+    pub const SCALE_YAW_RATE: Bound = Bound::closed("sensors.scale_yaw_rate", 0.5, 2.0, "");
+    /// `sensors.scale_ay`: [0.5, 2], dimensionless (as the gyro's).
+    pub const SCALE_AY: Bound = Bound::closed("sensors.scale_ay", 0.5, 2.0, "");
+    /// `sensors.clock_skew_ppm`: [-20000, 20000] ppm: the inertial unit's clock (yaw rate and
+    /// lateral acceleration) runs fast by this much against the logger's (steer and speed); a
+    /// crystal keeps within 100 ppm, a microcontroller's uncalibrated RC oscillator within 1-2 %.
+    pub const CLOCK_SKEW: Bound = Bound::closed("sensors.clock_skew_ppm", -20_000.0, 20_000.0, "ppm");
+    /// `sensors.accel_yaw_misalignment_rad`: [-0.35, 0.35] rad (20 degrees: a logger placed by eye);
+    /// the accelerometer's y axis turned this much towards +x.
+    pub const ACCEL_YAW: Bound = Bound::closed("sensors.accel_yaw_misalignment_rad", -0.35, 0.35, "rad");
 
     /// Every bound above, in the order of [`super::Sensors::values`].
-    pub const ALL: [Bound; 6] = [LATENCY_YAW_RATE, LATENCY_AY, BIAS_YAW_RATE, BIAS_AY, ACCEL_X, ACCEL_Y];
+    pub const ALL: [Bound; 10] = [
+        LATENCY_YAW_RATE,
+        LATENCY_AY,
+        BIAS_YAW_RATE,
+        BIAS_AY,
+        ACCEL_X,
+        ACCEL_Y,
+        SCALE_YAW_RATE,
+        SCALE_AY,
+        CLOCK_SKEW,
+        ACCEL_YAW,
+    ];
+}
+
+/// The validation ranges of the body keys that the lateral models read (mass, yaw inertia, CG
+/// position, track, CG height), each declared once: the spec layer checks a vehicle file against
+/// them, and `vehsim discover` generates its vehicle-parameter candidates from the same
+/// declarations. Upper ends: beyond any road vehicle (a 40 t lorry, a bus) by a wide margin; they
+/// keep a mistyped unit or exponent from reaching the engine.
+pub mod body_bounds {
+    use crate::error::Bound;
+
+    /// `mass_kg`: (0, 100000] kg.
+    pub const MASS: Bound = Bound::left_open("mass_kg", 0.0, 100_000.0, "kg");
+    /// `yaw_inertia_kgm2`: (0, 1e6] kg m^2.
+    pub const YAW_INERTIA: Bound = Bound::left_open("yaw_inertia_kgm2", 0.0, 1e6, "kg m^2");
+    /// `cg_to_front_axle_m`: (0, 10] m.
+    pub const CG_TO_FRONT: Bound = Bound::left_open("cg_to_front_axle_m", 0.0, 10.0, "m");
+    /// `cg_to_rear_axle_m`: (0, 10] m.
+    pub const CG_TO_REAR: Bound = Bound::left_open("cg_to_rear_axle_m", 0.0, 10.0, "m");
+    /// `track_m`: (0, 5] m.
+    pub const TRACK: Bound = Bound::left_open("track_m", 0.0, 5.0, "m");
+    /// `cg_height_m`: [0, 5] m.
+    pub const CG_HEIGHT: Bound = Bound::closed("cg_height_m", 0.0, 5.0, "m");
 }
 
 /// The instruments on the car (the spec layer reads them from a vehicle file's `[sensors]`
 /// section): what turns the simulated yaw rate and lateral acceleration at the CG into the logged
 /// channels. They change only what is logged, never the motion; the default logs the true values.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sensors {
     /// Latency of the logged yaw rate and lateral acceleration, s.
     pub latency_s: [f64; 2],
@@ -210,13 +255,44 @@ pub struct Sensors {
     pub bias: [f64; 2],
     /// Accelerometer position: x ahead of the CG, y to its left, m.
     pub accel_position_m: [f64; 2],
+    /// Scale factors of the logged yaw rate and lateral acceleration, dimensionless (1 = true).
+    pub scale: [f64; 2],
+    /// The inertial unit's clock runs fast against the logger's by this much, ppm (0 = none).
+    pub clock_skew_ppm: f64,
+    /// The accelerometer's y axis turned towards +x by this angle, rad (0 = aligned).
+    pub accel_yaw_misalignment_rad: f64,
+}
+
+impl Default for Sensors {
+    /// True, prompt instruments at the CG.
+    fn default() -> Self {
+        Sensors {
+            latency_s: [0.0; 2],
+            bias: [0.0; 2],
+            accel_position_m: [0.0; 2],
+            scale: [1.0; 2],
+            clock_skew_ppm: 0.0,
+            accel_yaw_misalignment_rad: 0.0,
+        }
+    }
 }
 
 impl Sensors {
     /// The values in the order of [`sensor_bounds::ALL`].
-    pub fn values(&self) -> [f64; 6] {
+    pub fn values(&self) -> [f64; 10] {
         let s = self;
-        [s.latency_s[0], s.latency_s[1], s.bias[0], s.bias[1], s.accel_position_m[0], s.accel_position_m[1]]
+        [
+            s.latency_s[0],
+            s.latency_s[1],
+            s.bias[0],
+            s.bias[1],
+            s.accel_position_m[0],
+            s.accel_position_m[1],
+            s.scale[0],
+            s.scale[1],
+            s.clock_skew_ppm,
+            s.accel_yaw_misalignment_rad,
+        ]
     }
 }
 
