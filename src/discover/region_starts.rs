@@ -131,7 +131,7 @@ pub const WHOLE_SHARE: f64 = 0.95;
 
 /// The share of all samples of `data`'s runs at which the region of form `e` with parameters
 /// `values` (in the order of `e.params()`) has a weight of at least 1/2, at the CG's pose or
-/// distance travelled ([`poses`]); None for a form that is not a friction region.
+/// distance travelled (as for the placed starts); None for a form that is not a friction region.
 pub fn region_coverage(e: Effect, values: &[f64], data: &Dataset) -> Option<f64> {
     use vehsim_core::vehicle::ground::{band_factor, patch_factor};
     let weight = |p: &[f64; 4]| -> f64 {
