@@ -161,24 +161,16 @@ fn vehsim_run_logs_scale_orientation_and_clock_skew_as_their_closed_forms() {
 #[test]
 fn new_parameters_out_of_range_are_exit_2() {
     let dir = common::temp_dir("chain-params");
-    let sedan = common::root().join("vehicles/sedan.toml");
-    let sedan = sedan.to_str().unwrap();
-    for (effect, param, needle) in [
-        ("mass", "mass_scale=2", "mass_scale = 2 is outside [0.7, 1.5] 1"),
-        ("cg_to_rear_axle", "cg_to_rear_axle_scale=0.5", "outside [0.7, 1.3]"),
-        ("sensor_scale", "scale_ay=3", "scale_ay = 3 is outside [0.5, 2] 1"),
-        ("clock_skew", "clock_skew_ppm=-30000", "outside [-20000, 20000] ppm"),
-        ("accelerometer_orientation", "accel_yaw_misalignment_rad=1", "outside [-0.35, 0.35] rad"),
-    ] {
-        let out = dir.join("runs");
-        let (code, _, err) = common::vehsim(
-            &dir,
-            &["synth", "--vehicle", sedan, "--effect", effect, "--params", param, "--out", out.to_str().unwrap()],
-        );
-        assert_eq!(code, 2, "{err}");
-        assert!(err.contains("--params") && err.contains(needle), "{err}");
-        assert!(!out.exists());
-    }
+    common::assert_synth_params_refused(
+        &dir,
+        &[
+            ("mass", "mass_scale=2", "mass_scale = 2 is outside [0.7, 1.5] 1"),
+            ("cg_to_rear_axle", "cg_to_rear_axle_scale=0.5", "outside [0.7, 1.3]"),
+            ("sensor_scale", "scale_ay=3", "scale_ay = 3 is outside [0.5, 2] 1"),
+            ("clock_skew", "clock_skew_ppm=-30000", "outside [-20000, 20000] ppm"),
+            ("accelerometer_orientation", "accel_yaw_misalignment_rad=1", "outside [-0.35, 0.35] rad"),
+        ],
+    );
     let spec = common::sine_steer_spec("b", "sedan.toml", 1.0);
     for (from, to, key, allowed) in [
         ("mass_kg = 1600.0", "mass_kg = 0.0", "mass_kg", "expected 0 < mass_kg <= 100000 (kg)"),

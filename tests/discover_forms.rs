@@ -232,21 +232,15 @@ fn new_form_parameters_out_of_range_are_usage_errors() {
     let dir = common::temp_dir("discover-forms-params");
     let sedan = common::root().join("vehicles/sedan.toml");
     let sedan = sedan.to_str().unwrap();
-    for (effect, param, needle) in [
-        ("thermal_friction", "tread_mu_per_kj=5", "tread_mu_per_kj = 5 is outside [-20, 0] 1/kJ"),
-        ("thermal_friction", "tread_heat_capacity_j_per_k=1", "outside [10, 100000] J/K"),
-        ("thermal_friction", "tread_cooling_time_s=0", "outside [0.1, 100] s"),
-        ("friction_change", "band_length_m=0", "band_length_m = 0 is outside [2, 2000] m"),
-    ] {
-        let out = dir.join("runs");
-        let (code, _, err) = common::vehsim(
-            &dir,
-            &["synth", "--vehicle", sedan, "--effect", effect, "--params", param, "--out", out.to_str().unwrap()],
-        );
-        assert_eq!(code, 2, "{err}");
-        assert!(err.contains("--params") && err.contains(needle), "{err}");
-        assert!(!out.exists());
-    }
+    common::assert_synth_params_refused(
+        &dir,
+        &[
+            ("thermal_friction", "tread_mu_per_kj=5", "tread_mu_per_kj = 5 is outside [-20, 0] 1/kJ"),
+            ("thermal_friction", "tread_heat_capacity_j_per_k=1", "outside [10, 100000] J/K"),
+            ("thermal_friction", "tread_cooling_time_s=0", "outside [0.1, 100] s"),
+            ("friction_change", "band_length_m=0", "band_length_m = 0 is outside [2, 2000] m"),
+        ],
+    );
     let (code, _, err) = common::vehsim(
         &dir,
         &[

@@ -151,3 +151,21 @@ pub const GOLDEN_CASES: &[(&str, &str, &str, &str, &str)] = &[
     ("dlc_ice__linear__roll4dof", "maneuvers/dlc.toml", "linear", "roll4dof", "isothermal"),
     ("dlc_ice__pacejka__roll4dof", "maneuvers/dlc.toml", "pacejka", "roll4dof", "isothermal"),
 ];
+
+/// Each `(effect, param, needle)`: `vehsim synth --effect effect --params param` (the sedan, into
+/// `dir/runs`) is a usage error (exit 2) whose message names `--params` and contains `needle`, and
+/// writes nothing.
+pub fn assert_synth_params_refused(dir: &Path, cases: &[(&str, &str, &str)]) {
+    let sedan = root().join("vehicles/sedan.toml");
+    let sedan = sedan.to_str().unwrap();
+    for (effect, param, needle) in cases {
+        let out = dir.join("runs");
+        let (code, _, err) = vehsim(
+            dir,
+            &["synth", "--vehicle", sedan, "--effect", effect, "--params", param, "--out", out.to_str().unwrap()],
+        );
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("--params") && err.contains(needle), "{err}");
+        assert!(!out.exists());
+    }
+}
