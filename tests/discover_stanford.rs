@@ -38,6 +38,18 @@ fn stanford_lap_converts_and_discovery_runs() {
     );
     assert!(d.final_scores.rmse(true).yaw_rate_radps <= d.baseline.rmse(true).yaw_rate_radps);
     for s in &d.steps {
+        eprintln!(
+            "step {}: {:?}; held-out yaw {:.5} -> {:.5}, ay {:.5} -> {:.5}; {}",
+            s.effect.label(),
+            s.params,
+            s.heldout_rmse_before.yaw_rate_radps,
+            s.heldout_rmse_after.yaw_rate_radps,
+            s.heldout_rmse_before.ay_mps2,
+            s.heldout_rmse_after.ay_mps2,
+            s.evidence
+        );
+    }
+    for s in &d.steps {
         assert!(s.heldout_rmse_after.yaw_rate_radps < s.heldout_rmse_before.yaw_rate_radps);
     }
     // Every effect named is significant in the final joint fit (on this lap the sensitive load

@@ -254,6 +254,10 @@ impl<'a> Search<'a> {
                 );
                 continue;
             }
+            if let Some(name) = at_a_far_bound(*e, &t.values) {
+                t.reason = far_bound_reason(name);
+                continue;
+            }
             if let Some(share) = super::region_starts::region_coverage(*e, &t.values, self.data) {
                 if share >= super::region_starts::WHOLE_SHARE {
                     t.reason = format!(
@@ -267,6 +271,11 @@ impl<'a> Search<'a> {
             with.push((*e, t.values.clone()));
             let (vals, ivs) = refine(self.model, self.data, &self.base, &with);
             t.intervals = ivs.last().cloned().unwrap_or_default();
+            // The polish may carry a value onto the edge of its range, too.
+            if let Some(name) = vals.last().and_then(|v| at_a_far_bound(*e, v)) {
+                t.reason = far_bound_reason(name);
+                continue;
+            }
             if significant(*e, &t.intervals) {
                 return Some((j, vals));
             }
@@ -498,4 +507,26 @@ impl<'a> Search<'a> {
             })
             .collect()
     }
+}
+
+/// The first parameter of `e` fitted at a bound of its range that is not its no-effect value
+/// (`values` in the order of `e.params()`): the optimum lies beyond the physical range, so the
+/// form is not a point estimate of that cause. Parameters without a no-effect value (a region's
+/// place and size) and a parameter resting at its no-effect bound (one channel's latency at 0)
+/// are not counted.
+pub(super) fn at_a_far_bound(e: Effect, values: &[f64]) -> Option<&'static str> {
+    e.params().iter().zip(values).find_map(|(d, v)| {
+        let tol = 1e-6 * (d.hi - d.lo);
+        let null = d.null?;
+        let at = |b: f64| (v - b).abs() <= tol && (b - null).abs() > tol;
+        (at(d.lo) || at(d.hi)).then_some(d.name)
+    })
+}
+
+/// The reason a candidate with parameter `name` at the edge of its range is not named.
+fn far_bound_reason(name: &str) -> String {
+    format!(
+        "{name} fitted at the edge of its physical range: the data ask for more than the form allows, so it \
+         stands in for another cause"
+    )
 }
