@@ -530,3 +530,21 @@ fn far_bound_reason(name: &str) -> String {
          stands in for another cause"
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A parameter on a bound other than its no-effect value counts; one at its no-effect bound,
+    /// one inside its range, and a region's place and size at their bounds do not.
+    #[test]
+    fn the_edge_rule_counts_only_far_bounds() {
+        assert_eq!(at_a_far_bound(Effect::SensorLatency, &[0.0, 0.2]), None);
+        assert_eq!(at_a_far_bound(Effect::SensorLatency, &[0.0, 0.5]), Some("latency_ay_s"));
+        assert_eq!(at_a_far_bound(Effect::Road, &[3.0, 20.0]), Some("grade_deg"));
+        assert_eq!(at_a_far_bound(Effect::Road, &[-35.0, 0.0]), Some("bank_deg"));
+        assert_eq!(at_a_far_bound(Effect::FrictionChange, &[0.6]), None);
+        assert_eq!(at_a_far_bound(Effect::FrictionChange, &[3.0]), Some("mu_scale"));
+        assert_eq!(at_a_far_bound(Effect::FrictionPatch, &[0.6, 5000.0, 0.0, 1.0]), None);
+    }
+}
