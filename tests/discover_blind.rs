@@ -505,7 +505,8 @@ fn a_set_left_above_the_noise_says_why() {
         let data = Dataset::new(synth::generate(&m, &p, 3).into_iter().map(|r| r.0).collect());
         let d = discover(&m, &data, &[Effect::SensorBias]);
         let last = vehsim::discover::select::simulate_all(&m, &data, &d.params);
-        let w = vehsim::discover::why::above_noise(&data, &d, &last).expect("left above the noise");
+        let windows = vehsim::discover::select::disagreement_windows(&data, &last);
+        let w = vehsim::discover::why::above_noise(&data, &d, &last, &windows).expect("left above the noise");
         eprintln!("{}: {:?}", e.label(), w.sentences);
         w
     };

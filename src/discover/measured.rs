@@ -151,10 +151,9 @@ pub fn parse_run(path: &Path, text: &str) -> Result<MeasuredRun> {
         ));
         return Ok(run);
     }
-    let side_text = read_input(&side)?;
-    let units = parse_toml::<Sidecar>(&side, &side_text)?.units;
-    let mut run = parse_run_csv_with(path, text, &side, &units)?;
-    apply_sidecar(&mut run, &side, &side_text)?;
+    let sidecar: Sidecar = parse_toml(&side, &read_input(&side)?)?;
+    let mut run = parse_run_csv_with(path, text, &side, &sidecar.units)?;
+    apply_parsed(&mut run, &side, sidecar)?;
     Ok(run)
 }
 
@@ -424,7 +423,11 @@ pub mod sidecar_bounds {
 /// Apply the text of a sidecar (read from `side`, named in messages) to `run`: surface friction,
 /// ice temperature and initial speed, each checked against its allowed range.
 pub fn apply_sidecar(run: &mut MeasuredRun, side: &Path, text: &str) -> Result<()> {
-    let s: Sidecar = parse_toml(side, text)?;
+    apply_parsed(run, side, parse_toml(side, text)?)
+}
+
+/// [`apply_sidecar`] of a sidecar already parsed (its `[units]` are the CSV reader's).
+fn apply_parsed(run: &mut MeasuredRun, side: &Path, s: Sidecar) -> Result<()> {
     let c = Checker::new(side);
     if let Some(mu) = s.surface.mu {
         run.mu = c.bound(&sidecar_bounds::MU, mu)?;

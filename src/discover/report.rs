@@ -203,7 +203,7 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let windows = disagreement_windows(data, &sims.base);
     let windows_after = disagreement_windows(data, &sims.last);
     let regions = operating_regions(data, &sims.base);
-    let why = super::why::above_noise(data, d, &sims.last);
+    let why = super::why::above_noise(data, d, &sims.last, &windows_after);
     let mut report = report_json(opts, data, d, &sims, [&windows, &windows_after], &regions);
     report["above_noise"] = json!(why);
     let md = markdown(opts, data, d, [&windows, &windows_after], &regions, why.as_ref());

@@ -21,7 +21,7 @@
 use serde::Serialize;
 
 use super::model::Simulated;
-use super::select::{disagreement_windows, operating_regions, Dataset, Discovery};
+use super::select::{operating_regions, Dataset, Discovery, Window};
 
 /// Share of the excess above which, within [`LOCAL_TIME_SHARE`] of the time, it is localised.
 pub const LOCAL_EXCESS_SHARE: f64 = 0.6;
@@ -48,13 +48,13 @@ pub struct AboveNoise {
     pub sentences: Vec<String>,
 }
 
-/// The diagnosis of `d` on `data` with the final model's simulations `last`; None when the verdict
-/// is at the noise.
-pub fn above_noise(data: &Dataset, d: &Discovery, last: &[Simulated]) -> Option<AboveNoise> {
+/// The diagnosis of `d` on `data` with the final model's simulations `last` and its disagreement
+/// windows `windows` ([`super::select::disagreement_windows`] of `last`, which the report computes
+/// anyway); None when the verdict is at the noise.
+pub fn above_noise(data: &Dataset, d: &Discovery, last: &[Simulated], windows: &[Window]) -> Option<AboveNoise> {
     if d.verdict.at_noise() {
         return None;
     }
-    let windows = disagreement_windows(data, last);
     let (mut total, mut inside, mut on_ice, mut t_all, mut t_in) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for (i, (r, s)) in data.runs.iter().zip(last).enumerate() {
         let nz = data.noise[i];
