@@ -155,6 +155,10 @@ pub struct LateralSection {
     /// Tread state: cooling time constant, s (default 3; [0.1, 100]).
     #[serde(default = "tread_cooling")]
     pub tread_cooling_time_s: f64,
+    /// Height at which the tyres' longitudinal (drive and brake) forces move load between the
+    /// axles, m (0 = static loads, default; at most 2; a car's CG height is 0.45-0.65 m).
+    #[serde(default)]
+    pub longitudinal_transfer_height_m: f64,
 }
 
 fn one() -> f64 {
@@ -401,6 +405,8 @@ impl LateralSection {
             tread_mu_per_kj: c.bound(&b::TREAD_MU_PER_KJ, self.tread_mu_per_kj)?,
             tread_heat_capacity_j_per_k: c.bound(&b::TREAD_HEAT_CAPACITY, self.tread_heat_capacity_j_per_k)?,
             tread_cooling_time_s: c.bound(&b::TREAD_COOLING_TIME, self.tread_cooling_time_s)?,
+            longitudinal_transfer_height_m: c
+                .bound(&b::LONGITUDINAL_TRANSFER_HEIGHT, self.longitudinal_transfer_height_m)?,
         };
         Self::check_forms(c, &lat)?;
         Ok(lat)

@@ -41,6 +41,12 @@
 //!   slots), d(alpha_i)/dt = (max(|vx|, 1 m/s) / sigma_i) (alpha_kin,i - alpha_i), sigma_i
 //!   optionally shortened by the tyre's local slope ([`lateral::saturating_relaxation_length`]);
 //!   the steer compliance then acts through the force at the lagged front slip angle.
+//! - longitudinal load transfer (`longitudinal_transfer_height_m` h > 0): each front tyre's
+//!   load falls and each rear tyre's rises by h S / (2 L), S = Fx_f cos(delta) - Fy_f sin(delta)
+//!   + Fx_r the tyres' force along the body (positive driving), L the wheelbase
+//!   ([`lateral::longitudinal_transfer_n`]); S depends on the loads through the tyres, so the
+//!   balance is solved per evaluation (two fixed-point passes and a secant step, then the forces
+//!   at its root: three tyre evaluations per axle instead of one);
 //! - the road's bank and grade (a manoeuvre's `[road]`, [`super::road`]): gravity's in-plane
 //!   components g_x, g_y added to dvx/dt and (as the force m g_y at the CG) to the lateral
 //!   balance, and each tyre's static load that of its axle on the road (scaled by the normal
@@ -126,6 +132,9 @@ struct Axles {
     torque: [f64; 2],
     cos_d: f64,
     sin_d: f64,
+    /// Longitudinal load change of each tyre (front, rear), N: half its axle's
+    /// [`lateral::longitudinal_transfer_n`] (0 without `longitudinal_transfer_height_m`).
+    long: [f64; 2],
 }
 
 impl Bicycle {
@@ -171,27 +180,50 @@ impl Bicycle {
     }
 
     fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
+        let h = self.vehicle.lateral.longitudinal_transfer_height_m;
+        if h == 0.0 {
+            return self.axles_with(x, u, env, [0.0; 2]);
+        }
+        // Longitudinal load transfer: the loads depend on the tyres' longitudinal forces, which
+        // depend on the loads. The balance S = g(S) (S the tyres' force along the body's x axis,
+        // g(S) that force at the loads S moves) is solved by one secant step from two
+        // fixed-point passes ([`pitch_balance`]), then the forces are taken at its root.
+        let l = self.vehicle.wheelbase_m();
+        let long = |s: f64| lateral::longitudinal_transfer_n(h, s, l).map(|d| 0.5 * d);
+        let s0 = self.tyre_fx_body(x, &self.axles_with(x, u, env, [0.0; 2]));
+        let s1 = self.tyre_fx_body(x, &self.axles_with(x, u, env, long(s0)));
+        self.axles_with(x, u, env, long(pitch_balance(s0, s1)))
+    }
+
+    /// The tyres' acting force along the body's x axis, N (the drag excluded).
+    fn tyre_fx_body(&self, x: &SVector<f64, N>, ax: &Axles) -> f64 {
+        let [f, r] = self.acting(x, ax);
+        f.fx_n * ax.cos_d - f.fy_n * ax.sin_d + r.fx_n
+    }
+
+    /// [`Self::axles`] with each tyre's load changed by `long` (front, rear), N.
+    fn axles_with(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, long: [f64; 2]) -> Axles {
         let lat = &self.vehicle.lateral;
         let c = lat.steer_compliance_rad_per_kn * 1e-3;
         let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
         if c == 0.0 {
             // (the common case, kept out of the fixed point's closures: they cost the hot path
             // its inlining)
-            return self.axles_at(x, u, env, steer);
+            return self.axles_at(x, u, env, steer, long);
         }
         if lat.relaxation_length_y_m > 0.0 {
             // With relaxation the acting front force is a state: no iteration needed.
-            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]));
+            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]), long);
         }
         if lat.transient_slip() {
             // Transient slip: the front force follows the lagged slip angle (a state), so the
             // compliance acts through it without iteration.
-            let fy = self.axles_at(x, u, env, steer).f[0].fy_n;
-            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, fy));
+            let fy = self.axles_at(x, u, env, steer, long).f[0].fy_n;
+            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, fy), long);
         }
         // Steer compliance: effective steer delta - c Fy_f with the steady-state front force, a
         // fixed point (none without compliance).
-        lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d), |ax| ax.f[0].fy_n).1
+        lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d, long), |ax| ax.f[0].fy_n).1
     }
 
     /// Static load of one tyre of axle `i` on the road of `env`, N: the level one on a flat road,
@@ -203,6 +235,14 @@ impl Bicycle {
         }
         let v = &self.vehicle;
         0.5 * env.road.axle_loads_n(v.mass_kg, v.a_m, v.b_m, v.cg_height_m)[i]
+    }
+
+    /// [`Self::tyre_load`] changed by the longitudinal load transfer `long[i]` (N), at least 0.
+    fn loaded(&self, env: &Environment, i: usize, long: [f64; 2]) -> f64 {
+        if long[i] == 0.0 {
+            return self.tyre_load(env, i);
+        }
+        (self.tyre_load(env, i) + long[i]).max(0.0)
     }
 
     /// Lateral load transfer per axle (added to one tyre, taken from the other), N.
@@ -242,7 +282,7 @@ impl Bicycle {
         let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
         for (i, o) in out.iter_mut().take(2).enumerate() {
             *o = TyreContact {
-                fz_n: self.tyre_load(env, i),
+                fz_n: self.loaded(env, i, ax.long),
                 roll_speed_mps: (omega[i] * radius).abs(),
                 slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
                 friction_force_n: 0.5 * (acting[i].fx_n * acting[i].fx_n + acting[i].fy_n * acting[i].fy_n).sqrt(),
@@ -252,7 +292,7 @@ impl Bicycle {
     }
 
     /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
-    fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64) -> Axles {
+    fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64, long: [f64; 2]) -> Axles {
         let v = &self.vehicle;
         let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
         let (sin_d, cos_d) = crate::tyre::fastmath::sin_cos(steer);
@@ -279,9 +319,9 @@ impl Bicycle {
         let mut torque = [0.0; 2];
         let mut load = [0.0; 2];
         for i in 0..2 {
-            f[i] = self.axle_force(x, u, env, i, alpha[i], vxw[i]);
+            f[i] = self.axle_force(x, u, env, i, alpha[i], (vxw[i], long));
             if lat.transient_slip() {
-                slip_rate[i] = self.slip_rate(x, u, env, i, alpha[i], vxw[i]);
+                slip_rate[i] = self.slip_rate(x, u, env, i, alpha[i], (vxw[i], long));
             }
             let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
@@ -306,11 +346,11 @@ impl Bicycle {
                 torque[i] += t * shares_of(front_share)[i] - drive[i];
             }
         }
-        Axles { vxw, alpha, alpha_kin, slip_rate, f, torque, cos_d, sin_d }
+        Axles { vxw, alpha, alpha_kin, slip_rate, f, torque, cos_d, sin_d, long }
     }
 
-    /// Force of axle `i`'s two tyres at slip angle `alpha` (rad) and wheel-axis forward speed
-    /// `vxw` (m/s): twice one tyre's for a tyre that is its own mirror image without load
+    /// Force of axle `i`'s two tyres at slip angle `alpha` (rad), wheel-axis forward speed `vxw`
+    /// (m/s) and longitudinal load changes `long` (N per tyre, front and rear): twice one tyre's for a tyre that is its own mirror image without load
     /// transfer, else each tyre at its own load ([`lateral::axle_forces`]) and, with load
     /// sensitivities, its own friction and stiffness factor ([`lateral::load_sensitive_input`]).
     fn axle_force(
@@ -320,15 +360,15 @@ impl Bicycle {
         env: &Environment,
         i: usize,
         alpha: f64,
-        vxw: f64,
+        (vxw, long): (f64, [f64; 2]),
     ) -> TyreForces {
         let v = &self.vehicle;
-        let input = self.tyre_input(x, u, env, i, alpha, vxw);
+        let input = self.tyre_input(x, u, env, i, alpha, (vxw, long));
         let dfz = self.load_transfer(x, i);
         if dfz == 0.0 && v.tyre.same_on_both_sides() {
             let left = &v.tyre.mounted[0];
             // (the prepared curves hold the level road's static loads only)
-            let t = match (&self.prepared[i], env.road.is_flat()) {
+            let t = match (&self.prepared[i], env.road.is_flat() && long[i] == 0.0) {
                 (Some(p), true) => left.forces_prepared(p, &input),
                 _ => left.forces(&input),
             };
@@ -338,7 +378,7 @@ impl Bicycle {
             // (outer in a left turn) gains the transfer.
             // The load sensitivities relative to the level road's static load fz0.
             let (fz0, k) = (self.fz_tyre[i], v.lateral.load_sensitivity);
-            lateral::axle_forces(self.tyre_load(env, i), dfz, |side, fz| {
+            lateral::axle_forces(self.loaded(env, i, long), dfz, |side, fz| {
                 let at_load = TyreInput { fz_n: fz, ..input };
                 let input = if k == [0.0; 2] { at_load } else { lateral::load_sensitive_input(at_load, fz0, k) };
                 v.tyre.on(side).forces(&input)
@@ -349,20 +389,28 @@ impl Bicycle {
     /// Transient-slip rate of axle `i` at its lagged slip angle `alpha` (rad), 1/s:
     /// max(|vx|, 1 m/s) / sigma_i, with sigma_i shortened by the tyre's local slope in the
     /// saturating form ([`lateral::saturating_relaxation_length`]).
-    fn slip_rate(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, i: usize, alpha: f64, vxw: f64) -> f64 {
+    fn slip_rate(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        i: usize,
+        alpha: f64,
+        at: (f64, [f64; 2]),
+    ) -> f64 {
         let lat = &self.vehicle.lateral;
         let mut sigma = lat.slip_relaxation_m[i];
         if lat.slip_relaxation_saturating {
             let eps = lateral::SLIP_SLOPE_STEP_RAD;
-            let fy = |a: f64| self.axle_force(x, u, env, i, a, vxw).fy_n;
+            let fy = |a: f64| self.axle_force(x, u, env, i, a, at).fy_n;
             let slope = |a: f64| fy(a + eps) - fy(a - eps);
             sigma = lateral::saturating_relaxation_length(sigma, slope(alpha) / slope(0.0));
         }
         lateral::relaxation_rate(x[ix::VX], sigma)
     }
 
-    /// The input of axle `i`'s tyres at its static load share, slip angle `alpha` (rad) and
-    /// wheel-axis forward speed `vxw` (m/s).
+    /// The input of axle `i`'s tyres at its static load share changed by `long` (N per tyre),
+    /// slip angle `alpha` (rad) and wheel-axis forward speed `vxw` (m/s).
     fn tyre_input(
         &self,
         x: &SVector<f64, N>,
@@ -370,7 +418,7 @@ impl Bicycle {
         env: &Environment,
         i: usize,
         alpha: f64,
-        vxw: f64,
+        (vxw, long): (f64, [f64; 2]),
     ) -> TyreInput {
         let lat = &self.vehicle.lateral;
         let mut mu = env.mu * lat.mu_scale;
@@ -390,7 +438,7 @@ impl Bicycle {
             mu *= env.regions.factor(xa, ya) * env.regions.factor_along(u.distance_m);
         }
         TyreInput {
-            fz_n: self.tyre_load(env, i),
+            fz_n: self.loaded(env, i, long),
             kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
             alpha_rad: alpha * lat.stiffness_scale[i],
             camber_rad: 0.0,
@@ -473,7 +521,7 @@ impl Bicycle {
             fz_n: {
                 // vx r > 0 (turning left) moves load to the right (outer) tyres.
                 let [[(_, fr), (_, fl)], [(_, rr), (_, rl)]] =
-                    [0, 1].map(|i| lateral::tyre_loads(self.tyre_load(env, i), self.load_transfer(x, i)));
+                    [0, 1].map(|i| lateral::tyre_loads(self.loaded(env, i, ax.long), self.load_transfer(x, i)));
                 [fl, fr, rl, rr]
             },
             roll_rad: 0.0,
@@ -577,8 +625,8 @@ impl Monitored<N> for Bicycle {
         }
         let ax = self.axles(x, u, env);
         for i in 0..2 {
-            let input = self.tyre_input(x, u, env, i, ax.alpha[i], ax.vxw[i]);
-            let [right, left] = lateral::tyre_loads(self.tyre_load(env, i), self.load_transfer(x, i));
+            let input = self.tyre_input(x, u, env, i, ax.alpha[i], (ax.vxw[i], ax.long));
+            let [right, left] = lateral::tyre_loads(input.fz_n, self.load_transfer(x, i));
             for ((side, fz), name) in [(left, "left"), (right, "right")] {
                 if let Some((kind, detail)) = tyre.on(side).departure(&TyreInput { fz_n: fz, ..input }) {
                     out.push((kind, format!("{} {name} tyre: {detail}", ["front", "rear"][i])));
@@ -611,6 +659,23 @@ impl WheelSpeeds<N> for Bicycle {
             };
         }
         2
+    }
+}
+
+/// The root of the pitch balance S = g(S) from two fixed-point passes s0 = g(0) and s1 = g(s0),
+/// N: the secant through them, S = s0^2 / (2 s0 - s1), exact when g is linear in S (the forces
+/// proportional to the loads' changes) and second order otherwise; s1 when the secant's slope is
+/// not below 1 (no contracting balance), 0 when s0 is.
+fn pitch_balance(s0: f64, s1: f64) -> f64 {
+    if s0 == 0.0 {
+        return 0.0;
+    }
+    let den = 2.0 * s0 - s1;
+    // The slope k = (s1 - s0) / s0 < 1 exactly when den / s0 > 0.
+    if den / s0 > 1e-3 {
+        s0 * s0 / den
+    } else {
+        s1
     }
 }
 

@@ -28,6 +28,17 @@ pub fn load_transfer_n(mass_kg: f64, vx_mps: f64, r_radps: f64, height_m: f64, t
     mass_kg * vx_mps * r_radps * height_m / track_m * axle_share
 }
 
+/// Quasi-static longitudinal load transfer, N per axle (front, rear): the tyres' longitudinal
+/// forces act at the ground, `height_m` (m) below the CG, so their sum along the body's x axis
+/// `sum_fx_n` (N, positive driving) pitches h S / L of load off the front axle onto the rear one
+/// (L = `wheelbase_m`); braking (S < 0) loads the front. The weight and the road are not in S
+/// (gravity acts at the CG; the grade's share is in the static loads), nor is the drag (taken at
+/// the CG's height).
+pub fn longitudinal_transfer_n(height_m: f64, sum_fx_n: f64, wheelbase_m: f64) -> [f64; 2] {
+    let dz = height_m * sum_fx_n / wheelbase_m;
+    [-dz, dz]
+}
+
 /// Normal loads of an axle's two tyres under a lateral load transfer, N, as
 /// [(right, Fz + dz), (left, Fz - dz)]: `fz_tyre_n` is the static load of one tyre (N, >= 0),
 /// `transfer_n` the axle's transfer ([`load_transfer_n`]; > 0 loads the right tyre) and dz the

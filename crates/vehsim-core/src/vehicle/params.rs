@@ -58,9 +58,14 @@ pub mod lateral_bounds {
     pub const TREAD_HEAT_CAPACITY: Bound = Bound::closed("lateral.tread_heat_capacity_j_per_k", 10.0, 1e5, "J/K");
     /// `lateral.tread_cooling_time_s`: [0.1, 100] s.
     pub const TREAD_COOLING_TIME: Bound = Bound::closed("lateral.tread_cooling_time_s", 0.1, 100.0, "s");
+    /// `lateral.longitudinal_transfer_height_m`: [0, 2] m (the height at which the tyres'
+    /// longitudinal forces pitch load between the axles: a car's CG height, 0.45-0.65 m for
+    /// passenger cars and up to about 1 m for vans and light trucks; 0 = static loads).
+    pub const LONGITUDINAL_TRANSFER_HEIGHT: Bound =
+        Bound::closed("lateral.longitudinal_transfer_height_m", 0.0, 2.0, "m");
 
     /// Every bound above, in the order of [`super::Lateral::values`].
-    pub const ALL: [Bound; 17] = [
+    pub const ALL: [Bound; 18] = [
         STEER_COMPLIANCE,
         MU_SCALE,
         STEER_LAG,
@@ -78,6 +83,7 @@ pub mod lateral_bounds {
         TREAD_MU_PER_KJ,
         TREAD_HEAT_CAPACITY,
         TREAD_COOLING_TIME,
+        LONGITUDINAL_TRANSFER_HEIGHT,
     ];
 }
 
@@ -113,11 +119,15 @@ pub struct Lateral {
     pub tread_heat_capacity_j_per_k: f64,
     /// Tread state: cooling time constant towards the surface temperature, s.
     pub tread_cooling_time_s: f64,
+    /// Height at which the tyres' longitudinal forces move load between the axles, m (0 = static
+    /// loads): the front axle's load falls by h S / L, S the tyres' force along the body's x axis
+    /// (positive driving), L the wheelbase ([`super::lateral::longitudinal_transfer_n`]).
+    pub longitudinal_transfer_height_m: f64,
 }
 
 impl Lateral {
     /// The values in the order of [`lateral_bounds::ALL`].
-    pub fn values(&self) -> [f64; 17] {
+    pub fn values(&self) -> [f64; 18] {
         [
             self.steer_compliance_rad_per_kn,
             self.mu_scale,
@@ -136,6 +146,7 @@ impl Lateral {
             self.tread_mu_per_kj,
             self.tread_heat_capacity_j_per_k,
             self.tread_cooling_time_s,
+            self.longitudinal_transfer_height_m,
         ]
     }
 
@@ -173,6 +184,7 @@ impl Default for Lateral {
             tread_mu_per_kj: 0.0,
             tread_heat_capacity_j_per_k: 300.0,
             tread_cooling_time_s: 3.0,
+            longitudinal_transfer_height_m: 0.0,
         }
     }
 }
