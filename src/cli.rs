@@ -200,7 +200,9 @@ pub enum Command {
         /// sensor_bias, sensor_latency, accelerometer_position, sensor_scale, clock_skew,
         /// accelerometer_orientation, axle_cornering_stiffness, axle_peak_friction, a vehicle
         /// parameter (yaw_inertia, mass, cg_to_front_axle, cg_to_rear_axle), road (bank_deg,
-        /// grade_deg: the same road on every run, not written to the sidecars) or none; the
+        /// grade_deg: the same road on every run, not written to the sidecars),
+        /// longitudinal_coupling (longitudinal_transfer_height_m; acts where the speed changes,
+        /// as in brake_sine_dry and brake_sine_ice) or none; the
         /// --params names pick the form (steer_lag_s: steering lag; stretch_*: a stretch; patch_*:
         /// a ground patch; relaxation_length_front_m: transient slip; load_sensitivity_*).
         #[arg(long)]
@@ -218,7 +220,8 @@ pub enum Command {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Manoeuvres to write, comma-separated ids (default: the eight of the standard set;
-        /// also gentle_sine_dry, gentle_sine_ice; a discovery's separating manoeuvre is one).
+        /// also gentle_sine_dry, gentle_sine_ice, and brake_sine_dry, brake_sine_ice with braking
+        /// and driving; a discovery's separating manoeuvre is one).
         #[arg(long, value_delimiter = ',')]
         maneuvers: Vec<String>,
         /// Output folder.

@@ -170,10 +170,13 @@ pub enum Effect {
     SensorScale,
     ClockSkew,
     AccelOrientation,
+    /// The measured speed change as the tyres' longitudinal forces: load moved between the axles
+    /// at a fitted height and friction taken from the lateral capacity ([`super::coupling`]).
+    LongitudinalCoupling,
 }
 
 /// The hand-written candidates, in the order tried (the generated vehicle parameters follow them).
-const LISTED: [Effect; 22] = [
+const LISTED: [Effect; 23] = [
     Effect::SensorBias,
     Effect::SensorLatency,
     Effect::AccelPosition,
@@ -196,6 +199,7 @@ const LISTED: [Effect; 22] = [
     Effect::ClockSkew,
     Effect::AccelOrientation,
     Effect::Road,
+    Effect::LongitudinalCoupling,
 ];
 
 /// Number of candidates: the listed ones and one per vehicle parameter.
@@ -259,6 +263,7 @@ impl Effect {
             Effect::ClockSkew => "clock_skew",
             Effect::AccelOrientation => "accelerometer_orientation",
             Effect::Road => "road",
+            Effect::LongitudinalCoupling => "longitudinal_coupling",
         }
     }
 
@@ -351,6 +356,9 @@ impl Effect {
             Effect::Road => {
                 "the road is banked and graded: gravity pulls the car across and along the road plane (which the accelerometer does not log) and shifts the axle loads"
             }
+            Effect::LongitudinalCoupling => {
+                "the speed change is driven and braked through the tyres: it moves load between the axles and uses up part of their lateral grip"
+            }
         }
     }
 
@@ -429,6 +437,13 @@ impl Effect {
         }
     }
 
+    /// True for a form that changes the model's structure whatever its parameters (the
+    /// longitudinal coupling: free-rolling tyres become driven and braked ones), so that it has
+    /// no no-effect value and the information criterion alone decides whether it is named.
+    pub fn structural(self) -> bool {
+        self == Effect::LongitudinalCoupling
+    }
+
     /// Number of simplex searches of a candidate's fit, from its best start points: 3 for the
     /// tread state, whose heat capacity acts only through the melting cap, so that the
     /// objective has one basin where the fitted runs reach melting and another where they do
@@ -482,6 +497,10 @@ impl Effect {
             Effect::ClockSkew => const { &[pds(sb::CLOCK_SKEW, 0.0, 2000.0)] },
             Effect::AccelOrientation => const { &[pds(sb::ACCEL_YAW, 0.0, 0.05)] },
             Effect::Road => const { &[pdr(roadb::BANK_DEG, 0.0, 2.0), pdr(roadb::GRADE_DEG, 0.0, 2.0)] },
+            // The form itself is the effect (free-rolling tyres become driven and braked ones), so
+            // its height has no no-effect value; it stays above 0.05 m (a car's CG is higher), so
+            // that the key written back switches the form on ([`Self::structural`]).
+            Effect::LongitudinalCoupling => const { &[pdl(lb::LONGITUDINAL_TRANSFER_HEIGHT, Some(0.05), 0.5, 0.3, None)] },
             Effect::LoadTransferSensitive => {
                 const {
                     &[
@@ -545,7 +564,8 @@ impl Effect {
             | Effect::TransientSlip
             | Effect::TransientSlipSaturating
             | Effect::LoadTransferSensitive
-            | Effect::ThermalState => InVehicleSpec::Lateral,
+            | Effect::ThermalState
+            | Effect::LongitudinalCoupling => InVehicleSpec::Lateral,
             Effect::VehicleParam(_) => InVehicleSpec::Body,
             Effect::FrictionStretch | Effect::FrictionPatch | Effect::FrictionBand => InVehicleSpec::Road,
             Effect::SensorBias
@@ -595,6 +615,7 @@ impl Effect {
             }
             Effect::FrictionBand => p.band = [v[0], v[1], v[2]],
             Effect::Road => p.road = Some(vehsim_core::vehicle::road::Road::from_deg(v[0], v[1])),
+            Effect::LongitudinalCoupling => p.longitudinal_transfer_height_m = v[0],
             Effect::ThermalState => {
                 // Friction change per kelvin = per kJ of tread heat x the heat capacity in kJ/K.
                 p.tread_mu_per_k = v[0] * v[1] * 1e-3;

@@ -13,6 +13,7 @@
 //! - [`equivalence`]: what the data cannot tell apart, and the manoeuvre that would.
 //! - [`stanford`]: conversion of the Stanford lap data to the run format.
 
+pub mod coupling;
 pub mod effects;
 pub mod equivalence;
 pub mod fit;

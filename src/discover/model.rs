@@ -171,6 +171,9 @@ pub struct EffectParams {
     /// The road's bank and grade on every run, replacing each run's own (its sidecar's `[road]`)
     /// while the road effect is fitted (None: each run's own).
     pub road: Option<Road>,
+    /// Longitudinal–lateral coupling: the height at which the tyres' longitudinal forces move
+    /// load between the axles, m (0 = off: the tyres roll free on static loads; [`super::coupling`]).
+    pub longitudinal_transfer_height_m: f64,
 }
 
 impl Default for EffectParams {
@@ -204,6 +207,7 @@ impl Default for EffectParams {
             tread_heat_capacity_j_per_k: 300.0,
             tread_cooling_s: 3.0,
             road: None,
+            longitudinal_transfer_height_m: 0.0,
         }
     }
 }
@@ -237,6 +241,7 @@ impl EffectParams {
             tread_mu_per_k: l.tread_mu_per_k(),
             tread_heat_capacity_j_per_k: l.tread_heat_capacity_j_per_k,
             tread_cooling_s: l.tread_cooling_time_s,
+            longitudinal_transfer_height_m: l.longitudinal_transfer_height_m,
             ..Self::default()
         }
     }
@@ -261,6 +266,12 @@ impl EffectParams {
     /// True when the tread-temperature state is on (it acts on runs on ice only).
     pub fn tread(&self) -> bool {
         self.tread_mu_per_k != 0.0
+    }
+
+    /// True when the longitudinal–lateral coupling is on (the measured speed change loads the
+    /// tyres, [`super::coupling`]).
+    pub fn coupled(&self) -> bool {
+        self.longitudinal_transfer_height_m > 0.0
     }
 
     /// True when the transient-slip form of tyre relaxation is on.
@@ -397,6 +408,11 @@ pub(super) struct Drive {
     pub(super) tread_rise_k: [f64; 2],
     /// The run's road: bank and grade (flat unless its sidecar gives `[road]`).
     pub(super) road: Road,
+    /// The measured forward speed's slope, m/s^2 (0 unless the coupling is on).
+    pub(super) ax_mps2: f64,
+    /// What the speed change asks of the axles (the coupling on; set per state by
+    /// [`ReplayModel::forces`]).
+    pub(super) long: Option<super::coupling::Demand>,
 }
 
 /// Steady-state axle forces, effective steer and slip angles of one state.
@@ -427,7 +443,10 @@ impl ReplayModel {
         // The level road's static tyre load (the load sensitivities' reference) and the tyre's
         // load on the run's road.
         let half = 0.5 * self.fz_axle[axle];
-        let on_road = self.tyre_load(axle, &d.road);
+        let mut on_road = self.tyre_load(axle, &d.road);
+        if let Some(long) = &d.long {
+            on_road = (on_road + long.dfz_n[axle]).max(0.0);
+        }
         let mut thermal = if p.thermal_mu_per_k == 0.0 {
             1.0
         } else {
@@ -438,12 +457,12 @@ impl ReplayModel {
             thermal *= lateral::thermal_friction_factor(p.tread_mu_per_k, d.tread_rise_k[axle]);
             contact_c = d.ice_c + d.tread_rise_k[axle];
         }
-        let eval = |tyre: &dyn TyreModel, fz: f64| {
+        let eval = |tyre: &dyn TyreModel, fz: f64, kappa: f64| {
             // The fitted load sensitivities at this tyre's relative load change (the engine's own
             // factors, lateral::load_sensitive_input).
             let input = TyreInput {
                 fz_n: fz.max(0.0),
-                kappa: 0.0,
+                kappa,
                 alpha_rad: alpha * p.stiffness_scale[axle],
                 camber_rad: 0.0,
                 vx_mps: d.vx.abs().max(V_FLOOR),
@@ -459,11 +478,18 @@ impl ReplayModel {
             }
         };
         let tyre = &self.vehicle.tyre;
-        if dfz == 0.0 && tyre.same_on_both_sides() {
-            let t = eval(&*tyre.mounted[0], on_road);
-            TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
-        } else {
-            lateral::axle_forces(on_road, dfz, |side, fz| eval(&**tyre.on(side), fz))
+        let at_slip = |kappa: f64| {
+            if dfz == 0.0 && tyre.same_on_both_sides() {
+                let t = eval(&*tyre.mounted[0], on_road, kappa);
+                TyreForces { fx_n: 2.0 * t.fx_n, fy_n: 2.0 * t.fy_n, mz_nm: 2.0 * t.mz_nm }
+            } else {
+                lateral::axle_forces(on_road, dfz, |side, fz| eval(&**tyre.on(side), fz, kappa))
+            }
+        };
+        match &d.long {
+            // The slip ratio at which the axle gives its share of the speed change's force.
+            Some(long) => super::coupling::axle_slip(long.fx_n[axle], 2.0 * on_road, at_slip).1,
+            None => at_slip(0.0),
         }
     }
 
@@ -492,8 +518,13 @@ impl ReplayModel {
         let v = &self.vehicle;
         let mut local;
         let tread = p.tread() && d.on_ice;
-        let d = if p.on_ground() || tread {
+        let d = if p.on_ground() || tread || p.coupled() {
             local = *d;
+            if p.coupled() {
+                let state = (d.vx, x[ix::VY], x[ix::R]);
+                let h = p.longitudinal_transfer_height_m;
+                local.long = Some(super::coupling::demand(v, h, d.ax_mps2, state, d.steer, &d.road));
+            }
             if p.on_ground() {
                 // Each axle at its own ground position: the logged pose, else the replay's own.
                 let [px, py, psi] = d.pose.unwrap_or([x[ix::X], x[ix::Y], x[ix::PSI]]);
@@ -661,6 +692,8 @@ impl ReplayModel {
             on_ice: true,
             tread_rise_k: [0.0; 2],
             road,
+            ax_mps2: 0.0,
+            long: None,
         };
         let mut x = State::zeros();
         x.as_mut_slice()[..5].copy_from_slice(&lateral);

@@ -58,6 +58,7 @@ use vehsim_core::maneuver::{Command, Maneuver, Outcome, Start};
 use vehsim_core::path::RefPath;
 use vehsim_core::sim::{Controls, Method, Observer, Row, SimSettings, Simulation};
 use vehsim_core::vehicle::capability::{Lagged, Prescribed};
+use vehsim_core::vehicle::sensors::longitudinal_acceleration;
 use vehsim_core::vehicle::{Environment, Extras, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Largest |vy| (m/s) and |r| (rad/s) of a replay that has not diverged.
@@ -88,6 +89,9 @@ struct Channels<'a> {
     dist: Vec<f64>,
     /// The logged pose (x, y, psi) when a friction change placed on the ground needs it.
     logged: Option<[&'a [f64]; 3]>,
+    /// The measured speed's slope at every sample, m/s^2, when the longitudinal coupling needs
+    /// it (empty otherwise; [`super::coupling`]).
+    ax: Vec<f64>,
 }
 
 impl<'a> Channels<'a> {
@@ -104,7 +108,8 @@ impl<'a> Channels<'a> {
             _ => None,
         };
         let tau = if dt.is_some() { Vec::new() } else { run.t.iter().map(|t| t - run.t[0]).collect() };
-        Self { run, dt, tau, dist, logged }
+        let ax = if p.coupled() { longitudinal_acceleration(&run.vx, &run.t) } else { Vec::new() };
+        Self { run, dt, tau, dist, logged, ax }
     }
 
     /// The samples around engine time `t_s` and the fraction of the way between them (held at
@@ -173,6 +178,8 @@ impl RunModel<'_> {
             on_ice: run.on_ice,
             tread_rise_k: [0.0; 2],
             road: self.p.road.unwrap_or(run.road),
+            ax_mps2: if self.ch.ax.is_empty() { 0.0 } else { lerp(&self.ch.ax) },
+            long: None,
         }
     }
 

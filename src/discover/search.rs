@@ -320,10 +320,15 @@ impl<'a> Search<'a> {
             heldout_rmse_before: self.current.rmse(true),
             heldout_rmse_after: after.rmse(true),
             evidence: format!(
-                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only; 95 % interval excludes the no-effect value",
+                "held-out BIC lower by {:.1} (threshold {BIC_MIN}); held-out normalized RSS x{:.3}; {} parameter(s) fitted on the fitted samples only; {}",
                 t.delta_bic,
                 t.heldout_rss_ratio,
-                e.params().len()
+                e.params().len(),
+                if e.structural() {
+                    "the form itself is the effect (no parameter value switches it off)"
+                } else {
+                    "95 % interval excludes the no-effect value"
+                }
             ),
             equivalents,
         });

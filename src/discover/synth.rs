@@ -79,12 +79,13 @@ pub fn default_params(e: Effect) -> Vec<f64> {
         Effect::AccelOrientation => vec![0.2],
         Effect::Road => vec![3.0, 4.0],
         Effect::TransientSlip | Effect::TransientSlipSaturating => vec![0.8, 1.4],
+        Effect::LongitudinalCoupling => vec![0.55],
     }
 }
 
 /// One synthetic manoeuvre: its id (`vehsim synth --maneuvers`, and the separating manoeuvre a
-/// discovery proposes), the steer kind, the surface, its friction, the speed (m/s) and the steer
-/// amplitude (rad, road wheel).
+/// discovery proposes), the steer kind, the surface, its friction, the speed (m/s), the steer
+/// amplitude (rad, road wheel) and how the speed changes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Manoeuvre {
     pub id: &'static str,
@@ -93,23 +94,41 @@ pub struct Manoeuvre {
     pub mu: f64,
     pub speed_mps: f64,
     pub amplitude_rad: f64,
+    pub speed: SpeedProfile,
+}
+
+/// How a synthetic run's forward speed changes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SpeedProfile {
+    /// A slow drift of ±5 % over 24 s (at most 0.26 m/s^2 at 20 m/s).
+    Drift,
+    /// Braking at `brake_mps2` (m/s^2, > 0) from 2 to 5 s, then driving at `drive_mps2` from
+    /// 6.5 to 10.5 s, each with 0.5 s half-cosine edges inside those spans.
+    BrakeDrive { brake_mps2: f64, drive_mps2: f64 },
 }
 
 /// On ice (mu 0.15, 10 m/s).
 const fn ice(id: &'static str, kind: &'static str, amplitude_rad: f64) -> Manoeuvre {
-    Manoeuvre { id, kind, surface: "ice", mu: 0.15, speed_mps: 10.0, amplitude_rad }
+    Manoeuvre { id, kind, surface: "ice", mu: 0.15, speed_mps: 10.0, amplitude_rad, speed: SpeedProfile::Drift }
 }
 
 /// On dry asphalt (mu 1.0, 20 m/s).
 const fn dry(id: &'static str, kind: &'static str, amplitude_rad: f64) -> Manoeuvre {
-    Manoeuvre { id, kind, surface: "dry", mu: 1.0, speed_mps: 20.0, amplitude_rad }
+    Manoeuvre { id, kind, surface: "dry", mu: 1.0, speed_mps: 20.0, amplitude_rad, speed: SpeedProfile::Drift }
+}
+
+/// `m` braked and then driven at `brake_mps2` and `drive_mps2` (m/s^2).
+const fn braked(m: Manoeuvre, id: &'static str, brake_mps2: f64, drive_mps2: f64) -> Manoeuvre {
+    Manoeuvre { id, speed: SpeedProfile::BrakeDrive { brake_mps2, drive_mps2 }, ..m }
 }
 
 /// Every manoeuvre synth knows: the default set first (interleaved so that every second run mixes
 /// both surfaces and all manoeuvres), then the gentle sine steers (a sixth of the amplitude: the
-/// tyres stay in their linear range, about 0.9 m/s^2 on dry and 0.2 on ice). Surfaces: "ice"
-/// (mu 0.15, 10 m/s) and "dry" (mu 1.0, 20 m/s).
-pub const MANOEUVRES: [Manoeuvre; 10] = [
+/// tyres stay in their linear range, about 0.9 m/s^2 on dry and 0.2 on ice), then the sine steers
+/// with braking and driving (dry: 3 m/s^2 down from 20 m/s and 2 m/s^2 up, half the sine's
+/// amplitude; ice: 0.6 and 0.35 m/s^2 from 10 m/s at a third of it, within the front-driven
+/// sedan's grip of about 0.9 m/s^2). Surfaces: "ice" (mu 0.15, 10 m/s) and "dry" (mu 1.0, 20 m/s).
+pub const MANOEUVRES: [Manoeuvre; 12] = [
     ice("sine_ice", "sine", 0.035),
     dry("sine_dry", "sine", 0.035),
     dry("step_dry", "step", 0.03),
@@ -120,6 +139,8 @@ pub const MANOEUVRES: [Manoeuvre; 10] = [
     ice("lane_ice", "lane", 0.03),
     dry("gentle_sine_dry", "sine", 0.006),
     ice("gentle_sine_ice", "sine", 0.006),
+    braked(dry("", "sine", 0.0175), "brake_sine_dry", 3.0, 2.0),
+    braked(ice("", "sine", 0.012), "brake_sine_ice", 0.6, 0.35),
 ];
 
 /// The manoeuvres `vehsim synth` writes when none are named: the first eight of [`MANOEUVRES`].
@@ -204,7 +225,7 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
     let v0 = m.speed_mps;
     let steer: Vec<f64> = t.iter().map(|&t| steer_at(m.kind, m.amplitude_rad, t)).collect();
-    let vx: Vec<f64> = t.iter().map(|&t| v0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * t / 24.0).sin())).collect();
+    let vx = speed_profile(m.speed, v0, &t);
     let mut run = MeasuredRun {
         path: format!("{name}.csv").into(),
         name: name.to_string(),
@@ -234,6 +255,29 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
     run.yaw_rate = sim.yaw_rate;
     run.ay = sim.ay;
     run
+}
+
+/// The forward speed (m/s) of `profile` from `v0` (m/s) at the times `t` (s, from 0 at 100 Hz).
+fn speed_profile(profile: SpeedProfile, v0: f64, t: &[f64]) -> Vec<f64> {
+    match profile {
+        SpeedProfile::Drift => t.iter().map(|&t| v0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * t / 24.0).sin())).collect(),
+        SpeedProfile::BrakeDrive { brake_mps2, drive_mps2 } => {
+            // The acceleration, a window of height a over [t0, t1] with half-cosine edges of
+            // 0.5 s, integrated in closed form (each edge contributes half its height x 0.5 s).
+            let window = |a: f64, t0: f64, t1: f64, t: f64| -> f64 {
+                const E: f64 = 0.5;
+                let pi = std::f64::consts::PI;
+                // Integral of the window from t0 to min(t, t1).
+                let ramp = |u: f64| 0.5 * (u - E / pi * (pi * u / E).sin());
+                let x = (t - t0).clamp(0.0, t1 - t0);
+                let up = ramp(x.min(E));
+                let flat = (x - E).clamp(0.0, t1 - t0 - 2.0 * E);
+                let down = if x > t1 - t0 - E { 0.5 * E - ramp(t1 - t0 - x) } else { 0.0 };
+                a * (up + flat + down)
+            };
+            t.iter().map(|&t| v0 - window(brake_mps2, 2.0, 5.0, t) + window(drive_mps2, 6.5, 10.5, t)).collect()
+        }
+    }
 }
 
 /// Parse `--params` values `name=value` for effect `e` (names from [`Effect::params`]).

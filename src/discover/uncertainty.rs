@@ -247,9 +247,10 @@ pub fn refine(
     (split(&x), out)
 }
 
-/// True when the interval of at least one of `e`'s parameters excludes its no-effect value.
+/// True when the interval of at least one of `e`'s parameters excludes its no-effect value, or
+/// when `e` is a structural form ([`Effect::structural`]: no parameter value switches it off).
 pub fn significant(e: Effect, iv: &[Interval]) -> bool {
-    e.params().iter().zip(iv).any(|(d, i)| d.null.is_some_and(|z| !i.contains(z)))
+    e.structural() || e.params().iter().zip(iv).any(|(d, i)| d.null.is_some_and(|z| !i.contains(z)))
 }
 
 #[cfg(test)]
