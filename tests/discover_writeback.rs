@@ -167,6 +167,14 @@ fn transient_slip_closes_the_loop_in_both_forms() {
     assert!(t.contains("slip_relaxation_saturating = true"), "{t}");
 }
 
+/// The longitudinal coupling writes `longitudinal_transfer_height_m`, which switches the form on
+/// in the replay (and the transfer in `vehsim run`'s bicycle).
+#[test]
+fn longitudinal_coupling_closes_the_loop() {
+    let t = close_loop(Effect::LongitudinalCoupling, &["brake_sine_dry", "sine_dry", "brake_sine_ice", "sine_ice"], 5);
+    assert!(t.contains("longitudinal_transfer_height_m = "), "{t}");
+}
+
 #[test]
 fn load_sensitivities_close_the_loop() {
     close_loop(Effect::LoadTransferSensitive, &["ramp_dry", "step_dry"], 4);

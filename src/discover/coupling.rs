@@ -46,7 +46,14 @@ pub(super) struct Demand {
 /// The demand of the measured forward acceleration `ax_mps2` (m/s^2, the speed's slope) on the
 /// vehicle `v` at forward speed `vx` (m/s), lateral velocity `vy` (m/s), yaw rate `r` (rad/s),
 /// road-wheel angle `steer` (rad) and road `road`, with transfer height `h_m` (m).
-pub(super) fn demand(v: &Vehicle, h_m: f64, ax_mps2: f64, (vx, vy, r): (f64, f64, f64), steer: f64, road: &Road) -> Demand {
+pub(super) fn demand(
+    v: &Vehicle,
+    h_m: f64,
+    ax_mps2: f64,
+    (vx, vy, r): (f64, f64, f64),
+    steer: f64,
+    road: &Road,
+) -> Demand {
     let m = v.mass_kg;
     let l = v.wheelbase_m();
     let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();

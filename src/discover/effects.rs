@@ -500,7 +500,9 @@ impl Effect {
             // The form itself is the effect (free-rolling tyres become driven and braked ones), so
             // its height has no no-effect value; it stays above 0.05 m (a car's CG is higher), so
             // that the key written back switches the form on ([`Self::structural`]).
-            Effect::LongitudinalCoupling => const { &[pdl(lb::LONGITUDINAL_TRANSFER_HEIGHT, Some(0.05), 0.5, 0.3, None)] },
+            Effect::LongitudinalCoupling => {
+                const { &[pdl(lb::LONGITUDINAL_TRANSFER_HEIGHT, Some(0.05), 0.5, 0.3, None)] }
+            }
             Effect::LoadTransferSensitive => {
                 const {
                     &[

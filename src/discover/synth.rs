@@ -260,7 +260,9 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
 /// The forward speed (m/s) of `profile` from `v0` (m/s) at the times `t` (s, from 0 at 100 Hz).
 fn speed_profile(profile: SpeedProfile, v0: f64, t: &[f64]) -> Vec<f64> {
     match profile {
-        SpeedProfile::Drift => t.iter().map(|&t| v0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * t / 24.0).sin())).collect(),
+        SpeedProfile::Drift => {
+            t.iter().map(|&t| v0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * t / 24.0).sin())).collect()
+        }
         SpeedProfile::BrakeDrive { brake_mps2, drive_mps2 } => {
             // The acceleration, a window of height a over [t0, t1] with half-cosine edges of
             // 0.5 s, integrated in closed form (each edge contributes half its height x 0.5 s).
