@@ -5,7 +5,7 @@
 //! discrepancy workflow must compare lateral dynamics, and a speed-tracking error would show up as a
 //! spurious residual. Tyre forces come from the vehicle's tyre provider (`vehsim_core::tyre`), each axle
 //! carrying two tyres mounted left and right as on the engine's bicycle, free rolling (zero slip
-//! ratio). State (12): vy (m/s), r (rad/s), the front and rear axle lateral
+//! ratio) unless the longitudinal coupling is on. State (12): vy (m/s), r (rad/s), the front and rear axle lateral
 //! forces Fy_f, Fy_r (N) used when the tyre relaxation effect is on, the effective road-wheel
 //! angle delta_e (rad) used when the steering lag is on, the pose X, Y (m), psi (rad) in the
 //! ground frame (used by the closed-loop lane change of `vehsim synth` and by friction changes
@@ -79,6 +79,11 @@
 //!   `accelerometer_orientation`: the measurement chain ([`super::sensors`]).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
+//!
+//! - `longitudinal_coupling`: the measured speed change is driven and braked through the tyres
+//!   ([`super::coupling`]): each axle's share of the force along the body, from the speed's slope,
+//!   is given by the slip ratio solved for it (the lateral force is then the tyre's combined-slip
+//!   one), and each tyre's load moves by -+h S / (2 L) at the fitted height h.
 //!
 //! The run's road (sidecar `[road]`, [`vehsim_core::vehicle::road`]; part of the baseline, flat
 //! by default): gravity's lateral component in the road plane m g_y acts on the body at the CG,
@@ -436,9 +441,11 @@ impl ReplayModel {
         Self { vehicle, fz_axle: [ff, fr], reference_step_s: None }
     }
 
-    /// Steady-state axle force (two tyres, wheel axes, free rolling: zero slip ratio) at slip
-    /// angle `alpha`, with load transfer `dfz` across the axle (N, added to the right tyre, taken
-    /// from the left: [`lateral::axle_forces`]).
+    /// Steady-state axle force (two tyres, wheel axes) at slip angle `alpha`, with load transfer
+    /// `dfz` across the axle (N, added to the right tyre, taken from the left:
+    /// [`lateral::axle_forces`]): free rolling (zero slip ratio), or under the longitudinal
+    /// coupling (`d.long`) at the slip ratio that gives the axle's share of the speed change's
+    /// force, on loads moved by its transfer.
     fn axle_force(&self, axle: usize, alpha: f64, dfz: f64, d: &Drive, p: &EffectParams) -> TyreForces {
         // The level road's static tyre load (the load sensitivities' reference) and the tyre's
         // load on the run's road.
