@@ -57,6 +57,13 @@ fn compliance_and_front_stiffness_are_one_class_until_the_proposed_runs_split_it
     eprintln!("{}; front scale {front:.4} (closed form {expected:.4}), rear {rear:.4}", class.text());
     assert!((front - expected).abs() <= 0.05 * expected, "front scale {front}, closed form {expected}");
     assert!((rear - 1.0).abs() <= 0.05, "rear scale {rear}");
+    // The equivalent is refitted jointly and carries its own intervals, around its values.
+    assert_eq!(stiffness.intervals.len(), 2);
+    for (v, iv) in stiffness.values.iter().zip(&stiffness.intervals) {
+        eprintln!("  {v:.4} (95 %: {:.4} to {:.4})", iv.lo, iv.hi);
+        assert!(iv.lo <= *v && *v <= iv.hi && iv.hi - iv.lo < 0.2, "{v} outside or loose {iv:?}");
+    }
+    assert!(stiffness.intervals[0].contains(expected), "closed form {expected} outside {:?}", stiffness.intervals[0]);
     // The gentle run itself separates nothing; the proposal does, well above the noise.
     let gentle = class.separations.iter().find(|s| s.maneuver == "gentle_sine_dry").unwrap();
     let proposal = class.proposal();

@@ -27,6 +27,7 @@ use super::effects::Effect;
 use super::model::{EffectParams, ReplayModel, Simulated};
 use super::select::{apply_flat, Dataset, Trial, BIC_MIN, MIN_GAIN};
 use super::synth::{truth, Manoeuvre, MANOEUVRES};
+use super::uncertainty::{refine, Interval};
 
 /// Largest gap in held-out BIC between the accepted effect and a candidate reported as equivalent
 /// to it (the acceptance threshold, [`BIC_MIN`]).
@@ -36,10 +37,14 @@ pub const EQUIVALENCE_BIC: f64 = BIC_MIN;
 #[derive(Debug, Clone)]
 pub struct Equivalent {
     pub effect: Effect,
-    /// Its parameters fitted in that round: (name, value, unit).
+    /// Its parameters fitted in that round and polished jointly with the effects accepted before
+    /// it ([`refit`]): (name, value, unit).
     pub params: Vec<(String, f64, String)>,
     /// The same values in the order of [`Effect::params`].
     pub values: Vec<f64>,
+    /// Their 95 % intervals, estimated jointly with the effects accepted before it (empty before
+    /// [`refit`]).
+    pub intervals: Vec<Interval>,
     /// Its held-out BIC improvement in the round, and the accepted effect's.
     pub delta_bic: f64,
     pub named_delta_bic: f64,
@@ -115,12 +120,36 @@ pub fn members(chosen: &Trial, trials: &[&Trial]) -> Vec<Equivalent> {
             effect: t.effect,
             params: t.params.clone(),
             values: t.values.clone(),
+            intervals: Vec::new(),
             delta_bic: t.delta_bic,
             named_delta_bic: chosen.delta_bic,
         })
         .collect();
     out.sort_by(|a, b| b.delta_bic.total_cmp(&a.delta_bic));
     out
+}
+
+/// Each equivalent polished and given its 95 % intervals as the named effect was: jointly with
+/// the effects `accepted` before the round (on top of `base`), by [`refine`] (so a member's values
+/// are its optimum on the same footing as the named effect's, not the simplex's stopping point).
+pub fn refit(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    accepted: &[(Effect, Vec<f64>)],
+    members: &mut [Equivalent],
+) {
+    for m in members {
+        let mut with = accepted.to_vec();
+        with.push((m.effect, m.values.clone()));
+        let (vals, ivs) = refine(model, data, base, &with);
+        if let (Some(v), Some(iv)) = (vals.last(), ivs.last()) {
+            m.values = v.clone();
+            m.params =
+                m.effect.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect();
+            m.intervals = iv.clone();
+        }
+    }
 }
 
 /// The data's noise per channel (yaw rate, a_y): the median of the runs' estimates.

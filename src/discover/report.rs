@@ -348,7 +348,7 @@ fn class_json(c: &Class) -> serde_json::Value {
         "named": { "effect": c.named.name(), "form": c.named.form() },
         "equivalents": c.members.iter().map(|m| json!({
             "effect": m.effect.name(), "form": m.effect.form(),
-            "params": params_json(&m.params, &[]),
+            "params": params_json(&m.params, &m.intervals),
             "delta_bic": m.delta_bic, "named_delta_bic": m.named_delta_bic,
         })).collect::<Vec<_>>(),
         "separating_maneuver": c.proposal().maneuver,
@@ -364,11 +364,18 @@ pub fn classes_text(d: &Discovery) -> Vec<String> {
         .iter()
         .map(|c| {
             let p = c.proposal();
+            let fitted: Vec<String> = c
+                .members
+                .iter()
+                .map(|m| format!("{}: {}", m.effect.label(), params_text(&m.params, &m.intervals)))
+                .collect();
             format!(
-                "the data cannot tell apart {} (held-out dBIC within {}); runs of the manoeuvre {} would \
-                 (predicted difference {:.1} x the noise; `vehsim synth --maneuvers {}` makes them)",
+                "the data cannot tell apart {} (held-out dBIC within {}; the equivalents fitted jointly with the \
+                 effects named before, {}); runs of the manoeuvre {} would (predicted difference {:.1} x the \
+                 noise; `vehsim synth --maneuvers {}` makes them)",
                 c.text(),
                 super::equivalence::EQUIVALENCE_BIC,
+                fitted.join("; "),
                 p.maneuver,
                 p.class,
                 p.maneuver

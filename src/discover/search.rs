@@ -302,7 +302,8 @@ impl<'a> Search<'a> {
     fn accept(&mut self, trials: &[Fitted], bi: usize, polished: Vec<Vec<f64>>) {
         // Those ranked above the chosen one failed its interval test: no alternative.
         let below: Vec<&Trial> = trials[bi + 1..].iter().map(|(_, t, _)| t).collect();
-        let equivalents = equivalence::members(&trials[bi].1, &below);
+        let mut equivalents = equivalence::members(&trials[bi].1, &below);
+        equivalence::refit(self.model, self.data, &self.base, &self.accepted, &mut equivalents);
         let (e, t, _) = &trials[bi];
         self.accepted.push((*e, Vec::new()));
         self.accepted_round.push(self.round);
