@@ -26,6 +26,9 @@
 //!   F_i ([`axle_slip`]); their lateral force is then the tyre's combined-slip one at κ_i. An axle
 //!   asked for more than its tyres can give stays at its largest force (the κ of the peak found).
 //!
+//! The contact heat of the thermal forms still takes the slip angle's sliding speed only (the
+//! slip ratio's share of the sliding is left out there).
+//!
 //! The engine's bicycle has the same forces through its wheel-spin states (the speed comes from
 //! its PID's torque), and the same transfer at `[lateral] longitudinal_transfer_height_m`, which is
 //! where discovery writes h.

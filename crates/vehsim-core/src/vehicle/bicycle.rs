@@ -42,8 +42,8 @@
 //!   optionally shortened by the tyre's local slope ([`lateral::saturating_relaxation_length`]);
 //!   the steer compliance then acts through the force at the lagged front slip angle.
 //! - longitudinal load transfer (`longitudinal_transfer_height_m` h > 0): each front tyre's
-//!   load falls and each rear tyre's rises by h S / (2 L), S = Fx_f cos(delta) - Fy_f sin(delta)
-//!   + Fx_r the tyres' force along the body (positive driving), L the wheelbase
+//!   load falls and each rear tyre's rises by h S / (2 L), with S = Fx_f cos(delta) + Fx_r -
+//!   Fy_f sin(delta) the tyres' force along the body (positive driving), L the wheelbase
 //!   ([`lateral::longitudinal_transfer_n`]); S depends on the loads through the tyres, so the
 //!   balance is solved per evaluation (two fixed-point passes and a secant step, then the forces
 //!   at its root: three tyre evaluations per axle instead of one);
