@@ -23,7 +23,7 @@
 //!   by h S / (2 L) ([`vehsim_core::vehicle::lateral::longitudinal_transfer_n`], the engine's
 //!   own), h the fitted transfer height (m).
 //! - **The slip ratio** κ_i of each axle at which its tyres, at their slip angle and loads, give
-//!   F_i ([`axle_slip`]); their lateral force is then the tyre's combined-slip one at κ_i. An axle
+//!   F_i (`axle_slip`); their lateral force is then the tyre's combined-slip one at κ_i. An axle
 //!   asked for more than its tyres can give stays at its largest force (the κ of the peak found).
 //!
 //! The contact heat of the thermal forms still takes the slip angle's sliding speed only (the
