@@ -683,3 +683,23 @@ fn pitch_balance(s0: f64, s1: f64) -> f64 {
 fn shares_of(front_share: f64) -> [f64; 2] {
     [front_share, 1.0 - front_share]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::pitch_balance;
+
+    /// The secant's root is the fixed point of a balance linear in S, g(S) = a + k S (root
+    /// a / (1 - k)), for braking and driving; no balance (s0 = 0) is 0; a balance that does not
+    /// contract (k >= 1) keeps the second pass.
+    #[test]
+    fn pitch_balance_is_exact_for_a_linear_balance() {
+        for (a, k) in [(1000.0, 0.2), (-2500.0, 0.15), (300.0, -0.4)] {
+            let g = |s: f64| a + k * s;
+            let s0 = g(0.0);
+            let root = pitch_balance(s0, g(s0));
+            assert!((root - a / (1.0 - k)).abs() <= 1e-9 * a.abs(), "{a}, {k}: {root}");
+        }
+        assert_eq!(pitch_balance(0.0, 5.0), 0.0);
+        assert_eq!(pitch_balance(100.0, 250.0), 250.0);
+    }
+}
