@@ -145,8 +145,7 @@ pub fn refit(
         let (vals, ivs) = refine(model, data, base, &with);
         if let (Some(v), Some(iv)) = (vals.last(), ivs.last()) {
             m.values = v.clone();
-            m.params =
-                m.effect.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect();
+            m.params = super::search::triples(m.effect, v);
             m.intervals = iv.clone();
         }
     }

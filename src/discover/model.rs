@@ -79,7 +79,6 @@
 //!   `accelerometer_orientation`: the measurement chain ([`super::sensors`]).
 //! - `sensor_bias`: constant offsets added to the simulated yaw-rate and lateral-acceleration
 //!   sensors, b_r (rad/s) and b_ay (m/s^2).
-//!
 //! - `longitudinal_coupling`: the measured speed change is driven and braked through the tyres
 //!   ([`super::coupling`]): each axle's share of the force along the body, from the speed's slope,
 //!   is given by the slip ratio solved for it (the lateral force is then the tyre's combined-slip
