@@ -6,7 +6,7 @@
 //! does. With it, at every evaluation (body frame, ISO 8855; forces in N, positive driving):
 //!
 //! - **The force the tyres must give along the body**, from the prescribed speed's slope a_x
-//!   (m/s^2; the measured v_x's slope over ±0.5 s, [`vehsim_core::vehicle::sensors::longitudinal_acceleration`]):
+//!   (m/s^2; the measured v_x's slope over ±0.25 s, [`AX_HALF_WINDOW_S`]):
 //!   S = m (a_x − r v_y) + F_drag(v_x) − m g_x, with g_x the road's grade component
 //!   (`vehsim_core::vehicle::road`) and F_drag = ½ ρ C_d A v_x |v_x|.
 //! - **Its split between the axles** as the engine's bicycle drives and brakes them: both axles'
@@ -36,6 +36,15 @@
 use vehsim_core::tyre::TyreForces;
 use vehsim_core::vehicle::road::Road;
 use vehsim_core::vehicle::{lateral, Vehicle, AIR_DENSITY};
+
+/// Half width of the window over which the coupling takes the measured speed's slope, s
+/// ([`vehsim_core::vehicle::sensors::longitudinal_acceleration_over`]). A speed of white noise σ_v
+/// gives a slope of noise σ_v·√2/(2w) (0.057 m/s² for the synthetic runs' 0.02 m/s), and a brake
+/// onset is spread over 2w. On the engine's braking runs of `tests/discover_coupling.rs` (a brake
+/// step, generated h = 0.55 m) the fitted height was 0.599 m at w = 0.5 s, 0.575 at 0.25 s, 0.562
+/// at 0.12 s, and at 0.06 s the slope's noise left the set unexplained: 0.25 s keeps a margin of
+/// four in noise from that.
+pub(super) const AX_HALF_WINDOW_S: f64 = 0.25;
 
 /// What the measured speed change asks of the axles at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]

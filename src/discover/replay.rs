@@ -58,7 +58,7 @@ use vehsim_core::maneuver::{Command, Maneuver, Outcome, Start};
 use vehsim_core::path::RefPath;
 use vehsim_core::sim::{Controls, Method, Observer, Row, SimSettings, Simulation};
 use vehsim_core::vehicle::capability::{Lagged, Prescribed};
-use vehsim_core::vehicle::sensors::longitudinal_acceleration;
+use vehsim_core::vehicle::sensors::longitudinal_acceleration_over;
 use vehsim_core::vehicle::{Environment, Extras, Inputs, Kinematics, Observation, VehicleModel, MAX_LAGS};
 
 /// Largest |vy| (m/s) and |r| (rad/s) of a replay that has not diverged.
@@ -108,7 +108,11 @@ impl<'a> Channels<'a> {
             _ => None,
         };
         let tau = if dt.is_some() { Vec::new() } else { run.t.iter().map(|t| t - run.t[0]).collect() };
-        let ax = if p.coupled() { longitudinal_acceleration(&run.vx, &run.t) } else { Vec::new() };
+        let ax = if p.coupled() {
+            longitudinal_acceleration_over(&run.vx, &run.t, super::coupling::AX_HALF_WINDOW_S)
+        } else {
+            Vec::new()
+        };
         Self { run, dt, tau, dist, logged, ax }
     }
 

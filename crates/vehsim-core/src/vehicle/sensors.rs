@@ -109,6 +109,11 @@ const AX_HALF_WINDOW_S: f64 = 0.5;
 /// at increasing times `t` (s): (v(t + w) − v(t − w)) / (2w), w = 0.5 s, v linear
 /// between samples, the window cut to the run's span at its ends; zeros for fewer than two samples.
 pub fn longitudinal_acceleration(vx: &[f64], t: &[f64]) -> Vec<f64> {
+    longitudinal_acceleration_over(vx, t, AX_HALF_WINDOW_S)
+}
+
+/// [`longitudinal_acceleration`] over ±`half_window_s` (s, > 0) instead of ±0.5 s.
+pub fn longitudinal_acceleration_over(vx: &[f64], t: &[f64], half_window_s: f64) -> Vec<f64> {
     let n = vx.len().min(t.len());
     if n < 2 {
         return vec![0.0; vx.len()];
@@ -120,7 +125,7 @@ pub fn longitudinal_acceleration(vx: &[f64], t: &[f64]) -> Vec<f64> {
     };
     (0..n)
         .map(|k| {
-            let (a, b) = ((t[k] - AX_HALF_WINDOW_S).max(t[0]), (t[k] + AX_HALF_WINDOW_S).min(t[n - 1]));
+            let (a, b) = ((t[k] - half_window_s).max(t[0]), (t[k] + half_window_s).min(t[n - 1]));
             (at(b) - at(a)) / (b - a)
         })
         .collect()
