@@ -350,9 +350,10 @@ impl Bicycle {
     }
 
     /// Force of axle `i`'s two tyres at slip angle `alpha` (rad), wheel-axis forward speed `vxw`
-    /// (m/s) and longitudinal load changes `long` (N per tyre, front and rear): twice one tyre's for a tyre that is its own mirror image without load
-    /// transfer, else each tyre at its own load ([`lateral::axle_forces`]) and, with load
-    /// sensitivities, its own friction and stiffness factor ([`lateral::load_sensitive_input`]).
+    /// (m/s) and longitudinal load changes `long` (N per tyre, front and rear): twice one tyre's
+    /// for a tyre that is its own mirror image without load transfer, else each tyre at its own
+    /// load ([`lateral::axle_forces`]) and, with load sensitivities, its own friction and
+    /// stiffness factor ([`lateral::load_sensitive_input`]).
     fn axle_force(
         &self,
         x: &SVector<f64, N>,
