@@ -181,18 +181,24 @@ impl Bicycle {
 
     fn axles(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment) -> Axles {
         let h = self.vehicle.lateral.longitudinal_transfer_height_m;
-        if h == 0.0 {
-            return self.axles_with(x, u, env, [0.0; 2]);
+        if h != 0.0 {
+            return self.axles_transferred(x, u, env, h);
         }
-        // Longitudinal load transfer: the loads depend on the tyres' longitudinal forces, which
-        // depend on the loads. The balance S = g(S) (S the tyres' force along the body's x axis,
-        // g(S) that force at the loads S moves) is solved by one secant step from two
-        // fixed-point passes ([`pitch_balance`]), then the forces are taken at its root.
+        self.axles_with::<false>(x, u, env, [0.0; 2])
+    }
+
+    /// [`Self::axles`] with longitudinal load transfer at height `h` (m): the loads depend on the
+    /// tyres' longitudinal forces, which depend on the loads. The balance S = g(S) (S the tyres'
+    /// force along the body's x axis, g(S) that force at the loads S moves) is solved by one
+    /// secant step from two fixed-point passes ([`pitch_balance`]), then the forces are taken at
+    /// its root. (Kept out of line: the static-load path is the hot one.)
+    #[inline(never)]
+    fn axles_transferred(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, h: f64) -> Axles {
         let l = self.vehicle.wheelbase_m();
         let long = |s: f64| lateral::longitudinal_transfer_n(h, s, l).map(|d| 0.5 * d);
-        let s0 = self.tyre_fx_body(x, &self.axles_with(x, u, env, [0.0; 2]));
-        let s1 = self.tyre_fx_body(x, &self.axles_with(x, u, env, long(s0)));
-        self.axles_with(x, u, env, long(pitch_balance(s0, s1)))
+        let s0 = self.tyre_fx_body(x, &self.axles_with::<true>(x, u, env, [0.0; 2]));
+        let s1 = self.tyre_fx_body(x, &self.axles_with::<true>(x, u, env, long(s0)));
+        self.axles_with::<true>(x, u, env, long(pitch_balance(s0, s1)))
     }
 
     /// The tyres' acting force along the body's x axis, N (the drag excluded).
@@ -201,29 +207,31 @@ impl Bicycle {
         f.fx_n * ax.cos_d - f.fy_n * ax.sin_d + r.fx_n
     }
 
-    /// [`Self::axles`] with each tyre's load changed by `long` (front, rear), N.
-    fn axles_with(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, long: [f64; 2]) -> Axles {
+    /// [`Self::axles`] with each tyre's load changed by `long` (front, rear), N. `T`: whether
+    /// `long` may be other than 0 (false: the static-load path, compiled without it).
+    #[inline(always)]
+    fn axles_with<const T: bool>(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, long: [f64; 2]) -> Axles {
         let lat = &self.vehicle.lateral;
         let c = lat.steer_compliance_rad_per_kn * 1e-3;
         let steer = if lat.steer_lag_s > 0.0 { x[ix::DELTA_L] } else { u.steer_rad };
         if c == 0.0 {
             // (the common case, kept out of the fixed point's closures: they cost the hot path
             // its inlining)
-            return self.axles_at(x, u, env, steer, long);
+            return self.axles_at::<T>(x, u, env, steer, long);
         }
         if lat.relaxation_length_y_m > 0.0 {
             // With relaxation the acting front force is a state: no iteration needed.
-            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]), long);
+            return self.axles_at::<T>(x, u, env, lateral::effective_steer(steer, c, x[ix::FY_F]), long);
         }
         if lat.transient_slip() {
             // Transient slip: the front force follows the lagged slip angle (a state), so the
             // compliance acts through it without iteration.
-            let fy = self.axles_at(x, u, env, steer, long).f[0].fy_n;
-            return self.axles_at(x, u, env, lateral::effective_steer(steer, c, fy), long);
+            let fy = self.axles_at::<T>(x, u, env, steer, long).f[0].fy_n;
+            return self.axles_at::<T>(x, u, env, lateral::effective_steer(steer, c, fy), long);
         }
         // Steer compliance: effective steer delta - c Fy_f with the steady-state front force, a
         // fixed point (none without compliance).
-        lateral::compliant_steer(steer, c, |d| self.axles_at(x, u, env, d, long), |ax| ax.f[0].fy_n).1
+        lateral::compliant_steer(steer, c, |d| self.axles_at::<T>(x, u, env, d, long), |ax| ax.f[0].fy_n).1
     }
 
     /// Static load of one tyre of axle `i` on the road of `env`, N: the level one on a flat road,
@@ -238,8 +246,9 @@ impl Bicycle {
     }
 
     /// [`Self::tyre_load`] changed by the longitudinal load transfer `long[i]` (N), at least 0.
-    fn loaded(&self, env: &Environment, i: usize, long: [f64; 2]) -> f64 {
-        if long[i] == 0.0 {
+    #[inline(always)]
+    fn loaded<const T: bool>(&self, env: &Environment, i: usize, long: [f64; 2]) -> f64 {
+        if !T || long[i] == 0.0 {
             return self.tyre_load(env, i);
         }
         (self.tyre_load(env, i) + long[i]).max(0.0)
@@ -282,7 +291,7 @@ impl Bicycle {
         let kappa = [x[ix::KAPPA_F], x[ix::KAPPA_R]];
         for (i, o) in out.iter_mut().take(2).enumerate() {
             *o = TyreContact {
-                fz_n: self.loaded(env, i, ax.long),
+                fz_n: self.loaded::<true>(env, i, ax.long),
                 roll_speed_mps: (omega[i] * radius).abs(),
                 slide_speed_mps: slide_speed(kappa[i], ax.alpha[i], ax.vxw[i].abs().max(V_LOW)),
                 friction_force_n: 0.5 * (acting[i].fx_n * acting[i].fx_n + acting[i].fy_n * acting[i].fy_n).sqrt(),
@@ -292,7 +301,14 @@ impl Bicycle {
     }
 
     /// Axle quantities with the front wheels at road-wheel angle `steer` (rad).
-    fn axles_at(&self, x: &SVector<f64, N>, u: &Inputs, env: &Environment, steer: f64, long: [f64; 2]) -> Axles {
+    fn axles_at<const T: bool>(
+        &self,
+        x: &SVector<f64, N>,
+        u: &Inputs,
+        env: &Environment,
+        steer: f64,
+        long: [f64; 2],
+    ) -> Axles {
         let v = &self.vehicle;
         let (vx, vy, r) = (x[ix::VX], x[ix::VY], x[ix::R]);
         let (sin_d, cos_d) = crate::tyre::fastmath::sin_cos(steer);
@@ -319,9 +335,9 @@ impl Bicycle {
         let mut torque = [0.0; 2];
         let mut load = [0.0; 2];
         for i in 0..2 {
-            f[i] = self.axle_force(x, u, env, i, alpha[i], (vxw[i], long));
+            f[i] = self.axle_force::<T>(x, u, env, i, alpha[i], (vxw[i], long));
             if lat.transient_slip() {
-                slip_rate[i] = self.slip_rate(x, u, env, i, alpha[i], (vxw[i], long));
+                slip_rate[i] = self.slip_rate::<T>(x, u, env, i, alpha[i], (vxw[i], long));
             }
             let resist = resisting_torque_at(brake[i] + self.roll_torque[i], self.resist_omega1[i], omega[i]);
             torque[i] = drive[i] - resist - radius * f[i].fx_n;
@@ -354,7 +370,7 @@ impl Bicycle {
     /// for a tyre that is its own mirror image without load transfer, else each tyre at its own
     /// load ([`lateral::axle_forces`]) and, with load sensitivities, its own friction and
     /// stiffness factor ([`lateral::load_sensitive_input`]).
-    fn axle_force(
+    fn axle_force<const T: bool>(
         &self,
         x: &SVector<f64, N>,
         u: &Inputs,
@@ -364,12 +380,12 @@ impl Bicycle {
         (vxw, long): (f64, [f64; 2]),
     ) -> TyreForces {
         let v = &self.vehicle;
-        let input = self.tyre_input(x, u, env, i, alpha, (vxw, long));
+        let input = self.tyre_input::<T>(x, u, env, i, alpha, (vxw, long));
         let dfz = self.load_transfer(x, i);
         if dfz == 0.0 && v.tyre.same_on_both_sides() {
             let left = &v.tyre.mounted[0];
             // (the prepared curves hold the level road's static loads only)
-            let t = match (&self.prepared[i], env.road.is_flat() && long[i] == 0.0) {
+            let t = match (&self.prepared[i], env.road.is_flat() && (!T || long[i] == 0.0)) {
                 (Some(p), true) => left.forces_prepared(p, &input),
                 _ => left.forces(&input),
             };
@@ -379,7 +395,7 @@ impl Bicycle {
             // (outer in a left turn) gains the transfer.
             // The load sensitivities relative to the level road's static load fz0.
             let (fz0, k) = (self.fz_tyre[i], v.lateral.load_sensitivity);
-            lateral::axle_forces(self.loaded(env, i, long), dfz, |side, fz| {
+            lateral::axle_forces(self.loaded::<T>(env, i, long), dfz, |side, fz| {
                 let at_load = TyreInput { fz_n: fz, ..input };
                 let input = if k == [0.0; 2] { at_load } else { lateral::load_sensitive_input(at_load, fz0, k) };
                 v.tyre.on(side).forces(&input)
@@ -390,7 +406,7 @@ impl Bicycle {
     /// Transient-slip rate of axle `i` at its lagged slip angle `alpha` (rad), 1/s:
     /// max(|vx|, 1 m/s) / sigma_i, with sigma_i shortened by the tyre's local slope in the
     /// saturating form ([`lateral::saturating_relaxation_length`]).
-    fn slip_rate(
+    fn slip_rate<const T: bool>(
         &self,
         x: &SVector<f64, N>,
         u: &Inputs,
@@ -403,7 +419,7 @@ impl Bicycle {
         let mut sigma = lat.slip_relaxation_m[i];
         if lat.slip_relaxation_saturating {
             let eps = lateral::SLIP_SLOPE_STEP_RAD;
-            let fy = |a: f64| self.axle_force(x, u, env, i, a, at).fy_n;
+            let fy = |a: f64| self.axle_force::<T>(x, u, env, i, a, at).fy_n;
             let slope = |a: f64| fy(a + eps) - fy(a - eps);
             sigma = lateral::saturating_relaxation_length(sigma, slope(alpha) / slope(0.0));
         }
@@ -412,7 +428,7 @@ impl Bicycle {
 
     /// The input of axle `i`'s tyres at its static load share changed by `long` (N per tyre),
     /// slip angle `alpha` (rad) and wheel-axis forward speed `vxw` (m/s).
-    fn tyre_input(
+    fn tyre_input<const T: bool>(
         &self,
         x: &SVector<f64, N>,
         u: &Inputs,
@@ -439,7 +455,7 @@ impl Bicycle {
             mu *= env.regions.factor(xa, ya) * env.regions.factor_along(u.distance_m);
         }
         TyreInput {
-            fz_n: self.loaded(env, i, long),
+            fz_n: self.loaded::<T>(env, i, long),
             kappa: x[[ix::KAPPA_F, ix::KAPPA_R][i]],
             alpha_rad: alpha * lat.stiffness_scale[i],
             camber_rad: 0.0,
@@ -522,7 +538,7 @@ impl Bicycle {
             fz_n: {
                 // vx r > 0 (turning left) moves load to the right (outer) tyres.
                 let [[(_, fr), (_, fl)], [(_, rr), (_, rl)]] =
-                    [0, 1].map(|i| lateral::tyre_loads(self.loaded(env, i, ax.long), self.load_transfer(x, i)));
+                    [0, 1].map(|i| lateral::tyre_loads(self.loaded::<true>(env, i, ax.long), self.load_transfer(x, i)));
                 [fl, fr, rl, rr]
             },
             roll_rad: 0.0,
@@ -626,7 +642,7 @@ impl Monitored<N> for Bicycle {
         }
         let ax = self.axles(x, u, env);
         for i in 0..2 {
-            let input = self.tyre_input(x, u, env, i, ax.alpha[i], (ax.vxw[i], ax.long));
+            let input = self.tyre_input::<true>(x, u, env, i, ax.alpha[i], (ax.vxw[i], ax.long));
             let [right, left] = lateral::tyre_loads(input.fz_n, self.load_transfer(x, i));
             for ((side, fz), name) in [(left, "left"), (right, "right")] {
                 if let Some((kind, detail)) = tyre.on(side).departure(&TyreInput { fz_n: fz, ..input }) {
