@@ -6,7 +6,7 @@
 //! does. With it, at every evaluation (body frame, ISO 8855; forces in N, positive driving):
 //!
 //! - **The force the tyres must give along the body**, from the prescribed speed's slope a_x
-//!   (m/s^2; the measured v_x's slope over ±0.25 s, [`AX_HALF_WINDOW_S`]):
+//!   (m/s^2; the measured v_x's slope over ±0.25 s, `AX_HALF_WINDOW_S`):
 //!   S = m (a_x − r v_y) + F_drag(v_x) − m g_x, with g_x the road's grade component
 //!   (`vehsim_core::vehicle::road`) and F_drag = ½ ρ C_d A v_x |v_x|.
 //! - **Its split between the axles** as the engine's bicycle drives and brakes them: both axles'
