@@ -35,7 +35,7 @@
 
 use vehsim_core::tyre::TyreForces;
 use vehsim_core::vehicle::road::Road;
-use vehsim_core::vehicle::{lateral, Vehicle, AIR_DENSITY};
+use vehsim_core::vehicle::{lateral, Vehicle};
 
 /// Half width of the window over which the coupling takes the measured speed's slope, s
 /// ([`vehsim_core::vehicle::sensors::longitudinal_acceleration_over`]). A speed of white noise σ_v
@@ -68,7 +68,7 @@ pub(super) fn demand(
 ) -> Demand {
     let m = v.mass_kg;
     let l = v.wheelbase_m();
-    let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+    let drag = v.drag_n(vx);
     let gx = if road.is_flat() { 0.0 } else { road.gravity_in_plane().0 };
     let s = m * (ax_mps2 - r * vy) + drag - m * gx;
     let (ff, fr) = v.static_axle_loads_n();
@@ -153,6 +153,7 @@ pub(super) fn axle_slip(target_n: f64, fz_axle_n: f64, axle: impl Fn(f64) -> Tyr
 #[cfg(test)]
 mod tests {
     use super::*;
+    use vehsim_core::vehicle::AIR_DENSITY;
 
     /// A saturating axle: Fx = 3000 tanh(20 kappa) N.
     fn axle(k: f64) -> TyreForces {

@@ -62,7 +62,7 @@ use super::wheel::{
 use super::{lateral, single_track, Condition, Environment, Extras, Inputs, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::tyre::{Prepared, TyreForces, TyreInput};
-use crate::vehicle::{Vehicle, AIR_DENSITY};
+use crate::vehicle::Vehicle;
 
 /// State dimension of the bicycle model.
 pub const N: usize = 13;
@@ -551,7 +551,7 @@ impl Bicycle {
         let v = &self.vehicle;
         let [f, r] = forces;
         let fxf_b = f.fx_n * ax.cos_d - f.fy_n * ax.sin_d;
-        let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+        let drag = v.drag_n(vx);
         let fx = fxf_b + r.fx_n - drag;
         let (fy, mz) = single_track::lateral_loads(f, r, ax.cos_d, ax.sin_d, v.a_m, v.b_m);
         (fx, fy, mz)

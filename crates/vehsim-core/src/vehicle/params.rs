@@ -428,6 +428,13 @@ impl Vehicle {
         self.body_length_m - self.front_overhang_m - self.wheelbase_m()
     }
 
+    /// Aerodynamic drag at body-frame forward speed `vx_mps` (m/s), N: ½ ρ C_d A vx |vx|, acting
+    /// against the motion (positive when moving forward).
+    #[inline]
+    pub fn drag_n(&self, vx_mps: f64) -> f64 {
+        0.5 * AIR_DENSITY * self.drag_area_m2 * vx_mps * vx_mps.abs()
+    }
+
     /// Static axle loads (front, rear), N.
     pub fn static_axle_loads_n(&self) -> (f64, f64) {
         let w = self.mass_kg * GRAVITY;

@@ -65,7 +65,7 @@ use super::{Condition, Environment, Extras, Inputs, Observation, VehicleModel};
 use crate::contact::TyreContact;
 use crate::event::EventKind;
 use crate::tyre::{fastmath, Prepared, TyreForces, TyreInput};
-use crate::vehicle::{Roll, Vehicle, AIR_DENSITY, GRAVITY};
+use crate::vehicle::{Roll, Vehicle, GRAVITY};
 
 /// State dimension of the 4-DOF model.
 pub const N: usize = 18;
@@ -402,7 +402,7 @@ impl Roll4Dof {
             fy += fyb;
             mz += px * fyb - py * fxb + f.mz_nm;
         }
-        fx -= 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx.abs();
+        fx -= v.drag_n(vx);
         (fx, fy, mz)
     }
 
