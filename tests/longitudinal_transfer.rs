@@ -27,24 +27,14 @@ fn sedan() -> ([f64; 2], f64) {
 
 /// A scratch case of the braking-in-turn run with `lateral` appended to the sedan.
 fn case(tag: &str, lateral: &str) -> Case {
-    let c = Case::new(tag, "bt.toml", BRAKE_IN_TURN);
-    let root = common::root();
-    std::fs::copy(root.join("vehicles/tyres/srtt_p225_60r16.tir"), c.dir.join("tyres/srtt_p225_60r16.tir")).unwrap();
-    let v = c.dir.join("sedan.toml");
-    let text = std::fs::read_to_string(&v).unwrap();
-    std::fs::write(&v, format!("{text}\n{lateral}")).unwrap();
-    c
+    Case::with_sedan_tail(tag, "bt.toml", BRAKE_IN_TURN, lateral)
 }
 
 /// Run the case; its time series as (header, rows).
 fn run(c: &Case) -> (Vec<String>, Vec<Vec<f64>>) {
     let (code, out, err) = c.run(&["run", "--quiet", "--out", "res", "bt.toml"]);
     assert_eq!(code, 0, "{out}{err}");
-    let text = std::fs::read_to_string(c.dir.join("res/bt/timeseries.csv")).unwrap();
-    let mut lines = text.lines();
-    let head = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
-    (head, rows)
+    c.series("bt")
 }
 
 fn col(head: &[String], name: &str) -> usize {

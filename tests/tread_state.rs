@@ -19,22 +19,12 @@ fn circle(ice_c: f64) -> String {
 
 /// A scratch case with the sedan (its Pacejka file copied too) and `lateral` appended to it.
 fn case(tag: &str, spec: &str, lateral: &str) -> Case {
-    let c = Case::new(tag, "cr.toml", spec);
-    let root = common::root();
-    std::fs::copy(root.join("vehicles/tyres/srtt_p225_60r16.tir"), c.dir.join("tyres/srtt_p225_60r16.tir")).unwrap();
-    let v = c.dir.join("sedan.toml");
-    let text = std::fs::read_to_string(&v).unwrap();
-    std::fs::write(&v, format!("{text}\n{lateral}")).unwrap();
-    c
+    Case::with_sedan_tail(tag, "cr.toml", spec, lateral)
 }
 
 /// The time series of run `cr` as (header, rows).
 fn series(c: &Case) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(c.dir.join("res/cr/timeseries.csv")).unwrap();
-    let mut lines = text.lines();
-    let head = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
-    (head, rows)
+    c.series("cr")
 }
 
 const TREAD: &str =

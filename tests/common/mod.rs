@@ -50,6 +50,27 @@ impl Case {
         self
     }
 
+    /// New scratch folder as [`Case::new`], with the sedan's Pacejka `.tir` copied beside its tyre
+    /// and `tail` (e.g. a `[lateral]` section) appended to `sedan.toml`.
+    pub fn with_sedan_tail(tag: &str, spec_name: &str, spec: &str, tail: &str) -> Self {
+        let c = Case::new(tag, spec_name, spec);
+        let tir = "tyres/srtt_p225_60r16.tir";
+        std::fs::copy(root().join("vehicles").join(tir), c.dir.join(tir)).unwrap();
+        let v = c.dir.join("sedan.toml");
+        let text = std::fs::read_to_string(&v).unwrap();
+        std::fs::write(&v, format!("{text}\n{tail}")).unwrap();
+        c
+    }
+
+    /// The time series of run `name` written under `res/` (`--out res`) as (header, rows).
+    pub fn series(&self, name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+        let text = std::fs::read_to_string(self.dir.join("res").join(name).join("timeseries.csv")).unwrap();
+        let mut lines = text.lines();
+        let head = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+        (head, rows)
+    }
+
     /// Run the CLI in the scratch folder.
     pub fn run(&self, args: &[&str]) -> (i32, String, String) {
         vehsim(&self.dir, args)
