@@ -210,6 +210,11 @@ pub enum Command {
         /// Effect parameters, name=value (repeatable); defaults per effect.
         #[arg(long = "params", num_args = 1..)]
         params: Vec<String>,
+        /// With `--effect road` instead of --params: a different road per run, one
+        /// bank_deg:grade_deg pair per manoeuvre in the order written (comma-separated, e.g.
+        /// `3:4,-2:1,...`); not written to the sidecars.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        roads: Vec<String>,
         /// Vehicle spec file.
         #[arg(long, default_value = "vehicles/sedan.toml")]
         vehicle: PathBuf,
@@ -279,8 +284,9 @@ pub fn main() -> ExitCode {
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force } => {
             crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force)
         }
-        Command::Synth { effect, params, vehicle, tyre_model, seed, maneuvers, out } => {
-            crate::discover::cli_synth(&effect, &params, &vehicle, tyre_model, seed, &maneuvers, &out)
+        Command::Synth { effect, params, roads, vehicle, tyre_model, seed, maneuvers, out } => {
+            let opts = crate::discover::SynthOptions { params: &params, roads: &roads, seed, maneuvers: &maneuvers };
+            crate::discover::cli_synth(&effect, &opts, &vehicle, tyre_model, &out)
         }
         Command::ConvertStanford { dir, out, segment_s, segments } => {
             crate::discover::cli_convert(&dir, &out, segment_s, segments)

@@ -22,6 +22,7 @@ pub mod model;
 pub mod region_starts;
 pub mod replay;
 pub mod report;
+pub mod road_per_run;
 pub mod search;
 pub mod select;
 pub mod sensors;
@@ -218,18 +219,47 @@ pub fn cli_discover(
     }
 }
 
+/// The options of `vehsim synth` besides the effect, the vehicle and the output folder.
+#[derive(Debug, Clone, Copy)]
+pub struct SynthOptions<'a> {
+    /// `--params`: the effect's parameters, name=value.
+    pub params: &'a [String],
+    /// `--roads`: one bank_deg:grade_deg pair per manoeuvre (with `--effect road` only).
+    pub roads: &'a [String],
+    /// `--seed`: the noise seed.
+    pub seed: u64,
+    /// `--maneuvers`: the manoeuvre ids (empty: the standard set).
+    pub maneuvers: &'a [String],
+}
+
 /// `vehsim synth` (called by the CLI).
 pub fn cli_synth(
     effect: &str,
-    params: &[String],
+    opts: &SynthOptions,
     vehicle: &Path,
     tyre_model: TyreModelKind,
-    seed: u64,
-    maneuvers: &[String],
     out: &Path,
 ) -> std::process::ExitCode {
+    let (params, seed, maneuvers) = (opts.params, opts.seed, opts.maneuvers);
     let r = (|| -> Result<usize> {
         let plan = synth::select(maneuvers)?;
+        if !opts.roads.is_empty() {
+            if effect != "road" || !params.is_empty() {
+                return Err(Error::usage(
+                    "--roads",
+                    format!(
+                        "per-run roads go with --effect road and no --params (given: --effect {effect}{})",
+                        if params.is_empty() { "" } else { " with --params" }
+                    ),
+                ));
+            }
+            let roads = synth::parse_roads(opts.roads, &plan)?;
+            let v = load_vehicle(vehicle, None, tyre_model)?;
+            let p = model::EffectParams::default();
+            let runs = synth::generate_plan_roads(&model::ReplayModel::new(v), &p, seed, &plan, &roads);
+            synth::write_runs(out, &runs)?;
+            return Ok(runs.len());
+        }
         let v = load_vehicle(vehicle, None, tyre_model)?;
         let mut p = model::EffectParams::default();
         if effect != "none" {

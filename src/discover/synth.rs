@@ -207,11 +207,36 @@ pub fn generate_plan(
     seed: u64,
     plan: &[Manoeuvre],
 ) -> Vec<(MeasuredRun, String)> {
+    generate_plan_each(model, &|_| *p, seed, plan)
+}
+
+/// As [`generate_plan`], run `i` driven on its own road `roads[i]` (bank and grade; over `p`,
+/// whose road it replaces): the per-run road of `vehsim synth --roads`. Not written to the
+/// sidecars, so the roads are hidden like any effect. `roads` has one pair per manoeuvre.
+pub fn generate_plan_roads(
+    model: &ReplayModel,
+    p: &EffectParams,
+    seed: u64,
+    plan: &[Manoeuvre],
+    roads: &[vehsim_core::vehicle::road::Road],
+) -> Vec<(MeasuredRun, String)> {
+    assert_eq!(roads.len(), plan.len(), "one road per manoeuvre");
+    generate_plan_each(model, &|i| EffectParams { road: Some(roads[i]), ..*p }, seed, plan)
+}
+
+/// The runs of `plan` (names `NN_<id>`), run `i` generated with the parameters `p_of(i)`, noise
+/// from `seed` in the order of the plan.
+fn generate_plan_each(
+    model: &ReplayModel,
+    p_of: &dyn Fn(usize) -> EffectParams,
+    seed: u64,
+    plan: &[Manoeuvre],
+) -> Vec<(MeasuredRun, String)> {
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
     for (i, m) in plan.iter().enumerate() {
         let name = format!("{:02}_{}", i + 1, m.id);
-        let mut run = truth(model, p, m, &name);
+        let mut run = truth(model, &p_of(i), m, &name);
         add_noise(&mut run, &mut rng);
         out.push((run, name));
     }
@@ -306,6 +331,48 @@ pub fn parse_params(e: Effect, given: &[String]) -> Result<Vec<f64>> {
         v[i] = x;
     }
     Ok(v)
+}
+
+/// Parse `--roads`: one `bank_deg:grade_deg` pair (deg) per manoeuvre of `plan`, in its order,
+/// each within the `[road]` keys' bounds and drivable on its manoeuvre's surface.
+pub fn parse_roads(given: &[String], plan: &[Manoeuvre]) -> Result<Vec<vehsim_core::vehicle::road::Road>> {
+    use vehsim_core::vehicle::road::{road_bounds as rb, Road};
+    if given.len() != plan.len() {
+        return Err(Error::usage(
+            "--roads",
+            format!(
+                "{} pairs given for {} manoeuvres; give one bank_deg:grade_deg pair per manoeuvre",
+                given.len(),
+                plan.len()
+            ),
+        ));
+    }
+    let mut out = Vec::new();
+    for (g, m) in given.iter().zip(plan) {
+        let (b, gr) =
+            g.split_once(':').ok_or_else(|| Error::usage("--roads", format!("'{g}' is not bank_deg:grade_deg")))?;
+        let mut v = [0.0; 2];
+        for ((x, text), bound) in v.iter_mut().zip([b, gr]).zip(rb::ALL) {
+            *x = text
+                .trim()
+                .parse()
+                .ok()
+                .filter(|x: &f64| x.is_finite())
+                .ok_or_else(|| Error::usage("--roads", format!("'{text}' in '{g}' is not a finite number")))?;
+            if *x < bound.lo || *x > bound.hi {
+                return Err(Error::usage(
+                    "--roads",
+                    format!("{} = {x} in '{g}' is outside [{}, {}] {}", bound.key, bound.lo, bound.hi, bound.unit),
+                ));
+            }
+        }
+        let road = Road::from_deg(v[0], v[1]);
+        if let Some(why) = road.too_steep(m.mu) {
+            return Err(Error::usage("--roads", format!("'{g}' on {} (mu {}): {why}", m.id, m.mu)));
+        }
+        out.push(road);
+    }
+    Ok(out)
 }
 
 /// Write generated runs (CSV + sidecar) into `dir`.
