@@ -146,6 +146,10 @@ pub fn run_discover_checked(opts: &DiscoverOptions, force: bool) -> Result<(Disc
     let say = |m: &str| eprintln!("discover: {m}");
     let mut d = search::discover_with(&model, &data, base, &candidates, opts.progress.then_some(&say as _));
     data.held = d.held.clone();
+    if let Some(roads) = d.run_roads() {
+        // Each run on its own fitted road from here on (the jackknife, the report's replays).
+        data = road_per_run::with_roads(&data, roads);
+    }
     if opts.jackknife {
         let finals: Vec<(Effect, Vec<f64>)> =
             d.final_effects.iter().map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect())).collect();

@@ -210,7 +210,11 @@ pub fn write_all(out: &Path, opts: &DiscoverOptions, model: &ReplayModel, data: 
     let toml = effects_toml(opts, d);
     let vehicle_toml = improved_vehicle_toml(opts, d)?;
     let surface = surface_toml(d);
+    let roads = d.road_per_run.as_ref().filter(|o| o.roads().is_some()).and_then(|o| o.comparison.as_ref());
     crate::run::write_dir_atomic(out, |tmp| {
+        if let Some(c) = roads {
+            write(&tmp.join("roads.toml"), &c.roads_toml())?;
+        }
         if let Some(s) = &surface {
             write(&tmp.join("surface.toml"), s)?;
         }
@@ -303,6 +307,7 @@ fn report_json(
             std::iter::once(e.label()).chain(class.into_iter().flat_map(|c| c.members.iter().map(|m| m.effect.label()))).collect::<Vec<_>>()
         }).collect::<Vec<_>>(),
         "equivalence_classes": d.classes.iter().map(class_json).collect::<Vec<_>>(),
+        "road_per_run": d.road_per_run.as_ref().map(|o| o.to_json()),
         "verdict": d.verdict,
         "disagreement_windows_baseline": windows,
         "disagreement_windows_final": windows_after,
@@ -397,6 +402,9 @@ fn markdown(
     md_rms(&mut s, d);
     md_accepted(&mut s, d);
     md_folds(&mut s, d);
+    if let Some(o) = &d.road_per_run {
+        s.push_str(&o.markdown());
+    }
     md_remaining(&mut s, d, windows_after);
     md_why(&mut s, why);
     md_jackknife(&mut s, d);

@@ -25,8 +25,11 @@ use rayon::prelude::*;
 
 use super::effects::Effect;
 use super::model::{EffectParams, ReplayModel};
-use super::select::{apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Scores, BIC_MIN, MIN_GAIN};
-use super::uncertainty::{refine, Interval};
+use super::select::{
+    apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Discovery, Dropped, Fold, Scores, Verdict,
+    BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
+};
+use super::uncertainty::{refine, significant, Interval};
 use vehsim_core::vehicle::road::Road;
 
 /// One run's fitted road.
@@ -198,37 +201,17 @@ pub fn compare(
 /// One fold: no road, the shared pair and the per-run pairs fitted on `data`'s fitted samples and
 /// scored on its held-out ones.
 fn fold(model: &ReplayModel, data: &Dataset, base: &EffectParams, effects: &[(Effect, Vec<f64>)]) -> RoadFold {
-    let refit = |d: &Dataset, with: &[(Effect, Vec<f64>)]| -> Vec<Vec<f64>> {
-        if with.is_empty() {
-            Vec::new()
-        } else {
-            fit_jointly(model, d, base, with).0
-        }
-    };
-    let zip = |vals: Vec<Vec<f64>>, with: &[(Effect, Vec<f64>)]| -> Vec<(Effect, Vec<f64>)> {
-        with.iter().map(|a| a.0).zip(vals).collect()
-    };
     // No road: the shared effects refitted on these blocks.
-    let none = zip(refit(data, effects), effects);
+    let none = refit(model, data, base, effects);
     let s_none = score(data, &simulate_all(model, data, &apply_flat(base, &none)));
     // The shared pair, fitted with the shared effects.
     let mut with_road = effects.to_vec();
-    with_road.push((Effect::Road, Effect::Road.params().iter().map(|d| d.start).collect()));
     let shared0 = fit_effect(model, data, &apply_flat(base, &none), Effect::Road).0;
-    with_road.last_mut().expect("the road").1 = shared0;
-    let (vals, ivs) = refine(model, data, base, &zip(refit(data, &with_road), &with_road));
-    let s_shared = score(data, &simulate_all(model, data, &apply_flat(base, &zip(vals.clone(), &with_road))));
-    // The per-run pairs given the shared effects, the shared effects given the pairs, and the
-    // pairs once more.
-    let mut per_run = fit_each(model, data, &apply_flat(base, &none));
-    let mut own = none.clone();
-    if !effects.is_empty() {
-        let d = with_roads(data, &per_run);
-        own = zip(refit(&d, &none), effects);
-        per_run = fit_each(model, data, &apply_flat(base, &own));
-    }
-    let d = with_roads(data, &per_run);
-    let s_per_run = score(&d, &simulate_all(model, &d, &apply_flat(base, &own)));
+    with_road.push((Effect::Road, shared0));
+    let (vals, ivs) = refine(model, data, base, &refit(model, data, base, &with_road));
+    let shared = zip(vals.clone(), &with_road);
+    let s_shared = score(data, &simulate_all(model, data, &apply_flat(base, &shared)));
+    let (per_run, own, s_per_run) = per_run_fold(model, data, base, &none);
     RoadFold {
         per_run,
         shared: vals.last().cloned().unwrap_or_default(),
@@ -236,6 +219,250 @@ fn fold(model: &ReplayModel, data: &Dataset, base: &EffectParams, effects: &[(Ef
         effects: own.into_iter().map(|a| a.1).collect(),
         scores: [s_none, s_shared, s_per_run],
     }
+}
+
+/// `effects` with new values `vals` (in their order).
+fn zip(vals: Vec<Vec<f64>>, effects: &[(Effect, Vec<f64>)]) -> Vec<(Effect, Vec<f64>)> {
+    effects.iter().map(|a| a.0).zip(vals).collect()
+}
+
+/// `effects` refitted jointly on `data`'s fitted samples (none: none).
+fn refit(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    effects: &[(Effect, Vec<f64>)],
+) -> Vec<(Effect, Vec<f64>)> {
+    if effects.is_empty() {
+        Vec::new()
+    } else {
+        zip(fit_jointly(model, data, base, effects).0, effects)
+    }
+}
+
+/// The per-run form on one fold: each run's pair given the shared `effects` (already fitted on
+/// these samples), the shared effects given the pairs, and the pairs once more; with the scores
+/// of every run on its own pair.
+fn per_run_fold(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    effects: &[(Effect, Vec<f64>)],
+) -> (Vec<RunRoad>, Vec<(Effect, Vec<f64>)>, Scores) {
+    let mut per_run = fit_each(model, data, &apply_flat(base, effects));
+    let mut own = effects.to_vec();
+    if !effects.is_empty() {
+        own = refit(model, &with_roads(data, &per_run), base, effects);
+        per_run = fit_each(model, data, &apply_flat(base, &own));
+    }
+    let d = with_roads(data, &per_run);
+    let s = score(&d, &simulate_all(model, &d, &apply_flat(base, &own)));
+    (per_run, own, s)
+}
+
+/// What the road-per-run step found, kept in the [`Discovery`].
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The screen: how much the per-run pairs, fitted on fold 1's blocks with the final effects
+    /// held, lower the held-out BIC (k = 2N) of the final model on the same blocks.
+    pub screen_delta_bic: f64,
+    /// The three forms compared on both folds, when the screen passed.
+    pub comparison: Option<RoadComparison>,
+    /// The form chosen ([`RoadForm::None`] when the screen did not pass).
+    pub chosen: RoadForm,
+}
+
+impl Outcome {
+    /// Each run's pair when the per-run form was chosen (fold 1's: fitted on the even blocks).
+    pub fn roads(&self) -> Option<&[RunRoad]> {
+        match (&self.comparison, self.chosen) {
+            (Some(c), RoadForm::PerRun) => Some(&c.folds[0].per_run),
+            _ => None,
+        }
+    }
+}
+
+impl Outcome {
+    /// report.json's `road_per_run`: the screen, each fold's held-out BIC of the three forms, the
+    /// form chosen and each run's pair (fold 1's) with its interval.
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let iv = |i: &Interval| json!({"std_error": i.std_error, "ci95_lo": i.lo, "ci95_hi": i.hi});
+        json!({
+            "screen_delta_bic": self.screen_delta_bic,
+            "chosen": self.chosen.as_str(),
+            "folds": self.comparison.as_ref().map(|c| c.folds.iter().map(|f| {
+                let [none, shared, per_run] = f.bic();
+                json!({"heldout_bic": {"none": none, "road": shared, "road (per_run)": per_run},
+                       "shared_road_deg": f.shared})
+            }).collect::<Vec<_>>()),
+            "runs": self.comparison.as_ref().map(|c| c.folds[0].per_run.iter().map(|r| json!({
+                "run": r.run, "bank_deg": r.bank_deg, "grade_deg": r.grade_deg,
+                "bank_ci": iv(&r.intervals[0]), "grade_ci": iv(&r.intervals[1]),
+            })).collect::<Vec<_>>()),
+        })
+    }
+
+    /// report.md's section on the road per run.
+    pub fn markdown(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = String::from("\n## A road per run (bank and grade of each run)\n\n");
+        let _ = writeln!(
+            s,
+            "Screen (fold 1's alternate 3 s blocks, the final effects held): each run on its own fitted road \
+             lowers the held-out BIC by {:.1} (k = 2 per run; compared when above {BIC_MIN}).",
+            self.screen_delta_bic
+        );
+        let Some(c) = &self.comparison else { return s };
+        let _ = writeln!(s, "\n| fold | held-out BIC: no road | one road | a road per run |\n|---|---|---|---|");
+        for (i, f) in c.folds.iter().enumerate() {
+            let b = f.bic();
+            let _ = writeln!(s, "| {} | {:.1} | {:.1} | {:.1} |", i + 1, b[0], b[1], b[2]);
+        }
+        let _ = writeln!(s, "\nChosen: {}.", self.chosen.as_str());
+        if self.chosen == RoadForm::PerRun {
+            let _ = writeln!(s, "\n| run | bank (deg, 95 %) | grade (deg, 95 %) |\n|---|---|---|");
+            for r in &c.folds[0].per_run {
+                let [b, g] = &r.intervals;
+                let _ = writeln!(
+                    s,
+                    "| {} | {:.4} ({:.4} to {:.4}) | {:.4} ({:.4} to {:.4}) |",
+                    r.run, r.bank_deg, b.lo, b.hi, r.grade_deg, g.lo, g.hi
+                );
+            }
+            let _ = writeln!(s, "\nroads.toml holds each run's `[road]` for its sidecar.");
+        }
+        s
+    }
+}
+
+/// The reason a shared effect leaves the named set when the per-run roads come in.
+const NOT_SIGNIFICANT_WITH_ROADS: &str = "with each run on its own fitted road, every 95 % interval of its \
+                                          parameters contains the no-effect value: the roads explain what it stood in for";
+
+/// After the search (`d` its result over `data`, baseline `base`): ask whether each run has its
+/// own road. A cheap screen first (fold 1, the final effects held); when it passes, the three
+/// forms are compared on both folds of every run's alternate blocks ([`compare`]). When the
+/// per-run pairs are chosen they replace a shared `road`, the other named effects must stay
+/// significant with them (else they are dropped, newest first), and the result's split, scores,
+/// folds and verdict become the blocks'. With fewer than two runs the per-run and shared forms are
+/// the same and nothing is done.
+pub fn consider(model: &ReplayModel, data: &Dataset, base: &EffectParams, d: &mut Discovery) {
+    let n = data.runs.len();
+    if n < 2 {
+        return;
+    }
+    let effects: Vec<(Effect, Vec<f64>)> = d
+        .final_effects
+        .iter()
+        .filter(|fe| fe.effect != Effect::Road)
+        .map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect()))
+        .collect();
+    let b = blocked(data);
+    let p = apply_flat(base, &effects);
+    let pairs = fit_each(model, &b, &p);
+    let on_roads = with_roads(&b, &pairs);
+    let s_per = score(&on_roads, &simulate_all(model, &on_roads, &p));
+    let s_now = score(&b, &simulate_all(model, &b, &d.params));
+    let screen_delta_bic = s_now.bic_held(0) - s_per.bic_held(2 * n);
+    let passes = screen_delta_bic > BIC_MIN && s_per.rss_held < (1.0 - MIN_GAIN) * s_now.rss_held;
+    let mut out = Outcome { screen_delta_bic, comparison: None, chosen: RoadForm::None };
+    if passes {
+        let cmp = compare(model, data, base, &effects);
+        out.chosen = cmp.chosen();
+        out.comparison = Some(cmp);
+    }
+    if out.chosen == RoadForm::PerRun {
+        adopt(model, &b, base, d, &mut out, effects);
+    }
+    d.road_per_run = Some(out);
+}
+
+/// The per-run pairs adopted: the shared road dropped, the named effects re-examined with the
+/// roads, and `d`'s split, scores, folds and verdict taken from the blocks `b` (fold 1: `b`).
+fn adopt(
+    model: &ReplayModel,
+    b: &Dataset,
+    base: &EffectParams,
+    d: &mut Discovery,
+    out: &mut Outcome,
+    mut effects: Vec<(Effect, Vec<f64>)>,
+) {
+    let round = d.steps.len() + 1;
+    let cmp = out.comparison.as_mut().expect("compared");
+    if let Some(i) = d.final_effects.iter().position(|fe| fe.effect == Effect::Road) {
+        drop_named(d, i, round, "replaced by a road per run (each run's own bank and grade)".to_string());
+    }
+    let ivs = loop {
+        let f1 = &cmp.folds[0];
+        let own = zip(f1.effects.clone(), &effects);
+        if own.is_empty() {
+            break Vec::new();
+        }
+        let (vals, ivs) = refine(model, &with_roads(b, &f1.per_run), base, &own);
+        match (0..own.len()).rev().find(|&i| !significant(own[i].0, &ivs[i])) {
+            None => {
+                cmp.folds[0].effects = vals;
+                break ivs;
+            }
+            Some(i) => {
+                let at = d.final_effects.iter().position(|fe| fe.effect == own[i].0).expect("named");
+                drop_named(d, at, round, NOT_SIGNIFICANT_WITH_ROADS.to_string());
+                effects.remove(i);
+                for (k, data) in [b.clone(), b.swapped()].iter().enumerate() {
+                    let start = refit(model, data, base, &effects);
+                    let (per_run, own, s) = per_run_fold(model, data, base, &start);
+                    let f = &mut cmp.folds[k];
+                    (f.per_run, f.effects, f.scores[2]) = (per_run, own.into_iter().map(|a| a.1).collect(), s);
+                }
+            }
+        }
+    };
+    let own = zip(cmp.folds[0].effects.clone(), &effects);
+    for ((fe, (e, v)), iv) in d.final_effects.iter_mut().zip(&own).zip(&ivs) {
+        debug_assert_eq!(fe.effect, *e);
+        (fe.params, fe.intervals, fe.significant) = (super::search::triples(*e, v), iv.clone(), true);
+    }
+    d.params = apply_flat(base, &own);
+    let on_roads = with_roads(b, &cmp.folds[0].per_run);
+    d.final_scores = score(&on_roads, &simulate_all(model, &on_roads, &d.params));
+    let base_sims = simulate_all(model, b, base);
+    d.baseline = score(b, &base_sims);
+    d.held = b.held.clone();
+    let other_base = score(&b.swapped(), &base_sims);
+    d.folds = [(&d.baseline, &d.final_scores), (&other_base, &cmp.folds[1].scores[2])]
+        .into_iter()
+        .map(|(s0, s1)| Fold {
+            heldout_runs: Vec::new(),
+            baseline_heldout_rmse: s0.rmse(true),
+            final_heldout_rmse: s1.rmse(true),
+            baseline_noise_ratio: s0.noise_ratio(),
+            final_noise_ratio: s1.noise_ratio(),
+        })
+        .collect();
+    let named = &d.named;
+    d.classes.retain(|c| named.contains(&c.named));
+    let explained = d.folds.iter().all(|f| f.final_noise_ratio.iter().all(|r| *r <= EXPLAINED_NOISE_RATIO));
+    d.verdict = match (explained, d.classes.is_empty()) {
+        (true, false) => Verdict::ExplainedEquivalent,
+        (true, true) => Verdict::Explained,
+        (false, _) => Verdict::PartlyExplained,
+    };
+}
+
+/// Remove final effect `i` from the named set, recording why.
+fn drop_named(d: &mut Discovery, i: usize, round: usize, reason: String) {
+    let fe = d.final_effects.remove(i);
+    d.named.retain(|e| *e != fe.effect);
+    let accepted_round = d.steps.iter().position(|s| s.effect == fe.effect).map_or(0, |k| k + 1);
+    d.dropped.push(Dropped {
+        effect: fe.effect,
+        accepted_round,
+        dropped_round: round,
+        params: fe.params,
+        intervals: fe.intervals,
+        reason,
+    });
 }
 
 #[cfg(test)]

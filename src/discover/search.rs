@@ -48,7 +48,14 @@ pub fn discover_with(
     let mut search = Search::new(model, data, base, candidates, progress, score(data, &base_sims));
     while !search.left.is_empty() && search.round() {}
     let final_iv = search.final_intervals();
-    search.conclude(&base_sims, final_iv)
+    let mut d = search.conclude(&base_sims, final_iv);
+    if candidates.contains(&Effect::Road) {
+        if let Some(f) = progress {
+            f("road per run: does each run have its own bank and grade?");
+        }
+        super::road_per_run::consider(model, data, &base, &mut d);
+    }
+    d
 }
 
 /// Parameter triples (name, value, unit) of an effect.
@@ -466,6 +473,7 @@ impl<'a> Search<'a> {
             folds,
             jackknife: None,
             classes,
+            road_per_run: None,
         }
     }
 

@@ -405,6 +405,9 @@ pub struct Discovery {
     /// The named effects that have equivalent forms, each with the manoeuvre proposed to
     /// separate them ([`super::equivalence`]); empty when every named effect was told apart.
     pub classes: Vec<Class>,
+    /// The road-per-run step after the search ([`super::road_per_run::consider`]): None when it
+    /// was not asked (one run, or `road` not among the candidates).
+    pub road_per_run: Option<super::road_per_run::Outcome>,
 }
 
 /// Parameters with `effects` switched on over `base`, their values the flat vector `x` (in the
@@ -569,14 +572,21 @@ pub fn redundant(
 }
 
 impl Discovery {
-    /// The names of the effects named, in order (as reports list them).
+    /// The names of the effects named, in order (as reports list them), then `road (per_run)`
+    /// when each run was given its own road.
     pub fn named_names(&self) -> Vec<&'static str> {
-        self.named.iter().map(|e| e.name()).collect()
+        let per_run = self.road_per_run.as_ref().and_then(|o| o.roads()).map(|_| "road (per_run)");
+        self.named.iter().map(|e| e.name()).chain(per_run).collect()
+    }
+
+    /// Each run's own road (bank, grade), when the road-per-run step adopted them.
+    pub fn run_roads(&self) -> Option<&[super::road_per_run::RunRoad]> {
+        self.road_per_run.as_ref().and_then(|o| o.roads())
     }
 
     /// The named effects' names joined by ", ", or "none".
     pub fn named_text(&self) -> String {
-        if self.named.is_empty() {
+        if self.named_names().is_empty() {
             "none".to_string()
         } else {
             self.named_names().join(", ")
