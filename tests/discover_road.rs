@@ -56,6 +56,11 @@ fn a_banked_graded_set_names_the_road_and_recovers_it() {
         let mut runs = runs_with(Some((Effect::Road, &[bank, grade])), 1);
         let d = discover_all(&runs);
         assert_eq!(d.named, vec![Effect::Road], "{bank}, {grade}: {}", d.named_text());
+        // One road shared by every run is not split into a road per run: the screen's per-run
+        // pairs cost more (k = 2 per run) than they gain.
+        let o = d.road_per_run.as_ref().unwrap();
+        eprintln!("road per run: screen dBIC {:.1}", o.screen_delta_bic);
+        assert!(d.run_roads().is_none() && o.screen_delta_bic < 0.0, "{o:?}");
         assert_eq!(d.verdict, Verdict::Explained, "{bank}, {grade}");
         let fe = &d.final_effects[0];
         for ((name, v, _), (iv, truth)) in fe.params.iter().zip(fe.intervals.iter().zip([bank, grade])) {
@@ -105,6 +110,7 @@ fn an_accelerometer_offset_or_nothing_does_not_name_the_road() {
     assert_eq!(d.named, vec![Effect::SensorBias], "{}", d.named_text());
     let d = discover_all(&runs_with(None, 6));
     assert!(d.named.is_empty(), "{}", d.named_text());
+    assert!(d.named_names().is_empty() && d.run_roads().is_none());
     assert_eq!(d.verdict, Verdict::NothingMissing);
 }
 

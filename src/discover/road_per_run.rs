@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use super::effects::Effect;
 use super::model::{EffectParams, ReplayModel};
+use super::search::Progress;
 use super::select::{
     apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Discovery, Dropped, Fold, Scores, Verdict,
     BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
@@ -241,24 +242,40 @@ fn refit(
 }
 
 /// The per-run form on one fold: each run's pair given the shared `effects` (already fitted on
-/// these samples), the shared effects given the pairs, and the pairs once more; with the scores
-/// of every run on its own pair.
+/// these samples), then the shared effects given the pairs and the pairs given them, alternated
+/// until the fitted cost falls by less than [`ALTERNATION_TOL`] (at most [`ALTERNATIONS`] times);
+/// with the scores of every run on its own pair.
 fn per_run_fold(
     model: &ReplayModel,
     data: &Dataset,
     base: &EffectParams,
     effects: &[(Effect, Vec<f64>)],
 ) -> (Vec<RunRoad>, Vec<(Effect, Vec<f64>)>, Scores) {
+    let scored = |per_run: &[RunRoad], own: &[(Effect, Vec<f64>)]| {
+        let d = with_roads(data, per_run);
+        score(&d, &simulate_all(model, &d, &apply_flat(base, own)))
+    };
     let mut per_run = fit_each(model, data, &apply_flat(base, effects));
     let mut own = effects.to_vec();
-    if !effects.is_empty() {
-        own = refit(model, &with_roads(data, &per_run), base, effects);
+    let mut s = scored(&per_run, &own);
+    for _ in 0..if effects.is_empty() { 0 } else { ALTERNATIONS } {
+        own = refit(model, &with_roads(data, &per_run), base, &own);
         per_run = fit_each(model, data, &apply_flat(base, &own));
+        let next = scored(&per_run, &own);
+        let done = next.rss_fit > (1.0 - ALTERNATION_TOL) * s.rss_fit;
+        s = next;
+        if done {
+            break;
+        }
     }
-    let d = with_roads(data, &per_run);
-    let s = score(&d, &simulate_all(model, &d, &apply_flat(base, &own)));
     (per_run, own, s)
 }
+
+/// Most alternations between the shared effects and the runs' pairs ([`per_run_fold`]).
+pub const ALTERNATIONS: usize = 6;
+
+/// The alternation stops when a pass lowers the fitted cost by less than this fraction.
+pub const ALTERNATION_TOL: f64 = 1e-5;
 
 /// What the road-per-run step found, kept in the [`Discovery`].
 #[derive(Debug, Clone)]
@@ -270,6 +287,8 @@ pub struct Outcome {
     pub comparison: Option<RoadComparison>,
     /// The form chosen ([`RoadForm::None`] when the screen did not pass).
     pub chosen: RoadForm,
+    /// When the per-run pairs were adopted: what the first search (without them) had named.
+    pub named_before: Vec<String>,
 }
 
 impl Outcome {
@@ -291,6 +310,7 @@ impl Outcome {
         json!({
             "screen_delta_bic": self.screen_delta_bic,
             "chosen": self.chosen.as_str(),
+            "named_before": self.named_before,
             "folds": self.comparison.as_ref().map(|c| c.folds.iter().map(|f| {
                 let [none, shared, per_run] = f.bic();
                 json!({"heldout_bic": {"none": none, "road": shared, "road (per_run)": per_run},
@@ -330,7 +350,14 @@ impl Outcome {
                     r.run, r.bank_deg, b.lo, b.hi, r.grade_deg, g.lo, g.hi
                 );
             }
-            let _ = writeln!(s, "\nroads.toml holds each run's `[road]` for its sidecar.");
+            let before =
+                if self.named_before.is_empty() { "nothing".to_string() } else { self.named_before.join(", ") };
+            let _ = writeln!(
+                s,
+                "\nThe search without these roads named {before}; the search was run again with each run on its \
+                 road, and the forms compared again with what it named (the table above).\n\n\
+                 roads.toml holds each run's `[road]` for its sidecar."
+            );
         }
         s
     }
@@ -340,24 +367,27 @@ impl Outcome {
 const NOT_SIGNIFICANT_WITH_ROADS: &str = "with each run on its own fitted road, every 95 % interval of its \
                                           parameters contains the no-effect value: the roads explain what it stood in for";
 
-/// After the search (`d` its result over `data`, baseline `base`): ask whether each run has its
-/// own road. A cheap screen first (fold 1, the final effects held); when it passes, the three
-/// forms are compared on both folds of every run's alternate blocks ([`compare`]). When the
-/// per-run pairs are chosen they replace a shared `road`, the other named effects must stay
-/// significant with them (else they are dropped, newest first), and the result's split, scores,
-/// folds and verdict become the blocks'. With fewer than two runs the per-run and shared forms are
-/// the same and nothing is done.
-pub fn consider(model: &ReplayModel, data: &Dataset, base: &EffectParams, d: &mut Discovery) {
+/// After the search (`d` its result over `data`, baseline `base`, over `candidates`): ask
+/// whether each run has its own road. A cheap screen first (fold 1, the final effects held);
+/// when it passes, the three forms are compared on both folds of every run's alternate blocks
+/// ([`compare`]). When the per-run pairs win, the search is run again with each run on its
+/// pair (shared effects that the roads' residuals hid can now pass; `road` is no longer a
+/// candidate), the forms are compared again with what that search named, and if the per-run
+/// pairs still win they are adopted ([`adopt`]). With fewer than two runs the per-run and shared
+/// forms are the same and nothing is done.
+pub fn consider(
+    model: &ReplayModel,
+    data: &Dataset,
+    base: &EffectParams,
+    candidates: &[Effect],
+    d: &mut Discovery,
+    progress: Progress,
+) {
     let n = data.runs.len();
     if n < 2 {
         return;
     }
-    let effects: Vec<(Effect, Vec<f64>)> = d
-        .final_effects
-        .iter()
-        .filter(|fe| fe.effect != Effect::Road)
-        .map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect()))
-        .collect();
+    let effects = shared_effects(d);
     let b = blocked(data);
     let p = apply_flat(base, &effects);
     let pairs = fit_each(model, &b, &p);
@@ -366,20 +396,64 @@ pub fn consider(model: &ReplayModel, data: &Dataset, base: &EffectParams, d: &mu
     let s_now = score(&b, &simulate_all(model, &b, &d.params));
     let screen_delta_bic = s_now.bic_held(0) - s_per.bic_held(2 * n);
     let passes = screen_delta_bic > BIC_MIN && s_per.rss_held < (1.0 - MIN_GAIN) * s_now.rss_held;
-    let mut out = Outcome { screen_delta_bic, comparison: None, chosen: RoadForm::None };
+    let mut out = Outcome { screen_delta_bic, comparison: None, chosen: RoadForm::None, named_before: Vec::new() };
     if passes {
         let cmp = compare(model, data, base, &effects);
         out.chosen = cmp.chosen();
-        out.comparison = Some(cmp);
-    }
-    if out.chosen == RoadForm::PerRun {
-        adopt(model, &b, base, d, &mut out, effects);
+        if out.chosen == RoadForm::PerRun {
+            if let Some(f) = progress {
+                f("road per run: each run has its own road; searching again with each run on it");
+            }
+            let cands: Vec<Effect> = candidates.iter().copied().filter(|e| *e != Effect::Road).collect();
+            let mut d2 =
+                super::search::discover_with(model, &with_roads(data, &cmp.folds[0].per_run), *base, &cands, progress);
+            let effects2 = shared_effects(&d2);
+            let cmp2 = compare(model, data, base, &effects2);
+            out.chosen = cmp2.chosen();
+            out.comparison = Some(cmp2);
+            if out.chosen == RoadForm::PerRun {
+                out.named_before = d.named_names().iter().map(|s| s.to_string()).collect();
+                replaced(d, &mut d2);
+                *d = d2;
+                adopt(model, &b, base, d, &mut out, effects2);
+            }
+        } else {
+            out.comparison = Some(cmp);
+        }
     }
     d.road_per_run = Some(out);
 }
 
-/// The per-run pairs adopted: the shared road dropped, the named effects re-examined with the
-/// roads, and `d`'s split, scores, folds and verdict taken from the blocks `b` (fold 1: `b`).
+/// Record in `d2` (the search with each run on its road) what the first search `d` named and
+/// `d2` does not: dropped, replaced by the roads; `d`'s own dropped effects come first.
+fn replaced(d: &mut Discovery, d2: &mut Discovery) {
+    let round = d.steps.len() + 1;
+    let mut dropped = std::mem::take(&mut d.dropped);
+    for i in (0..d.final_effects.len()).rev() {
+        if !d2.named.contains(&d.final_effects[i].effect) {
+            drop_named(d, i, round, REPLACED_BY_ROADS.to_string());
+        }
+    }
+    dropped.extend(d.dropped.drain(..).rev());
+    dropped.append(&mut d2.dropped);
+    d2.dropped = dropped;
+}
+
+/// The reason an effect of the first search is not named once every run has its own road.
+const REPLACED_BY_ROADS: &str = "named by the search before each run had its own road, not by the search with \
+                                 the roads: it stood in for them";
+
+/// The named effects of `d` but a shared `road`, at their final values.
+fn shared_effects(d: &Discovery) -> Vec<(Effect, Vec<f64>)> {
+    d.final_effects
+        .iter()
+        .filter(|fe| fe.effect != Effect::Road)
+        .map(|fe| (fe.effect, fe.params.iter().map(|p| p.1).collect()))
+        .collect()
+}
+
+/// The per-run pairs adopted: the named effects (of the search with the roads) re-examined with
+/// the roads refitted on the blocks, and `d`'s split, scores, folds and verdict taken from the blocks `b` (fold 1: `b`).
 fn adopt(
     model: &ReplayModel,
     b: &Dataset,
@@ -390,9 +464,6 @@ fn adopt(
 ) {
     let round = d.steps.len() + 1;
     let cmp = out.comparison.as_mut().expect("compared");
-    if let Some(i) = d.final_effects.iter().position(|fe| fe.effect == Effect::Road) {
-        drop_named(d, i, round, "replaced by a road per run (each run's own bank and grade)".to_string());
-    }
     let ivs = loop {
         let f1 = &cmp.folds[0];
         let own = zip(f1.effects.clone(), &effects);

@@ -53,7 +53,7 @@ pub fn discover_with(
         if let Some(f) = progress {
             f("road per run: does each run have its own bank and grade?");
         }
-        super::road_per_run::consider(model, data, &base, &mut d);
+        super::road_per_run::consider(model, data, &base, candidates, &mut d, progress);
     }
     d
 }
