@@ -158,3 +158,58 @@ fn bad_roads_are_refused() {
         assert!(!out.exists(), "{extra:?}");
     }
 }
+
+/// The loop through the CLI: `vehsim synth --roads` writes runs on their own roads, `vehsim
+/// discover` names `road (per_run)` and writes roads.toml; each run's `[road]` from it appended
+/// to its sidecar, a second `vehsim discover` finds nothing missing.
+#[test]
+fn the_cli_writes_roads_toml_and_the_sidecars_close_the_loop() {
+    let dir = common::temp_dir("road-per-run-cli");
+    let sedan = common::root().join("vehicles/sedan.toml");
+    let sedan = sedan.to_str().unwrap();
+    let roads: Vec<String> = ROADS.iter().map(|(b, g)| format!("{b}:{g}")).collect();
+    let (code, _, err) = common::vehsim(
+        &dir,
+        &[
+            "synth",
+            "--vehicle",
+            sedan,
+            "--effect",
+            "road",
+            "--maneuvers",
+            &SIX.join(","),
+            "--roads",
+            &roads.join(","),
+            "--out",
+            "runs",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let csvs: Vec<String> = SIX.iter().enumerate().map(|(i, m)| format!("runs/{:02}_{m}.csv", i + 1)).collect();
+    let discover = |out: &str| {
+        let mut args = vec!["discover", "--quiet", "--vehicle", sedan, "--out", out];
+        args.extend(csvs.iter().map(|s| s.as_str()));
+        let (code, _, err) = common::vehsim(&dir, &args);
+        assert_eq!(code, 0, "{err}");
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(out).join("report.json")).unwrap()).unwrap();
+        report
+    };
+    let report = discover("d1");
+    assert_eq!(report["named_effects"], serde_json::json!(["road (per_run)"]), "{}", report["named_effects"]);
+    assert_eq!(report["verdict"], "explained");
+    assert_eq!(report["road_per_run"]["chosen"], "road (per_run)");
+    let text = std::fs::read_to_string(dir.join("d1/roads.toml")).unwrap();
+    // Each `# NAME.toml` section of roads.toml appended to that run's sidecar.
+    for section in text.split("\n# ").skip(1) {
+        let (file, table) = section.split_once('\n').unwrap();
+        let side = dir.join("runs").join(file.trim());
+        let mut s = std::fs::read_to_string(&side).unwrap();
+        s.push('\n');
+        s.push_str(table);
+        std::fs::write(&side, s).unwrap();
+    }
+    let again = discover("d2");
+    assert_eq!(again["verdict"], "nothing_missing", "{}", again["named_effects"]);
+    assert!(!dir.join("d2/roads.toml").exists());
+}
