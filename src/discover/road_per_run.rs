@@ -245,12 +245,7 @@ fn refit(
 /// these samples), then the shared effects given the pairs and the pairs given them, alternated
 /// until the fitted cost falls by less than [`ALTERNATION_TOL`] (at most [`ALTERNATIONS`] times);
 /// with the scores of every run on its own pair.
-fn per_run_fold(
-    model: &ReplayModel,
-    data: &Dataset,
-    base: &EffectParams,
-    effects: &[(Effect, Vec<f64>)],
-) -> (Vec<RunRoad>, Vec<(Effect, Vec<f64>)>, Scores) {
+fn per_run_fold(model: &ReplayModel, data: &Dataset, base: &EffectParams, effects: &[(Effect, Vec<f64>)]) -> PerRunFit {
     let scored = |per_run: &[RunRoad], own: &[(Effect, Vec<f64>)]| {
         let d = with_roads(data, per_run);
         score(&d, &simulate_all(model, &d, &apply_flat(base, own)))
@@ -271,7 +266,11 @@ fn per_run_fold(
     (per_run, own, s)
 }
 
-/// Most alternations between the shared effects and the runs' pairs ([`per_run_fold`]).
+/// The per-run form fitted on one fold: each run's pair, the shared effects with them, and the
+/// scores.
+type PerRunFit = (Vec<RunRoad>, Vec<(Effect, Vec<f64>)>, Scores);
+
+/// Most alternations between the shared effects and the runs' pairs on one fold.
 pub const ALTERNATIONS: usize = 6;
 
 /// The alternation stops when a pass lowers the fitted cost by less than this fraction.
@@ -373,7 +372,7 @@ const NOT_SIGNIFICANT_WITH_ROADS: &str = "with each run on its own fitted road, 
 /// ([`compare`]). When the per-run pairs win, the search is run again with each run on its
 /// pair (shared effects that the roads' residuals hid can now pass; `road` is no longer a
 /// candidate), the forms are compared again with what that search named, and if the per-run
-/// pairs still win they are adopted ([`adopt`]). With fewer than two runs the per-run and shared
+/// pairs still win they are adopted. With fewer than two runs the per-run and shared
 /// forms are the same and nothing is done.
 pub fn consider(
     model: &ReplayModel,
