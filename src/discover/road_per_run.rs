@@ -10,13 +10,18 @@
 //! `i`'s pair (φ_i, θ_i) is fitted alone on run `i`'s fitted blocks (the road candidate's simplex
 //! and Gauss–Newton polish on a one-run data set): N fits of two parameters, not one simplex of
 //! 2N. With shared effects, these are then refitted jointly on the same fitted blocks with every
-//! run on its fitted road, and the runs' pairs once more given them (one alternation), so that no
-//! score sees a sample any fit has used.
+//! run on its fitted road and the runs' pairs again given them, alternated until the fitted cost
+//! settles, so that no score sees a sample any fit has used.
 //!
 //! Score: the held-out BIC n ln(RSS/n) + k ln(n) of [`Scores::bic_held`], k = 2N for the per-run
 //! form, 2 for the shared pair, 0 for no road (the shared effects' parameters are the same in
-//! all three and cancel). A form is chosen when it lowers the held-out BIC of the next simpler
-//! one by more than [`BIC_MIN`] and its held-out RSS by at least [`MIN_GAIN`], in both folds.
+//! all three and cancel). A form passes against a simpler one when it lowers its held-out BIC by
+//! more than [`BIC_MIN`] and its held-out RSS by at least [`MIN_GAIN`], in both folds.
+//!
+//! The step after the search ([`consider`]): a cheap screen, the three forms compared, the
+//! search run again with each run on its pair, the forms compared again with what it named, and
+//! the pairs adopted when they still win (the result's split, scores and verdict then the
+//! blocks'); docs/discover.md, "The road: bank and grade".
 //!
 //! Angles in degrees; bank positive when the road's left edge is higher, grade positive uphill
 //! ([`vehsim_core::vehicle::road`]).
@@ -114,17 +119,17 @@ pub struct RoadComparison {
 }
 
 impl RoadComparison {
-    /// The form the data ask for: the per-run pairs when they pass against the shared pair (and
-    /// it against no road) in both folds, else the shared pair when it passes against no road in
-    /// both, else none.
+    /// The form the data ask for: the per-run pairs when they pass against both the shared pair
+    /// and no road in both folds, else the shared pair when it passes against no road in both,
+    /// else none.
     pub fn chosen(&self) -> RoadForm {
         let all = |a, b| self.folds.iter().all(|f| f.passes(a, b));
-        let per_run_vs_none = all(0, 2);
-        match (all(0, 1), all(1, 2)) {
-            (_, true) if per_run_vs_none => RoadForm::PerRun,
-            (true, _) => RoadForm::Shared,
-            _ if per_run_vs_none => RoadForm::PerRun,
-            _ => RoadForm::None,
+        if all(0, 2) && all(1, 2) {
+            RoadForm::PerRun
+        } else if all(0, 1) {
+            RoadForm::Shared
+        } else {
+            RoadForm::None
         }
     }
 
@@ -564,6 +569,40 @@ mod tests {
         for h in &b.held {
             assert!(!h[0] && !h[299] && h[300] && h[599] && !h[600], "{:?}", &h[295..305]);
         }
+    }
+
+    /// Scores whose held-out RSS is `rss` over 1000 held-out samples.
+    fn held(rss: f64) -> Scores {
+        Scores { rss_held: rss, n_held: 1000, ..Scores::default() }
+    }
+
+    /// A comparison of two runs whose folds both have held-out RSS `rss` (none, shared, per-run).
+    fn comparison(rss: [f64; 3]) -> RoadComparison {
+        let r = RunRoad { run: "a".into(), bank_deg: 0.0, grade_deg: 0.0, intervals: [Interval::UNKNOWN; 2] };
+        let f = RoadFold {
+            per_run: vec![r.clone(), r],
+            shared: vec![0.0, 0.0],
+            shared_intervals: Vec::new(),
+            effects: Vec::new(),
+            scores: rss.map(held),
+        };
+        RoadComparison { folds: [f.clone(), f] }
+    }
+
+    /// The per-run pairs must beat both simpler forms, the shared pair no road, in both folds.
+    #[test]
+    fn the_chosen_form_beats_every_simpler_one_in_both_folds() {
+        assert_eq!(comparison([1000.0, 1000.0, 1000.0]).chosen(), RoadForm::None);
+        assert_eq!(comparison([1000.0, 500.0, 500.0]).chosen(), RoadForm::Shared);
+        assert_eq!(comparison([1000.0, 500.0, 100.0]).chosen(), RoadForm::PerRun);
+        // Per-run beats no road but not the shared pair: the shared pair.
+        assert_eq!(comparison([1000.0, 100.0, 99.0]).chosen(), RoadForm::Shared);
+        // Per-run beats no road, but not the shared pair by 5 % of RSS, and the shared pair does
+        // not beat no road: none.
+        assert_eq!(comparison([1000.0, 960.0, 940.0]).chosen(), RoadForm::None);
+        let mut c = comparison([1000.0, 500.0, 100.0]);
+        c.folds[1].scores[2] = held(600.0);
+        assert_eq!(c.chosen(), RoadForm::Shared, "both folds must agree");
     }
 
     /// The sidecar snippet round-trips the fitted values exactly.
