@@ -201,14 +201,20 @@ fn the_cli_writes_roads_toml_and_the_sidecars_close_the_loop() {
     assert_eq!(report["road_per_run"]["chosen"], "road (per_run)");
     let text = std::fs::read_to_string(dir.join("d1/roads.toml")).unwrap();
     // Each `# NAME.toml` section of roads.toml appended to that run's sidecar.
-    for section in text.split("\n# ").skip(1) {
+    let mut appended = 0;
+    for section in text.split("\n# ") {
         let (file, table) = section.split_once('\n').unwrap();
+        if !file.ends_with(".toml") {
+            continue; // the header's comment lines
+        }
+        appended += 1;
         let side = dir.join("runs").join(file.trim());
         let mut s = std::fs::read_to_string(&side).unwrap();
         s.push('\n');
         s.push_str(table);
         std::fs::write(&side, s).unwrap();
     }
+    assert_eq!(appended, SIX.len(), "{text}");
     let again = discover("d2");
     assert_eq!(again["verdict"], "nothing_missing", "{}", again["named_effects"]);
     assert!(!dir.join("d2/roads.toml").exists());

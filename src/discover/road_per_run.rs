@@ -137,7 +137,8 @@ impl RoadComparison {
     /// sidecar.
     pub fn roads_toml(&self) -> String {
         let mut s = String::from(
-            "# Each run's road (bank, grade), fitted on its even 3 s blocks: the [road] of its sidecar.\n",
+            "# Each run's road (bank, grade), fitted on its even 3 s blocks: the [road] of its sidecar (append it, or\n\
+             # replace the sidecar's own [road] with it).\n",
         );
         for r in &self.folds[0].per_run {
             s.push_str(&format!("\n# {}.toml\n{}", r.run, r.sidecar_toml()));
@@ -390,6 +391,9 @@ pub fn consider(
     let n = data.runs.len();
     if n < 2 {
         return;
+    }
+    if let Some(f) = progress {
+        f("road per run: does each run have its own bank and grade?");
     }
     let effects = shared_effects(d);
     let b = blocked(data);

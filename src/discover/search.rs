@@ -50,9 +50,6 @@ pub fn discover_with(
     let final_iv = search.final_intervals();
     let mut d = search.conclude(&base_sims, final_iv);
     if candidates.contains(&Effect::Road) {
-        if let Some(f) = progress {
-            f("road per run: does each run have its own bank and grade?");
-        }
         super::road_per_run::consider(model, data, &base, candidates, &mut d, progress);
     }
     d
