@@ -11,7 +11,7 @@ use vehsim::discover::measured::{apply_sidecar, MeasuredRun};
 use vehsim::discover::model::{EffectParams, ReplayModel};
 use vehsim::discover::report::surface_toml;
 use vehsim::discover::search::discover_from;
-use vehsim::discover::select::{score, simulate_all, Verdict};
+use vehsim::discover::select::Verdict;
 use vehsim::discover::{load_vehicle, synth, tyre_kind, Dataset, Discovery, Effect};
 use vehsim_core::vehicle::GRAVITY;
 
@@ -76,14 +76,7 @@ fn a_banked_graded_set_names_the_road_and_recovers_it() {
         for r in &mut runs {
             apply_sidecar(r, Path::new("RUN.toml"), &format!("[surface]\nmu = {}\n{text}", r.mu)).unwrap();
         }
-        let mut data = Dataset::new(runs.clone());
-        data.held = d.held.clone();
-        let s = score(&data, &simulate_all(&model(), &data, &EffectParams::default()));
-        for held in [false, true] {
-            let (got, want) = (s.rmse(held), d.final_scores.rmse(held));
-            assert!((got.yaw_rate_radps - want.yaw_rate_radps).abs() <= 1e-9, "{got:?} {want:?}");
-            assert!((got.ay_mps2 - want.ay_mps2).abs() <= 1e-9, "{got:?} {want:?}");
-        }
+        common::assert_final_gap_replayed(&model(), runs.clone(), &d, &EffectParams::default());
         assert!(d.final_scores.rss_held < 0.1 * d.baseline.rss_held);
         // The same fragment appended to a manoeuvre: `vehsim run` drives on the fitted road.
         let m = format!(

@@ -14,7 +14,7 @@ use vehsim::discover::measured::{apply_sidecar, MeasuredRun};
 use vehsim::discover::model::{EffectParams, ReplayModel};
 use vehsim::discover::road_per_run::RoadForm;
 use vehsim::discover::search::discover_from;
-use vehsim::discover::select::{score, simulate_all, Verdict};
+use vehsim::discover::select::Verdict;
 use vehsim::discover::uncertainty::Z95;
 use vehsim::discover::{load_vehicle, synth, tyre_kind, Dataset, Discovery, Effect};
 use vehsim_core::vehicle::road::Road;
@@ -90,14 +90,7 @@ fn each_run_on_its_own_road_is_named_and_recovered() {
         assert!(text.contains(&format!("# {}.toml\n{snippet}", r.name)), "{text}");
         apply_sidecar(r, Path::new("RUN.toml"), &format!("[surface]\nmu = {}\n{snippet}", r.mu)).unwrap();
     }
-    let mut data = Dataset::new(runs);
-    data.held = d.held.clone();
-    let s = score(&data, &simulate_all(&model(), &data, &EffectParams::default()));
-    for held in [false, true] {
-        let (got, want) = (s.rmse(held), d.final_scores.rmse(held));
-        assert!((got.yaw_rate_radps - want.yaw_rate_radps).abs() <= 1e-9, "{got:?} {want:?}");
-        assert!((got.ay_mps2 - want.ay_mps2).abs() <= 1e-9, "{got:?} {want:?}");
-    }
+    common::assert_final_gap_replayed(&model(), runs, &d, &EffectParams::default());
     assert!(d.final_scores.rss_held < 0.05 * d.baseline.rss_held);
 }
 

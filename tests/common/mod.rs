@@ -190,3 +190,22 @@ pub fn assert_synth_params_refused(dir: &Path, cases: &[(&str, &str, &str)]) {
         assert!(!out.exists());
     }
 }
+
+/// The runs replayed from the baseline `p` by `model` on the discovery's split give its final
+/// RMSE (fitted and held-out samples, both channels) to 1e-9: what a write-back must reproduce.
+pub fn assert_final_gap_replayed(
+    model: &vehsim::discover::model::ReplayModel,
+    runs: Vec<vehsim::discover::measured::MeasuredRun>,
+    d: &vehsim::discover::Discovery,
+    p: &vehsim::discover::model::EffectParams,
+) {
+    use vehsim::discover::select::{score, simulate_all};
+    let mut data = vehsim::discover::Dataset::new(runs);
+    data.held = d.held.clone();
+    let s = score(&data, &simulate_all(model, &data, p));
+    for held in [false, true] {
+        let (got, want) = (s.rmse(held), d.final_scores.rmse(held));
+        assert!((got.yaw_rate_radps - want.yaw_rate_radps).abs() <= 1e-9, "{got:?} {want:?}");
+        assert!((got.ay_mps2 - want.ay_mps2).abs() <= 1e-9, "{got:?} {want:?}");
+    }
+}
