@@ -304,9 +304,7 @@ impl Outcome {
             _ => None,
         }
     }
-}
 
-impl Outcome {
     /// report.json's `road_per_run`: the screen, each fold's held-out BIC of the three forms, the
     /// form chosen and each run's pair (fold 1's) with its interval.
     pub fn to_json(&self) -> serde_json::Value {
@@ -344,7 +342,16 @@ impl Outcome {
             let b = f.bic();
             let _ = writeln!(s, "| {} | {:.1} | {:.1} | {:.1} |", i + 1, b[0], b[1], b[2]);
         }
-        let _ = writeln!(s, "\nChosen: {}.", self.chosen.as_str());
+        let _ = writeln!(
+            s,
+            "\nThe comparison prefers: {}.{}",
+            self.chosen.as_str(),
+            if self.chosen == RoadForm::PerRun {
+                ""
+            } else {
+                " This step adopts only a road per run; one road for every run is the search's own `road` candidate."
+            }
+        );
         if self.chosen == RoadForm::PerRun {
             let _ = writeln!(s, "\n| run | bank (deg, 95 %) | grade (deg, 95 %) |\n|---|---|---|");
             for r in &c.folds[0].per_run {
