@@ -5,10 +5,13 @@
 //! Without it the replay's tyres roll free (slip ratio 0) on static loads, whatever the speed
 //! does. With it, at every evaluation (body frame, ISO 8855; forces in N, positive driving):
 //!
-//! - **The force the tyres must give along the body**, from the prescribed speed's slope a_x
-//!   (m/s^2; the measured v_x's slope over ±0.25 s, `AX_HALF_WINDOW_S`):
-//!   S = m (a_x − r v_y) + F_drag(v_x) − m g_x, with g_x the road's grade component
-//!   (`vehsim_core::vehicle::road`) and F_drag = ½ ρ C_d A v_x |v_x|.
+//! - **The force the tyres must give along the body**: from the run's logged `ax` when it has one
+//!   (the accelerometer's specific force, the contact and aerodynamic forces over the mass),
+//!   S = m a_x,logged + F_drag(v_x); else from the prescribed speed's slope a_x (m/s^2; the
+//!   measured v_x's slope over ±0.25 s, `AX_HALF_WINDOW_S`), S = m (a_x − r v_y) + F_drag(v_x) −
+//!   m g_x, with g_x the road's grade component (`vehsim_core::vehicle::road`) and
+//!   F_drag = ½ ρ C_d A v_x |v_x|. The wheels' spin-up takes dv_x/dt (the slope, or
+//!   a_x,logged + r v_y + g_x).
 //! - **Its split between the axles** as the engine's bicycle drives and brakes them: both axles'
 //!   wheel torques come from one torque Q R shared by the drive shares (s_f, s_r) when Q > 0
 //!   and by the brake shares otherwise; each axle's torque also turns its wheels
@@ -55,13 +58,23 @@ pub(super) struct Demand {
     pub(super) dfz_n: [f64; 2],
 }
 
-/// The demand of the measured forward acceleration `ax_mps2` (m/s^2, the speed's slope) on the
-/// vehicle `v` at forward speed `vx` (m/s), lateral velocity `vy` (m/s), yaw rate `r` (rad/s),
-/// road-wheel angle `steer` (rad) and road `road`, with transfer height `h_m` (m).
+/// The forward acceleration the coupling is given, m/s^2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Accel {
+    /// The measured speed's slope dv_x/dt (over ±[`AX_HALF_WINDOW_S`]).
+    Slope(f64),
+    /// The run's logged `ax`: the accelerometer's specific force along the body, the contact and
+    /// aerodynamic forces over the mass, (S − F_drag)/m.
+    Logged(f64),
+}
+
+/// The demand of the measured forward acceleration `ax` on the vehicle `v` at forward speed `vx`
+/// (m/s), lateral velocity `vy` (m/s), yaw rate `r` (rad/s), road-wheel angle `steer` (rad) and
+/// road `road`, with transfer height `h_m` (m).
 pub(super) fn demand(
     v: &Vehicle,
     h_m: f64,
-    ax_mps2: f64,
+    ax: Accel,
     (vx, vy, r): (f64, f64, f64),
     steer: f64,
     road: &Road,
@@ -70,10 +83,15 @@ pub(super) fn demand(
     let l = v.wheelbase_m();
     let drag = v.drag_n(vx);
     let gx = if road.is_flat() { 0.0 } else { road.gravity_in_plane().0 };
-    let s = m * (ax_mps2 - r * vy) + drag - m * gx;
+    // The tyres' force along the body S and the speed's rate dv_x/dt, from m(dv_x/dt − r v_y) =
+    // S − F_drag + m g_x.
+    let (s, dvx_dt) = match ax {
+        Accel::Slope(a) => (m * (a - r * vy) + drag - m * gx, a),
+        Accel::Logged(a) => (m * a + drag, a + r * vy + gx),
+    };
     let (ff, fr) = v.static_axle_loads_n();
     let radius = v.tyre.rolling_radius_m;
-    let spin = 2.0 * v.wheel_inertia_kgm2 * ax_mps2 / (radius * radius);
+    let spin = 2.0 * v.wheel_inertia_kgm2 * dvx_dt / (radius * radius);
     let e = [v.rolling_resistance * ff + spin, v.rolling_resistance * fr + spin];
     let (sin_d, cos_d) = steer.sin_cos();
     let fy_front = m * v.b_m / l * vx * r;
@@ -187,7 +205,7 @@ mod tests {
         let v = crate::discover::load_vehicle(&root.join("vehicles/sedan.toml"), None, kind).unwrap();
         for (ax, r, steer) in [(-3.0, 0.3, 0.05), (2.0, -0.2, -0.03), (0.0, 0.0, 0.0)] {
             let (vx, vy) = (15.0, 0.4);
-            let d = demand(&v, 0.55, ax, (vx, vy, r), steer, &Road::default());
+            let d = demand(&v, 0.55, Accel::Slope(ax), (vx, vy, r), steer, &Road::default());
             let drag = 0.5 * AIR_DENSITY * v.drag_area_m2 * vx * vx;
             let s = v.mass_kg * (ax - r * vy) + drag;
             let fyf = v.mass_kg * v.b_m / v.wheelbase_m() * vx * r;
@@ -197,17 +215,37 @@ mod tests {
             assert_eq!(d.dfz_n[0], -d.dfz_n[1]);
         }
         // The sedan is front-driven: driving leaves the rear only its rolling and spin terms.
-        let d = demand(&v, 0.55, 2.0, (15.0, 0.0, 0.0), 0.0, &Road::default());
+        let d = demand(&v, 0.55, Accel::Slope(2.0), (15.0, 0.0, 0.0), 0.0, &Road::default());
         let (_, fr) = v.static_axle_loads_n();
         let spin = 2.0 * v.wheel_inertia_kgm2 * 2.0 / v.tyre.rolling_radius_m.powi(2);
         assert!((d.fx_n[1] + v.rolling_resistance * fr + spin).abs() < 1e-9);
         // Braking shares the torque by the brake balance.
-        let d = demand(&v, 0.55, -3.0, (15.0, 0.0, 0.0), 0.0, &Road::default());
+        let d = demand(&v, 0.55, Accel::Slope(-3.0), (15.0, 0.0, 0.0), 0.0, &Road::default());
         let (ff, _) = v.static_axle_loads_n();
         let spin = 2.0 * v.wheel_inertia_kgm2 * -3.0 / v.tyre.rolling_radius_m.powi(2);
         let q = (d.fx_n[0] + v.rolling_resistance * ff + spin) / v.brake_front_share;
         let rear = d.fx_n[1] + v.rolling_resistance * (v.mass_kg * 9.80665 - ff) + spin;
         assert!((rear - (1.0 - v.brake_front_share) * q).abs() < 1e-6);
         assert!(d.dfz_n[0] > 0.0);
+    }
+
+    /// A logged ax (specific force) is the speed's slope less r v_y and the grade's g_x: on a
+    /// graded, banked road the two inputs give the same demand.
+    #[test]
+    fn a_logged_ax_is_the_slope_without_the_kinematic_and_gravity_terms() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let kind = crate::discover::tyre_kind("pacejka").unwrap();
+        let v = crate::discover::load_vehicle(&root.join("vehicles/sedan.toml"), None, kind).unwrap();
+        let road = Road::from_deg(3.0, 4.0);
+        let (vx, vy, r, steer) = (15.0, 0.4, 0.3, 0.05);
+        for slope in [-3.0, 0.0, 2.0] {
+            let logged = slope - r * vy - road.gravity_in_plane().0;
+            let a = demand(&v, 0.55, Accel::Slope(slope), (vx, vy, r), steer, &road);
+            let b = demand(&v, 0.55, Accel::Logged(logged), (vx, vy, r), steer, &road);
+            for k in 0..2 {
+                assert!((a.fx_n[k] - b.fx_n[k]).abs() < 1e-9 * a.fx_n[k].abs().max(1.0), "{a:?} {b:?}");
+                assert!((a.dfz_n[k] - b.dfz_n[k]).abs() < 1e-9 * a.dfz_n[k].abs().max(1.0), "{a:?} {b:?}");
+            }
+        }
     }
 }

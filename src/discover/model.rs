@@ -412,8 +412,9 @@ pub(super) struct Drive {
     pub(super) tread_rise_k: [f64; 2],
     /// The run's road: bank and grade (flat unless its sidecar gives `[road]`).
     pub(super) road: Road,
-    /// The measured forward speed's slope, m/s^2 (0 unless the coupling is on).
-    pub(super) ax_mps2: f64,
+    /// The forward acceleration the coupling takes (the logged `ax` or the speed's slope; a zero
+    /// slope unless the coupling is on).
+    pub(super) ax: super::coupling::Accel,
     /// What the speed change asks of the axles (the coupling on; set per state by
     /// [`ReplayModel::forces`]).
     pub(super) long: Option<super::coupling::Demand>,
@@ -529,7 +530,7 @@ impl ReplayModel {
             if p.coupled() {
                 let state = (d.vx, x[ix::VY], x[ix::R]);
                 let h = p.longitudinal_transfer_height_m;
-                local.long = Some(super::coupling::demand(v, h, d.ax_mps2, state, d.steer, &d.road));
+                local.long = Some(super::coupling::demand(v, h, d.ax, state, d.steer, &d.road));
             }
             if p.on_ground() {
                 // Each axle at its own ground position: the logged pose, else the replay's own.
@@ -698,7 +699,7 @@ impl ReplayModel {
             on_ice: true,
             tread_rise_k: [0.0; 2],
             road,
-            ax_mps2: 0.0,
+            ax: super::coupling::Accel::Slope(0.0),
             long: None,
         };
         let mut x = State::zeros();

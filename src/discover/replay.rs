@@ -48,6 +48,7 @@
 
 use nalgebra::SVector;
 
+use super::coupling::Accel;
 use super::measured::MeasuredRun;
 use super::model::{ix, Drive, EffectParams, ReplayModel, Simulated, State, H_MAX, LAGS, NS, SLIP_SLOPE_FLOOR};
 use vehsim_core::contact::{ContactTemperature, Isothermal, TyreContact};
@@ -89,9 +90,11 @@ struct Channels<'a> {
     dist: Vec<f64>,
     /// The logged pose (x, y, psi) when a friction change placed on the ground needs it.
     logged: Option<[&'a [f64]; 3]>,
-    /// The measured speed's slope at every sample, m/s^2, when the longitudinal coupling needs
-    /// it (empty otherwise; [`super::coupling`]).
+    /// The forward acceleration at every sample, m/s^2, when the longitudinal coupling needs it
+    /// (empty otherwise; [`super::coupling`]): the logged `ax` when the run has it
+    /// (`ax_logged`), else the measured speed's slope.
     ax: Vec<f64>,
+    ax_logged: bool,
 }
 
 impl<'a> Channels<'a> {
@@ -108,12 +111,12 @@ impl<'a> Channels<'a> {
             _ => None,
         };
         let tau = if dt.is_some() { Vec::new() } else { run.t.iter().map(|t| t - run.t[0]).collect() };
-        let ax = if p.coupled() {
-            longitudinal_acceleration_over(&run.vx, &run.t, super::coupling::AX_HALF_WINDOW_S)
-        } else {
-            Vec::new()
+        let (ax, ax_logged) = match (p.coupled(), run.channel("ax")) {
+            (false, _) => (Vec::new(), false),
+            (true, Some(ax)) => (ax.to_vec(), true),
+            (true, None) => (longitudinal_acceleration_over(&run.vx, &run.t, super::coupling::AX_HALF_WINDOW_S), false),
         };
-        Self { run, dt, tau, dist, logged, ax }
+        Self { run, dt, tau, dist, logged, ax, ax_logged }
     }
 
     /// The samples around engine time `t_s` and the fraction of the way between them (held at
@@ -182,7 +185,11 @@ impl RunModel<'_> {
             on_ice: run.on_ice,
             tread_rise_k: [0.0; 2],
             road: self.p.road.unwrap_or(run.road),
-            ax_mps2: if self.ch.ax.is_empty() { 0.0 } else { lerp(&self.ch.ax) },
+            ax: match (self.ch.ax.is_empty(), self.ch.ax_logged) {
+                (true, _) => Accel::Slope(0.0),
+                (false, true) => Accel::Logged(lerp(&self.ch.ax)),
+                (false, false) => Accel::Slope(lerp(&self.ch.ax)),
+            },
             long: None,
         }
     }

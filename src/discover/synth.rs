@@ -389,12 +389,17 @@ pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
 }
 
 /// Add the sensor noise of [`NOISE`] to a run's channels, in a fixed order (yaw rate, ay, steer,
-/// vx), so a seed gives the same bytes.
+/// vx, then a logged ax with the a_y noise), so a seed gives the same bytes.
 pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
     let channels = [&mut run.yaw_rate, &mut run.ay, &mut run.steer, &mut run.vx];
     for (values, sigma) in channels.into_iter().zip(NOISE) {
         for v in values.iter_mut() {
             *v += sigma * rng.normal();
+        }
+    }
+    if let Some((_, ax)) = run.optional.iter_mut().find(|(n, _)| n == "ax") {
+        for v in ax.iter_mut() {
+            *v += NOISE[1] * rng.normal();
         }
     }
 }
@@ -430,7 +435,8 @@ pub fn engine_run(cfg: &vehsim_spec::maneuver::RunConfig, spec: &Path) -> Result
         vx,
         yaw_rate: pick(&|r| r.obs.kin.yaw_rate_radps),
         ay: pick(&|r| r.obs.ay_mps2),
-        optional: Vec::new(),
+        // The accelerometer's forward channel: the contact and aerodynamic forces over the mass.
+        optional: vec![("ax".to_string(), pick(&|r| r.obs.ax_mps2))],
         mu: cfg.env.mu,
         ice_temp_c: cfg.env.surface_temp_c,
         on_ice: cfg.env.mu <= ICE_MU_MAX,
