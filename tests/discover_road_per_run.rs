@@ -131,7 +131,7 @@ fn bad_roads_are_refused() {
     for (extra, needle) in [
         (
             &["--effect", "road", "--maneuvers", "sine_ice,sine_dry", "--roads", "1:1"][..],
-            "one bank_deg:grade_deg pair per manoeuvre",
+            "give one pair per manoeuvre",
         ),
         (&["--effect", "road", "--maneuvers", "sine_ice", "--roads", "1"][..], "is not bank_deg:grade_deg"),
         (&["--effect", "road", "--maneuvers", "sine_ice", "--roads", "x:1"][..], "is not a finite number"),

@@ -341,7 +341,7 @@ pub fn parse_roads(given: &[String], plan: &[Manoeuvre]) -> Result<Vec<vehsim_co
         return Err(Error::usage(
             "--roads",
             format!(
-                "{} pairs given for {} manoeuvres; give one bank_deg:grade_deg pair per manoeuvre",
+                "{} bank_deg:grade_deg pair(s) given for {} manoeuvre(s); give one pair per manoeuvre, in the order of --maneuvers",
                 given.len(),
                 plan.len()
             ),
