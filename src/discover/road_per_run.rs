@@ -468,7 +468,8 @@ fn shared_effects(d: &Discovery) -> Vec<(Effect, Vec<f64>)> {
 }
 
 /// The per-run pairs adopted: the named effects (of the search with the roads) re-examined with
-/// the roads refitted on the blocks, and `d`'s split, scores, folds and verdict taken from the blocks `b` (fold 1: `b`).
+/// the roads refitted on the blocks, and `d`'s split, scores, folds and verdict taken from the
+/// blocks `b` (fold 1 fits on `b`'s fitted side).
 fn adopt(
     model: &ReplayModel,
     b: &Dataset,
