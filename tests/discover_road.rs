@@ -76,7 +76,7 @@ fn a_banked_graded_set_names_the_road_and_recovers_it() {
         for r in &mut runs {
             apply_sidecar(r, Path::new("RUN.toml"), &format!("[surface]\nmu = {}\n{text}", r.mu)).unwrap();
         }
-        common::assert_final_gap_replayed(&model(), runs.clone(), &d, &EffectParams::default());
+        common::assert_final_gap_replayed("road", &model(), runs.clone(), &d, &EffectParams::default());
         assert!(d.final_scores.rss_held < 0.1 * d.baseline.rss_held);
         // The same fragment appended to a manoeuvre: `vehsim run` drives on the fitted road.
         let m = format!(

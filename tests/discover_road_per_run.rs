@@ -90,7 +90,7 @@ fn each_run_on_its_own_road_is_named_and_recovered() {
         assert!(text.contains(&format!("# {}.toml\n{snippet}", r.name)), "{text}");
         apply_sidecar(r, Path::new("RUN.toml"), &format!("[surface]\nmu = {}\n{snippet}", r.mu)).unwrap();
     }
-    common::assert_final_gap_replayed(&model(), runs, &d, &EffectParams::default());
+    common::assert_final_gap_replayed("road per run", &model(), runs, &d, &EffectParams::default());
     assert!(d.final_scores.rss_held < 0.05 * d.baseline.rss_held);
 }
 

@@ -16,7 +16,6 @@ use std::path::{Path, PathBuf};
 use vehsim::discover::model::{EffectParams, ReplayModel};
 use vehsim::discover::report::improved_vehicle_toml;
 use vehsim::discover::search::discover_from;
-use vehsim::discover::select::{score, simulate_all};
 use vehsim::discover::{baseline_for, load_vehicle, synth, tyre_kind, Dataset, DiscoverOptions, Discovery, Effect};
 use vehsim_core::vehicle::VehicleModelKind;
 
@@ -72,17 +71,7 @@ fn write_improved(dir: &Path, d: &Discovery) -> PathBuf {
 fn assert_gap_reproduced(label: &str, runs: &[vehsim::discover::measured::MeasuredRun], d: &Discovery, spec: &Path) {
     let model = model_of(spec);
     let (base, _) = baseline_for(VehicleModelKind::Bicycle, &model.vehicle);
-    let mut data = Dataset::new(runs.to_vec());
-    data.held = d.held.clone();
-    let s = score(&data, &simulate_all(&model, &data, &base));
-    let mut largest: f64 = 0.0;
-    for held in [false, true] {
-        let (got, want) = (s.rmse(held), d.final_scores.rmse(held));
-        largest = largest.max((got.yaw_rate_radps - want.yaw_rate_radps).abs()).max((got.ay_mps2 - want.ay_mps2).abs());
-        for (g, w, ch) in [(got.yaw_rate_radps, want.yaw_rate_radps, "yaw rate"), (got.ay_mps2, want.ay_mps2, "ay")] {
-            assert!((g - w).abs() <= 1e-9, "{label} {ch} (held out {held}): replayed {g:e}, discovery's final {w:e}");
-        }
-    }
+    let largest = common::assert_final_gap_replayed(label, &model, runs.to_vec(), d, &base);
     eprintln!("{label}: largest RMSE difference, improved spec against the discovery's final model: {largest:.1e}");
     // The gap was closed at all (else the check above is the baseline against itself).
     let (fin, base) = (d.final_scores.rss_fit, d.baseline.rss_fit);
