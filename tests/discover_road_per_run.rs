@@ -162,27 +162,14 @@ fn the_cli_writes_roads_toml_and_the_sidecars_close_the_loop() {
     let sedan = common::root().join("vehicles/sedan.toml");
     let sedan = sedan.to_str().unwrap();
     let roads: Vec<String> = ROADS.iter().map(|(b, g)| format!("{b}:{g}")).collect();
-    let (code, _, err) = common::vehsim(
+    let csvs = common::synth_runs_with(
         &dir,
-        &[
-            "synth",
-            "--vehicle",
-            sedan,
-            "--effect",
-            "road",
-            "--maneuvers",
-            &SIX.join(","),
-            "--roads",
-            &roads.join(","),
-            "--out",
-            "runs",
-        ],
+        &["--effect", "road", "--maneuvers", &SIX.join(","), "--roads", &roads.join(",")],
     );
-    assert_eq!(code, 0, "{err}");
-    let csvs: Vec<String> = SIX.iter().enumerate().map(|(i, m)| format!("runs/{:02}_{m}.csv", i + 1)).collect();
+    assert_eq!(csvs.len(), SIX.len());
     let discover = |out: &str| {
         let mut args = vec!["discover", "--quiet", "--vehicle", sedan, "--out", out];
-        args.extend(csvs.iter().map(|s| s.as_str()));
+        args.extend(csvs.iter().map(|p| p.to_str().unwrap()));
         let (code, _, err) = common::vehsim(&dir, &args);
         assert_eq!(code, 0, "{err}");
         let report: serde_json::Value =

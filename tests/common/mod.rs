@@ -143,8 +143,16 @@ pub fn max_yaw_rate_diff(a: &RunOutput, b: &RunOutput) -> f64 {
 /// `vehsim synth --effect EFFECT --params PARAMS --out DIR/runs` on the shipped sedan; returns the
 /// written run CSVs, sorted.
 pub fn synth_runs(dir: &Path, effect: &str, params: &str) -> Vec<PathBuf> {
+    synth_runs_with(dir, &["--effect", effect, "--params", params])
+}
+
+/// `vehsim synth ARGS --out DIR/runs` on the shipped sedan (it must succeed); returns the written
+/// run CSVs, sorted.
+pub fn synth_runs_with(dir: &Path, args: &[&str]) -> Vec<PathBuf> {
     let out = Command::new(BIN)
-        .args(["synth", "--effect", effect, "--params", params, "--out"])
+        .arg("synth")
+        .args(args)
+        .arg("--out")
         .arg(dir.join("runs"))
         .arg("--vehicle")
         .arg(root().join("vehicles/sedan.toml"))
