@@ -32,8 +32,8 @@ use super::effects::Effect;
 use super::model::{EffectParams, ReplayModel};
 use super::search::Progress;
 use super::select::{
-    apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Discovery, Dropped, Fold, Scores, Verdict,
-    BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
+    alternate_blocks, apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Discovery, Dropped, Fold,
+    Scores, Verdict, BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
 };
 use super::uncertainty::{refine, significant, Interval};
 use vehsim_core::vehicle::road::Road;
@@ -149,12 +149,7 @@ impl RoadComparison {
 
 /// Every run's alternate 3 s blocks: the even ones fitted, the odd ones held out.
 pub fn blocked(data: &Dataset) -> Dataset {
-    let mut out = data.clone();
-    for (i, r) in data.runs.iter().enumerate() {
-        // The one-run rule of [`Dataset::new`], run by run.
-        out.held[i] = Dataset::new(vec![r.clone()]).held.remove(0);
-    }
-    out
+    Dataset { held: data.runs.iter().map(alternate_blocks).collect(), ..data.clone() }
 }
 
 /// `data` with run `i` on the road of `roads[i]`.

@@ -69,19 +69,20 @@ pub struct Dataset {
     pub held: Vec<Vec<bool>>,
 }
 
+/// The one-run split: alternate blocks of [`BLOCK_S`] (shorter for runs under 12 s, so that at
+/// least two are held out), the odd ones held out.
+pub fn alternate_blocks(r: &MeasuredRun) -> Vec<bool> {
+    let block = BLOCK_S.min(r.duration_s() / 4.0).max(1e-3);
+    r.t.iter().map(|t| (((t - r.t[0]) / block).floor() as i64) % 2 == 1).collect()
+}
+
 impl Dataset {
     pub fn new(runs: Vec<MeasuredRun>) -> Self {
         let noise = runs.iter().map(|r| Noise { yaw_rate: noise_sigma(&r.yaw_rate), ay: noise_sigma(&r.ay) }).collect();
         let held = if runs.len() >= 2 {
             runs.iter().enumerate().map(|(i, r)| vec![i % 2 == 1; r.t.len()]).collect()
         } else {
-            runs.iter()
-                .map(|r| {
-                    // Blocks of 3 s, shorter for runs under 12 s so that at least two are held out.
-                    let block = BLOCK_S.min(r.duration_s() / 4.0).max(1e-3);
-                    r.t.iter().map(|t| (((t - r.t[0]) / block).floor() as i64) % 2 == 1).collect()
-                })
-                .collect()
+            runs.iter().map(alternate_blocks).collect()
         };
         Self { runs, noise, held }
     }
