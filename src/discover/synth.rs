@@ -317,20 +317,25 @@ pub fn parse_params(e: Effect, given: &[String]) -> Result<Vec<f64>> {
             let names: Vec<&str> = defs.iter().map(|d| d.name).collect();
             Error::usage("--params", format!("'{k}' is not a parameter of {}; allowed: {}", e.name(), names.join(", ")))
         })?;
-        let x: f64 = val
-            .parse()
-            .ok()
-            .filter(|x: &f64| x.is_finite())
-            .ok_or_else(|| Error::usage("--params", format!("'{val}' is not a finite number")))?;
-        if x < defs[i].lo || x > defs[i].hi {
-            return Err(Error::usage(
-                "--params",
-                format!("{k} = {x} is outside [{}, {}] {}", defs[i].lo, defs[i].hi, defs[i].unit),
-            ));
-        }
-        v[i] = x;
+        let d = &defs[i];
+        v[i] = number_in("--params", val, "", (k, d.lo, d.hi, d.unit))?;
     }
     Ok(v)
+}
+
+/// The number `text` given to option `flag` (`within` names where it was written, "" or " in
+/// '…'"), finite and within [lo, hi] of parameter `name` (unit `unit`); else a usage error
+/// naming the flag.
+fn number_in(flag: &str, text: &str, within: &str, (name, lo, hi, unit): (&str, f64, f64, &str)) -> Result<f64> {
+    let x: f64 = text
+        .parse()
+        .ok()
+        .filter(|x: &f64| x.is_finite())
+        .ok_or_else(|| Error::usage(flag, format!("'{text}'{within} is not a finite number")))?;
+    if x < lo || x > hi {
+        return Err(Error::usage(flag, format!("{name} = {x}{within} is outside [{lo}, {hi}] {unit}")));
+    }
+    Ok(x)
 }
 
 /// Parse `--roads`: one `bank_deg:grade_deg` pair (deg) per manoeuvre of `plan`, in its order,
@@ -353,18 +358,7 @@ pub fn parse_roads(given: &[String], plan: &[Manoeuvre]) -> Result<Vec<vehsim_co
             g.split_once(':').ok_or_else(|| Error::usage("--roads", format!("'{g}' is not bank_deg:grade_deg")))?;
         let mut v = [0.0; 2];
         for ((x, text), bound) in v.iter_mut().zip([b, gr]).zip(rb::ALL) {
-            *x = text
-                .trim()
-                .parse()
-                .ok()
-                .filter(|x: &f64| x.is_finite())
-                .ok_or_else(|| Error::usage("--roads", format!("'{text}' in '{g}' is not a finite number")))?;
-            if *x < bound.lo || *x > bound.hi {
-                return Err(Error::usage(
-                    "--roads",
-                    format!("{} = {x} in '{g}' is outside [{}, {}] {}", bound.key, bound.lo, bound.hi, bound.unit),
-                ));
-            }
+            *x = number_in("--roads", text.trim(), &format!(" in '{g}'"), (bound.key, bound.lo, bound.hi, bound.unit))?;
         }
         let road = Road::from_deg(v[0], v[1]);
         if let Some(why) = road.too_steep(m.mu) {
