@@ -91,10 +91,10 @@ struct Channels<'a> {
     /// The logged pose (x, y, psi) when a friction change placed on the ground needs it.
     logged: Option<[&'a [f64]; 3]>,
     /// The forward acceleration at every sample, m/s^2, when the longitudinal coupling needs it
-    /// (empty otherwise; [`super::coupling`]): the logged `ax` when the run has it
-    /// (`ax_logged`), else the measured speed's slope.
+    /// (empty otherwise; [`super::coupling`]): the logged `ax` when the run has it, else the
+    /// measured speed's slope; `ax_as` says which.
     ax: Vec<f64>,
-    ax_logged: bool,
+    ax_as: fn(f64) -> Accel,
 }
 
 impl<'a> Channels<'a> {
@@ -111,12 +111,14 @@ impl<'a> Channels<'a> {
             _ => None,
         };
         let tau = if dt.is_some() { Vec::new() } else { run.t.iter().map(|t| t - run.t[0]).collect() };
-        let (ax, ax_logged) = match (p.coupled(), run.channel("ax")) {
-            (false, _) => (Vec::new(), false),
-            (true, Some(ax)) => (ax.to_vec(), true),
-            (true, None) => (longitudinal_acceleration_over(&run.vx, &run.t, super::coupling::AX_HALF_WINDOW_S), false),
+        let (ax, ax_as): (Vec<f64>, fn(f64) -> Accel) = match (p.coupled(), run.channel("ax")) {
+            (false, _) => (Vec::new(), Accel::Slope),
+            (true, Some(ax)) => (ax.to_vec(), Accel::Logged),
+            (true, None) => {
+                (longitudinal_acceleration_over(&run.vx, &run.t, super::coupling::AX_HALF_WINDOW_S), Accel::Slope)
+            }
         };
-        Self { run, dt, tau, dist, logged, ax, ax_logged }
+        Self { run, dt, tau, dist, logged, ax, ax_as }
     }
 
     /// The samples around engine time `t_s` and the fraction of the way between them (held at
@@ -185,11 +187,7 @@ impl RunModel<'_> {
             on_ice: run.on_ice,
             tread_rise_k: [0.0; 2],
             road: self.p.road.unwrap_or(run.road),
-            ax: match (self.ch.ax.is_empty(), self.ch.ax_logged) {
-                (true, _) => Accel::Slope(0.0),
-                (false, true) => Accel::Logged(lerp(&self.ch.ax)),
-                (false, false) => Accel::Slope(lerp(&self.ch.ax)),
-            },
+            ax: if self.ch.ax.is_empty() { Accel::Slope(0.0) } else { (self.ch.ax_as)(lerp(&self.ch.ax)) },
             long: None,
         }
     }
