@@ -95,6 +95,20 @@ fn steer_in_degrees_is_rejected() {
 }
 
 #[test]
+fn a_pose_out_of_range_names_the_line_and_column() {
+    // A heading of 1e6 rad (beyond any unwrapped heading) on line 42; the pose columns x, y, psi.
+    let text = csv(|k, l| {
+        let psi = if k == 40 { "1e6" } else { "0.1" };
+        format!("{},{},{},{psi}\n", l.trim_end(), 0.1 * k as f64, 0.0)
+    })
+    .replace("ay\n", "ay,x,y,psi\n");
+    expect_bad("pose", &text, &["line 42", "column 'psi'", "at most 1e5 rad"]);
+    let text = csv(|k, l| format!("{},{},0,0\n", l.trim_end(), if k == 7 { "-3e8" } else { "1" }))
+        .replace("ay\n", "ay,x,y,psi\n");
+    expect_bad("pose-x", &text, &["line 9", "column 'x'", "at most 1e8 m"]);
+}
+
+#[test]
 fn extra_column_is_ignored_with_a_notice_and_optional_columns_are_read() {
     let text = csv(|_, l| l.trim_end().to_string() + ",1,0.1\n").replace("ay\n", "ay,brake,vy\n");
     let r = parse_run(&PathBuf::from("/nonexistent/run.csv"), &text).unwrap();

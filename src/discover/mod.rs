@@ -19,6 +19,7 @@ pub mod equivalence;
 pub mod fit;
 pub mod measured;
 pub mod model;
+pub mod pose;
 pub mod region_starts;
 pub mod replay;
 pub mod report;
@@ -206,6 +207,13 @@ pub fn cli_discover(
                     a[0],
                     a[1]
                 );
+                if let [Some(bh), Some(ah)] = [f.baseline_pose_noise_ratio[0], f.final_pose_noise_ratio[0]] {
+                    let lat = match [f.baseline_pose_noise_ratio[1], f.final_pose_noise_ratio[1]] {
+                        [Some(b), Some(a)] => format!(", lateral position {b:.2} -> {a:.2}"),
+                        _ => String::new(),
+                    };
+                    println!("        logged pose over {} s windows: heading {bh:.2} -> {ah:.2}{lat}", pose::WINDOW_S);
+                }
             }
             let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
             println!(
@@ -234,6 +242,8 @@ pub struct SynthOptions<'a> {
     pub seed: u64,
     /// `--maneuvers`: the manoeuvre ids (empty: the standard set).
     pub maneuvers: &'a [String],
+    /// `--pose`: also log the pose (x, y, psi; [`synth::POSE_NOISE`]).
+    pub pose: bool,
 }
 
 /// `vehsim synth` (called by the CLI).
@@ -260,7 +270,7 @@ pub fn cli_synth(
             let roads = synth::parse_roads(opts.roads, &plan)?;
             let v = load_vehicle(vehicle, None, tyre_model)?;
             let p = model::EffectParams::default();
-            let runs = synth::generate_plan_roads(&model::ReplayModel::new(v), &p, seed, &plan, &roads);
+            let runs = synth::generate_plan_roads(&model::ReplayModel::new(v), &p, seed, &plan, &roads, opts.pose);
             synth::write_runs(out, &runs)?;
             return Ok(runs.len());
         }
@@ -304,7 +314,12 @@ pub fn cli_synth(
         } else if !params.is_empty() {
             return Err(Error::usage("--params", "effect 'none' takes no parameters"));
         }
-        let runs = synth::generate_plan(&model::ReplayModel::new(v), &p, seed, &plan);
+        let model = model::ReplayModel::new(v);
+        let runs = if opts.pose {
+            synth::generate_plan_posed(&model, &p, seed, &plan)
+        } else {
+            synth::generate_plan(&model, &p, seed, &plan)
+        };
         synth::write_runs(out, &runs)?;
         Ok(runs.len())
     })();

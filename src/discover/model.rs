@@ -331,6 +331,12 @@ pub struct Simulated {
     pub alpha_f: Vec<f64>,
     /// Front contact-temperature rise above the ice, K (0 unless thermal_friction is on).
     pub contact_rise_k: Vec<f64>,
+    /// The replay's own pose, untouched by the instruments: X, Y (m) and heading psi (rad) in
+    /// the engine's ground frame (its start need not be the run's; [`super::pose`] compares
+    /// increments only).
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub psi: Vec<f64>,
     /// False when the state went non-finite (the rest of the run is then held at the last value).
     pub ok: bool,
 }

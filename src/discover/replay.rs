@@ -353,7 +353,8 @@ impl Maneuver for ReplayDrive<'_, '_> {
 }
 
 /// The simulated channels of one row: yaw rate (rad/s), lateral acceleration (m/s^2), lateral
-/// velocity (m/s), front slip angle (rad), front contact temperature (degC) and steer (rad).
+/// velocity (m/s), front slip angle (rad), front contact temperature (degC), steer (rad) and the
+/// pose X, Y (m), psi (rad).
 #[derive(Debug, Clone, Copy, Default)]
 struct Sample {
     r: f64,
@@ -362,6 +363,9 @@ struct Sample {
     alpha_f: f64,
     contact_c: f64,
     steer: f64,
+    x: f64,
+    y: f64,
+    psi: f64,
 }
 
 impl Sample {
@@ -373,6 +377,9 @@ impl Sample {
             alpha_f: row.obs.alpha_rad[0],
             contact_c: row.obs.contact_temp_axle_c[0],
             steer: row.inputs.steer_rad,
+            x: row.obs.kin.x_m,
+            y: row.obs.kin.y_m,
+            psi: row.obs.kin.yaw_rad,
         }
     }
 
@@ -385,6 +392,9 @@ impl Sample {
             alpha_f: self.alpha_f + c * b.alpha_f,
             contact_c: self.contact_c + c * b.contact_c,
             steer: self.steer + c * b.steer,
+            x: self.x + c * b.x,
+            y: self.y + c * b.y,
+            psi: self.psi + c * b.psi,
         }
     }
 }
@@ -491,6 +501,7 @@ pub(super) fn replay(
             alpha_f: vec![0.0; n],
             contact_rise_k: vec![0.0; n],
             ok: false,
+            ..Default::default()
         };
         return (out, run.steer.clone());
     }
@@ -585,6 +596,9 @@ pub(super) fn replay(
         out.vy.push(r.vy);
         out.alpha_f.push(r.alpha_f);
         out.contact_rise_k.push(r.contact_c - ice);
+        out.x.push(r.x);
+        out.y.push(r.y);
+        out.psi.push(r.psi);
         steer.push(r.steer);
     }
     // What the instruments log: the accelerometer's place, the channels' latency, their offsets.

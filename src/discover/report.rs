@@ -249,7 +249,16 @@ fn report_json(
         "vehicle": opts.vehicle.display().to_string(),
         "runs": data.runs.iter().map(|r| r.path.display().to_string()).collect::<Vec<_>>(),
         "heldout_runs": data.heldout_runs(),
-        "noise": data.runs.iter().zip(&data.noise).map(|(r, n)| json!({"run": r.name, "yaw_rate_radps": n.yaw_rate, "ay_mps2": n.ay})).collect::<Vec<_>>(),
+        "noise": data.runs.iter().zip(&data.noise).map(|(r, n)| {
+            let mut j = json!({"run": r.name, "yaw_rate_radps": n.yaw_rate, "ay_mps2": n.ay});
+            if let Some(p) = n.pose {
+                j["psi_rad"] = json!(p.psi_rad);
+                if let Some(m) = p.position_m {
+                    j["position_m"] = json!(m);
+                }
+            }
+            j
+        }).collect::<Vec<_>>(),
         "baseline_rmse": { "fitted": rmse_json(&d.baseline.rmse(false)), "heldout": rmse_json(&d.baseline.rmse(true)) },
         "final_rmse": { "fitted": rmse_json(&d.final_scores.rmse(false)), "heldout": rmse_json(&d.final_scores.rmse(true)) },
         "steps": d.steps.iter().map(|s| json!({
@@ -495,6 +504,33 @@ fn md_folds(s: &mut String, d: &Discovery) {
             f.final_noise_ratio[1]
         );
     }
+    if d.folds.iter().any(|f| f.final_pose_noise_ratio.iter().any(Option::is_some)) {
+        let _ = writeln!(
+            s,
+            "\nThe logged pose, scored on its increments over {} s windows (RMS / noise, heading and lateral \
+             position; at the noise within the limit of its window count):\n",
+            super::pose::WINDOW_S
+        );
+        let _ = writeln!(s, "| fold | windows | limit | baseline | final |\n|---|---|---|---|---|");
+        let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+        for (i, f) in d.folds.iter().enumerate() {
+            let [b, a] = [f.baseline_pose_noise_ratio, f.final_pose_noise_ratio];
+            let lim = f.pose_windows.map(super::select::pose_noise_limit);
+            let _ = writeln!(
+                s,
+                "| {} | {}, {} | {:.2}, {:.2} | {}, {} | {}, {} |",
+                i + 1,
+                f.pose_windows[0],
+                f.pose_windows[1],
+                lim[0],
+                lim[1],
+                num(b[0]),
+                num(b[1]),
+                num(a[0]),
+                num(a[1])
+            );
+        }
+    }
 }
 
 /// report.md: The largest windows the final model leaves, when the data are not explained.
@@ -578,9 +614,23 @@ fn md_rejected(s: &mut String, d: &Discovery) {
 /// report.md: The noise estimate per run and channel.
 fn md_noise(s: &mut String, data: &Dataset) {
     let _ = writeln!(s, "\n## Noise estimate (from second differences of the measured signals)\n");
-    let _ = writeln!(s, "| run | yaw rate (rad/s) | ay (m/s^2) |\n|---|---|---|");
+    let posed = data.noise.iter().any(|n| n.pose.is_some());
+    if posed {
+        let _ = writeln!(
+            s,
+            "| run | yaw rate (rad/s) | ay (m/s^2) | heading (rad) | position (m) |\n|---|---|---|---|---|"
+        );
+    } else {
+        let _ = writeln!(s, "| run | yaw rate (rad/s) | ay (m/s^2) |\n|---|---|---|");
+    }
     for (r, n) in data.runs.iter().zip(&data.noise) {
-        let _ = writeln!(s, "| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
+        let mut row = format!("| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
+        if posed {
+            let psi = n.pose.map_or("-".to_string(), |p| format!("{:.2e}", p.psi_rad));
+            let pos = n.pose.and_then(|p| p.position_m).map_or("-".to_string(), |m| format!("{m:.2e}"));
+            row.push_str(&format!(" {psi} | {pos} |"));
+        }
+        let _ = writeln!(s, "{row}");
     }
 }
 

@@ -33,7 +33,7 @@ use super::model::{EffectParams, ReplayModel};
 use super::search::Progress;
 use super::select::{
     alternate_blocks, apply_flat, fit_effect, fit_jointly, score, simulate_all, Dataset, Discovery, Dropped, Fold,
-    Scores, Verdict, BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
+    Scores, Verdict, BIC_MIN, MIN_GAIN,
 };
 use super::uncertainty::{refine, significant, Interval};
 use vehsim_core::vehicle::road::Road;
@@ -514,17 +514,11 @@ fn adopt(
     let other_base = score(&b.swapped(), &base_sims);
     d.folds = [(&d.baseline, &d.final_scores), (&other_base, &cmp.folds[1].scores[2])]
         .into_iter()
-        .map(|(s0, s1)| Fold {
-            heldout_runs: Vec::new(),
-            baseline_heldout_rmse: s0.rmse(true),
-            final_heldout_rmse: s1.rmse(true),
-            baseline_noise_ratio: s0.noise_ratio(),
-            final_noise_ratio: s1.noise_ratio(),
-        })
+        .map(|(s0, s1)| Fold::new(Vec::new(), s0, s1))
         .collect();
     let named = &d.named;
     d.classes.retain(|c| named.contains(&c.named));
-    let explained = d.folds.iter().all(|f| f.final_noise_ratio.iter().all(|r| *r <= EXPLAINED_NOISE_RATIO));
+    let explained = d.folds.iter().all(Fold::final_at_noise);
     d.verdict = match (explained, d.classes.is_empty()) {
         (true, false) => Verdict::ExplainedEquivalent,
         (true, true) => Verdict::Explained,

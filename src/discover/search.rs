@@ -17,7 +17,7 @@ use super::equivalence::{self, Class};
 use super::model::{EffectParams, ReplayModel, Simulated};
 use super::select::{
     apply_flat, fit_effect, fit_jointly, fit_ranked, ranked_starts, redundant, score, simulate_all, Dataset, Discovery,
-    Dropped, FinalEffect, Fold, Scores, Step, Trial, Verdict, BIC_MIN, EXPLAINED_NOISE_RATIO, MIN_GAIN,
+    Dropped, FinalEffect, Fold, Scores, Step, Trial, Verdict, BIC_MIN, MIN_GAIN,
 };
 use super::uncertainty::{refine, significant, Interval};
 
@@ -58,11 +58,6 @@ pub fn discover_with(
 /// Parameter triples (name, value, unit) of an effect.
 pub(super) fn triples(e: Effect, v: &[f64]) -> Vec<(String, f64, String)> {
     e.params().iter().zip(v).map(|(d, x)| (d.name.to_string(), *x, d.unit.to_string())).collect()
-}
-
-/// Held-out noise ratio of a fold's scores as the larger channel.
-fn worst(r: [f64; 2]) -> f64 {
-    r[0].max(r[1])
 }
 
 /// A round's trial: the candidate, its scores and the parameters with it switched on.
@@ -448,7 +443,7 @@ impl<'a> Search<'a> {
             .collect();
         let folds = self.folds(base_sims);
         let classes = self.classes();
-        let explained = folds.iter().all(|f| worst(f.final_noise_ratio) <= EXPLAINED_NOISE_RATIO);
+        let explained = folds.iter().all(Fold::final_at_noise);
         let verdict = match (explained, self.named.is_empty()) {
             (true, true) => Verdict::NothingMissing,
             (true, false) if !classes.is_empty() => Verdict::ExplainedEquivalent,
@@ -491,13 +486,7 @@ impl<'a> Search<'a> {
         };
         [(self.data, &self.baseline, &self.current), (&other, &other_base, &other_final)]
             .into_iter()
-            .map(|(d, b, f)| Fold {
-                heldout_runs: d.heldout_runs(),
-                baseline_heldout_rmse: b.rmse(true),
-                final_heldout_rmse: f.rmse(true),
-                baseline_noise_ratio: b.noise_ratio(),
-                final_noise_ratio: f.noise_ratio(),
-            })
+            .map(|(d, b, f)| Fold::new(d.heldout_runs(), b, f))
             .collect()
     }
 

@@ -7,7 +7,8 @@
 //! gives second differences of variance 6 s^2; the median absolute deviation ignores outliers.
 //!
 //! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
-//! per channel and sample. Held-out data: with two runs or more, half the runs, stratified by
+//! per channel and sample. A run that logs its heading adds one normalized residual per pose
+//! window and pose channel ([`super::pose`]: heading and lateral position increments over 1 s). Held-out data: with two runs or more, half the runs, stratified by
 //! surface and by the baseline's disagreement ([`Dataset::stratified`]), never used by a fit;
 //! with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s).
 //!
@@ -27,6 +28,7 @@ use super::equivalence::{Class, Equivalent};
 use super::fit::nelder_mead;
 use super::measured::MeasuredRun;
 use super::model::{EffectParams, ReplayModel, Simulated};
+use super::pose::{self, PoseNoise};
 use super::search::triples;
 use super::uncertainty::{refine, significant, Interval};
 
@@ -47,6 +49,9 @@ pub const FIT_EVALS: usize = 60;
 pub struct Noise {
     pub yaw_rate: f64,
     pub ay: f64,
+    /// The logged pose's noise, when the run logs a heading ([`super::pose`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pose: Option<PoseNoise>,
 }
 
 /// Estimate white-noise sigma from second differences (robust).
@@ -78,7 +83,10 @@ pub fn alternate_blocks(r: &MeasuredRun) -> Vec<bool> {
 
 impl Dataset {
     pub fn new(runs: Vec<MeasuredRun>) -> Self {
-        let noise = runs.iter().map(|r| Noise { yaw_rate: noise_sigma(&r.yaw_rate), ay: noise_sigma(&r.ay) }).collect();
+        let noise = runs
+            .iter()
+            .map(|r| Noise { yaw_rate: noise_sigma(&r.yaw_rate), ay: noise_sigma(&r.ay), pose: pose::noise(r) })
+            .collect();
         let held = if runs.len() >= 2 {
             runs.iter().enumerate().map(|(i, r)| vec![i % 2 == 1; r.t.len()]).collect()
         } else {
@@ -167,6 +175,12 @@ pub struct Scores {
     pub ss_held: [f64; 2],
     /// Normalized sums of squares per channel on held-out samples.
     pub zs_held: [f64; 2],
+    /// The pose windows ([`super::pose`]): their count on the fitted side, and per pose channel
+    /// (heading, lateral position) their count and normalized sum of squares on the held-out
+    /// side. Their squares are in `rss_fit` and `rss_held` too.
+    pub pose_n_fit: usize,
+    pub pose_n_held: [usize; 2],
+    pub pose_zs_held: [f64; 2],
 }
 
 impl Scores {
@@ -183,10 +197,16 @@ impl Scores {
         [(self.zs_held[0] / n).sqrt(), (self.zs_held[1] / n).sqrt()]
     }
 
+    /// Held-out RMS over the noise of the pose windows, per pose channel (heading, lateral
+    /// position); None for a channel without a held-out window.
+    pub fn pose_noise_ratio(&self) -> [Option<f64>; 2] {
+        [0, 1].map(|c| (self.pose_n_held[c] > 0).then(|| (self.pose_zs_held[c] / self.pose_n_held[c] as f64).sqrt()))
+    }
+
     /// Held-out BIC with k parameters.
     pub fn bic_held(&self, k: usize) -> f64 {
-        // Two residuals (yaw rate, ay) per held-out sample.
-        let n = (2 * self.n_held).max(1) as f64;
+        // Two residuals (yaw rate, ay) per held-out sample, and one per pose window and channel.
+        let n = (2 * self.n_held + self.pose_n_held[0] + self.pose_n_held[1]).max(1) as f64;
         n * (self.rss_held.max(1e-300) / n).ln() + k as f64 * n.ln()
     }
 }
@@ -236,6 +256,17 @@ pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
                 s.ss_fit[1] += ea * ea;
             }
         }
+        for w in pose::residuals(r, &nz, sim, &data.held[i]) {
+            let z = w.z * w.z;
+            if w.held {
+                s.rss_held += z;
+                s.pose_n_held[w.channel] += 1;
+                s.pose_zs_held[w.channel] += z;
+            } else {
+                s.rss_fit += z;
+                s.pose_n_fit += 1;
+            }
+        }
     }
     s
 }
@@ -253,6 +284,7 @@ fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
                     ((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2) + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2);
             }
         }
+        c += pose::residuals(r, &nz, sim, &data.held[i]).iter().filter(|w| !w.held).map(|w| w.z * w.z).sum::<f64>();
         if !sim.ok {
             c *= 10.0;
         }
@@ -312,6 +344,62 @@ pub struct Fold {
     /// Held-out RMS residual over the noise, per channel [yaw rate, ay], baseline and final.
     pub baseline_noise_ratio: [f64; 2],
     pub final_noise_ratio: [f64; 2],
+    /// The same for the pose windows [heading, lateral position] ([`super::pose`]); null for a
+    /// channel no run logs, and left out of the report when no run logs a heading.
+    #[serde(skip_serializing_if = "no_pose")]
+    pub baseline_pose_noise_ratio: [Option<f64>; 2],
+    #[serde(skip_serializing_if = "no_pose")]
+    pub final_pose_noise_ratio: [Option<f64>; 2],
+    /// Held-out pose windows per pose channel (what [`pose_noise_limit`] is taken at).
+    #[serde(skip_serializing_if = "no_windows")]
+    pub pose_windows: [usize; 2],
+}
+
+fn no_pose(r: &[Option<f64>; 2]) -> bool {
+    r.iter().all(Option::is_none)
+}
+
+fn no_windows(n: &[usize; 2]) -> bool {
+    n.iter().all(|n| *n == 0)
+}
+
+/// The held-out RMS over the noise at or below which a pose channel with `n` held-out windows is
+/// at the noise: [`EXPLAINED_NOISE_RATIO`], or, when there are so few windows that noise alone
+/// passes that ratio by chance, the RMS that noise alone stays below with probability 0.999 (the
+/// chi-square quantile with n degrees of freedom by the Wilson-Hilferty cube; 1.94 for 6 windows,
+/// 1.66 for 12, 1.5 from 21 on). The sample channels have thousands of held-out samples,
+/// whose noise-only RMS stays within a few per cent of 1, so the ratio alone is their limit.
+pub fn pose_noise_limit(n: usize) -> f64 {
+    const Z999: f64 = 3.090_232;
+    let n = n.max(1) as f64;
+    let c = 2.0 / (9.0 * n);
+    let q = (1.0 - c + Z999 * c.sqrt()).powi(3);
+    EXPLAINED_NOISE_RATIO.max(q.sqrt())
+}
+
+impl Fold {
+    /// A fold's figures from its baseline's and final model's scores.
+    pub fn new(heldout_runs: Vec<String>, baseline: &Scores, fin: &Scores) -> Self {
+        Fold {
+            heldout_runs,
+            baseline_heldout_rmse: baseline.rmse(true),
+            final_heldout_rmse: fin.rmse(true),
+            baseline_noise_ratio: baseline.noise_ratio(),
+            final_noise_ratio: fin.noise_ratio(),
+            baseline_pose_noise_ratio: baseline.pose_noise_ratio(),
+            final_pose_noise_ratio: fin.pose_noise_ratio(),
+            pose_windows: fin.pose_n_held,
+        }
+    }
+
+    /// True when the final model leaves every scored channel of this fold's held-out side at the
+    /// noise: the yaw rate and a_y within [`EXPLAINED_NOISE_RATIO`], each pose channel within
+    /// [`pose_noise_limit`] of its window count.
+    pub fn final_at_noise(&self) -> bool {
+        self.final_noise_ratio.iter().all(|r| *r <= EXPLAINED_NOISE_RATIO)
+            && (0..2)
+                .all(|c| self.final_pose_noise_ratio[c].is_none_or(|r| r <= pose_noise_limit(self.pose_windows[c])))
+    }
 }
 
 /// An effect named in an earlier round and dropped after a later round's joint refit, because

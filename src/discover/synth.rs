@@ -28,6 +28,11 @@ pub const ICE_MU_MAX: f64 = 0.3;
 /// Noise standard deviations: yaw rate (rad/s), ay (m/s^2), steer (rad), vx (m/s).
 pub const NOISE: [f64; 4] = [0.0015, 0.03, 1e-4, 0.02];
 
+/// Noise standard deviations of a logged pose (`vehsim synth --pose`): heading (rad) and position
+/// per axis (m), a survey-grade satellite receiver with an inertial system (real-time kinematic
+/// position to about a centimetre, heading to about 0.03 degrees).
+pub const POSE_NOISE: [f64; 2] = [5e-4, 0.01];
+
 /// Deterministic normal random numbers (splitmix64 + Box–Muller).
 #[derive(Debug, Clone)]
 pub struct Rng(u64);
@@ -207,7 +212,18 @@ pub fn generate_plan(
     seed: u64,
     plan: &[Manoeuvre],
 ) -> Vec<(MeasuredRun, String)> {
-    generate_plan_each(model, &|_| *p, seed, plan)
+    generate_plan_each(model, &|_| *p, seed, plan, false)
+}
+
+/// As [`generate_plan`], every run also logging its pose (`x`, `y`, `psi`: the replay's own, with
+/// the noise of [`POSE_NOISE`]; the sensor effects of `p` do not act on it).
+pub fn generate_plan_posed(
+    model: &ReplayModel,
+    p: &EffectParams,
+    seed: u64,
+    plan: &[Manoeuvre],
+) -> Vec<(MeasuredRun, String)> {
+    generate_plan_each(model, &|_| *p, seed, plan, true)
 }
 
 /// As [`generate_plan`], run `i` driven on its own road `roads[i]` (bank and grade; over `p`,
@@ -219,24 +235,26 @@ pub fn generate_plan_roads(
     seed: u64,
     plan: &[Manoeuvre],
     roads: &[vehsim_core::vehicle::road::Road],
+    pose: bool,
 ) -> Vec<(MeasuredRun, String)> {
     assert_eq!(roads.len(), plan.len(), "one road per manoeuvre");
-    generate_plan_each(model, &|i| EffectParams { road: Some(roads[i]), ..*p }, seed, plan)
+    generate_plan_each(model, &|i| EffectParams { road: Some(roads[i]), ..*p }, seed, plan, pose)
 }
 
 /// The runs of `plan` (names `NN_<id>`), run `i` generated with the parameters `p_of(i)`, noise
-/// from `seed` in the order of the plan.
+/// from `seed` in the order of the plan; logging the pose when `pose`.
 fn generate_plan_each(
     model: &ReplayModel,
     p_of: &dyn Fn(usize) -> EffectParams,
     seed: u64,
     plan: &[Manoeuvre],
+    pose: bool,
 ) -> Vec<(MeasuredRun, String)> {
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
     for (i, m) in plan.iter().enumerate() {
         let name = format!("{:02}_{}", i + 1, m.id);
-        let mut run = truth(model, &p_of(i), m, &name);
+        let mut run = truth_of(model, &p_of(i), m, &name, pose);
         add_noise(&mut run, &mut rng);
         out.push((run, name));
     }
@@ -246,6 +264,11 @@ fn generate_plan_each(
 /// The noise-free run `name` of manoeuvre `m` by the replay model with `p`: 12 s at 100 Hz, the
 /// speed drifting +-5 % over 24 s; the lane change's steer is what the driver did.
 pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -> MeasuredRun {
+    truth_of(model, p, m, name, false)
+}
+
+/// [`truth`], also logging the replay's pose (`x`, `y`, `psi` wrapped into (-pi, pi]) when `pose`.
+fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, pose: bool) -> MeasuredRun {
     let n = 1201;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
     let v0 = m.speed_mps;
@@ -279,6 +302,11 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
     };
     run.yaw_rate = sim.yaw_rate;
     run.ay = sim.ay;
+    if pose {
+        let tau = std::f64::consts::TAU;
+        let psi = sim.psi.iter().map(|a| a - tau * ((a + std::f64::consts::PI) / tau).floor()).collect();
+        run.optional = vec![("x".to_string(), sim.x), ("y".to_string(), sim.y), ("psi".to_string(), psi)];
+    }
     run
 }
 
@@ -373,7 +401,18 @@ pub fn parse_roads(given: &[String], plan: &[Manoeuvre]) -> Result<Vec<vehsim_co
 pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_path_buf(), source: e })?;
     for (r, name) in runs {
-        let csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay);
+        let mut csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay);
+        if !r.optional.is_empty() {
+            // The optional channels (a logged pose) as further columns.
+            let mut lines: Vec<String> = csv.lines().map(str::to_string).collect();
+            for (name, values) in &r.optional {
+                lines[0].push_str(&format!(",{name}"));
+                for (k, v) in values.iter().enumerate() {
+                    lines[k + 1].push_str(&format!(",{v}"));
+                }
+            }
+            csv = lines.join("\n") + "\n";
+        }
         let p = dir.join(format!("{name}.csv"));
         crate::output::write_atomic(&p, csv.as_bytes())?;
         let s = dir.join(format!("{name}.toml"));
@@ -383,7 +422,8 @@ pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
 }
 
 /// Add the sensor noise of [`NOISE`] to a run's channels, in a fixed order (yaw rate, ay, steer,
-/// vx, then a logged ax with the a_y noise), so a seed gives the same bytes.
+/// vx, then a logged ax with the a_y noise, then a logged pose x, y, psi with [`POSE_NOISE`]), so
+/// a seed gives the same bytes.
 pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
     let channels = [&mut run.yaw_rate, &mut run.ay, &mut run.steer, &mut run.vx];
     for (values, sigma) in channels.into_iter().zip(NOISE) {
@@ -394,6 +434,17 @@ pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
     if let Some((_, ax)) = run.optional.iter_mut().find(|(n, _)| n == "ax") {
         for v in ax.iter_mut() {
             *v += NOISE[1] * rng.normal();
+        }
+    }
+    // A logged pose: x, y, then psi (kept within (-pi, pi]).
+    for (channel, sigma) in [("x", POSE_NOISE[1]), ("y", POSE_NOISE[1]), ("psi", POSE_NOISE[0])] {
+        if let Some((_, values)) = run.optional.iter_mut().find(|(n, _)| n == channel) {
+            for v in values.iter_mut() {
+                *v += sigma * rng.normal();
+                if channel == "psi" && v.abs() > std::f64::consts::PI {
+                    *v -= std::f64::consts::TAU * v.signum();
+                }
+            }
         }
     }
 }

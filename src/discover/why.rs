@@ -83,7 +83,7 @@ pub fn above_noise(data: &Dataset, d: &Discovery, last: &[Simulated], windows: &
         .filter(|b| b.disagrees)
         .map(|b| (b.variable, b.lo, b.hi, b.excess))
         .collect();
-    let at = |f: &super::select::Fold| f.final_noise_ratio.iter().all(|r| *r <= 1.5);
+    let at = super::select::Fold::final_at_noise;
     let folds_disagree = d.folds.len() == 2 && at(&d.folds[0]) != at(&d.folds[1]);
     let last_round = d.rejected.iter().map(|t| t.round).max();
     let nearest_miss = d
