@@ -229,7 +229,7 @@ pub enum Command {
         /// and driving; a discovery's separating manoeuvre is one).
         #[arg(long, value_delimiter = ',')]
         maneuvers: Vec<String>,
-        /// Also log the pose: columns x, y (m) and psi (rad, wrapped into (-pi, pi]) from the
+        /// Also log the pose: columns x, y (m) and psi (rad, wrapped to within +-pi) from the
         /// replay's own pose, with white noise of 0.01 m and 5e-4 rad (a survey-grade satellite and
         /// inertial system), untouched by the effect's sensor errors.
         #[arg(long)]

@@ -8,9 +8,10 @@
 //!
 //! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
 //! per channel and sample. A run that logs its heading adds one normalized residual per pose
-//! window and pose channel ([`super::pose`]: heading and lateral position increments over 1 s). Held-out data: with two runs or more, half the runs, stratified by
-//! surface and by the baseline's disagreement ([`Dataset::stratified`]), never used by a fit;
-//! with one run, alternate 3 s blocks (a quarter of the run when it is shorter than 12 s).
+//! window and pose channel ([`super::pose`]: heading and lateral position increments over 1 s).
+//! Held-out data: with two runs or more, half the runs, stratified by surface and by the
+//! baseline's disagreement ([`Dataset::stratified`]), never used by a fit; with one run,
+//! alternate 3 s blocks (a quarter of the run when it is shorter than 12 s).
 //!
 //! Score of a model with k fitted parameters on the n held-out normalized residuals:
 //! BIC = n ln(RSS / n) + k ln(n). A candidate is accepted when it lowers the held-out BIC by more

@@ -267,7 +267,7 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
     truth_of(model, p, m, name, false)
 }
 
-/// [`truth`], also logging the replay's pose (`x`, `y`, `psi` wrapped into (-pi, pi]) when `pose`.
+/// [`truth`], also logging the replay's pose (`x`, `y`, `psi` wrapped to within +-pi) when `pose`.
 fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, pose: bool) -> MeasuredRun {
     let n = 1201;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
@@ -436,7 +436,7 @@ pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
             *v += NOISE[1] * rng.normal();
         }
     }
-    // A logged pose: x, y, then psi (kept within (-pi, pi]).
+    // A logged pose: x, y, then psi (kept within +-pi).
     for (channel, sigma) in [("x", POSE_NOISE[1]), ("y", POSE_NOISE[1]), ("psi", POSE_NOISE[0])] {
         if let Some((_, values)) = run.optional.iter_mut().find(|(n, _)| n == channel) {
             for v in values.iter_mut() {
