@@ -229,11 +229,12 @@ pub enum Command {
         /// and driving; a discovery's separating manoeuvre is one).
         #[arg(long, value_delimiter = ',')]
         maneuvers: Vec<String>,
-        /// Also log the pose: columns x, y (m) and psi (rad, wrapped to within +-pi) from the
-        /// replay's own pose, with white noise of 0.01 m and 5e-4 rad (a survey-grade satellite and
-        /// inertial system), untouched by the effect's sensor errors.
-        #[arg(long)]
-        pose: bool,
+        /// Also log these optional channels, comma-separated: x, y (m), psi (rad, wrapped to
+        /// within +-pi), vy (m/s): the replay's own pose and lateral velocity with white noise of
+        /// 0.01 m, 5e-4 rad and 0.01 m/s (a survey-grade satellite and inertial system), untouched
+        /// by the effect's sensor errors.
+        #[arg(long, value_delimiter = ',')]
+        log: Vec<String>,
         /// Output folder.
         #[arg(long)]
         out: PathBuf,
@@ -289,9 +290,14 @@ pub fn main() -> ExitCode {
         Command::Discover { vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force } => {
             crate::discover::cli_discover(vehicle, tyre, tyre_model, model, out, runs, quiet, jackknife, force)
         }
-        Command::Synth { effect, params, roads, vehicle, tyre_model, seed, maneuvers, pose, out } => {
-            let opts =
-                crate::discover::SynthOptions { params: &params, roads: &roads, seed, maneuvers: &maneuvers, pose };
+        Command::Synth { effect, params, roads, vehicle, tyre_model, seed, maneuvers, log, out } => {
+            let opts = crate::discover::SynthOptions {
+                params: &params,
+                roads: &roads,
+                seed,
+                maneuvers: &maneuvers,
+                log: &log,
+            };
             crate::discover::cli_synth(&effect, &opts, &vehicle, tyre_model, &out)
         }
         Command::ConvertStanford { dir, out, segment_s, segments } => {

@@ -36,7 +36,7 @@ const ROADS: [(f64, f64); 6] = [(3.0, 0.0), (-2.0, 2.0), (0.0, -3.0), (4.0, 1.0)
 fn runs_on_roads(p: &EffectParams, seed: u64) -> Vec<MeasuredRun> {
     let ids: Vec<String> = SIX.iter().map(|s| s.to_string()).collect();
     let roads: Vec<Road> = ROADS.iter().map(|&(b, g)| Road::from_deg(b, g)).collect();
-    synth::generate_plan_roads(&model(), p, seed, &synth::select(&ids).unwrap(), &roads, false)
+    synth::generate_plan_roads(&model(), p, seed, &synth::select(&ids).unwrap(), &roads, &[])
         .into_iter()
         .map(|r| r.0)
         .collect()

@@ -17,9 +17,9 @@ pub mod coupling;
 pub mod effects;
 pub mod equivalence;
 pub mod fit;
+pub mod increments;
 pub mod measured;
 pub mod model;
-pub mod pose;
 pub mod region_starts;
 pub mod replay;
 pub mod report;
@@ -207,12 +207,16 @@ pub fn cli_discover(
                     a[0],
                     a[1]
                 );
-                if let [Some(bh), Some(ah)] = [f.baseline_pose_noise_ratio[0], f.final_pose_noise_ratio[0]] {
-                    let lat = match [f.baseline_pose_noise_ratio[1], f.final_pose_noise_ratio[1]] {
-                        [Some(b), Some(a)] => format!(", lateral position {b:.2} -> {a:.2}"),
-                        _ => String::new(),
-                    };
-                    println!("        logged pose over {} s windows: heading {bh:.2} -> {ah:.2}{lat}", pose::WINDOW_S);
+                let inc: Vec<String> = increments::CHANNELS
+                    .iter()
+                    .zip(f.baseline_increment_noise_ratio.iter().zip(&f.final_increment_noise_ratio))
+                    .filter_map(|(name, r)| match r {
+                        (Some(b), Some(a)) => Some(format!("{} {b:.2} -> {a:.2}", name.replace('_', " "))),
+                        _ => None,
+                    })
+                    .collect();
+                if !inc.is_empty() {
+                    println!("        increments over {} s windows: {}", increments::WINDOW_S, inc.join(", "));
                 }
             }
             let (b, f) = (d.baseline.rmse(true), d.final_scores.rmse(true));
@@ -242,8 +246,8 @@ pub struct SynthOptions<'a> {
     pub seed: u64,
     /// `--maneuvers`: the manoeuvre ids (empty: the standard set).
     pub maneuvers: &'a [String],
-    /// `--pose`: also log the pose (x, y, psi; [`synth::POSE_NOISE`]).
-    pub pose: bool,
+    /// `--log`: optional channels to log as well ([`synth::LOGGABLE`]).
+    pub log: &'a [String],
 }
 
 /// `vehsim synth` (called by the CLI).
@@ -257,6 +261,7 @@ pub fn cli_synth(
     let (params, seed, maneuvers) = (opts.params, opts.seed, opts.maneuvers);
     let r = (|| -> Result<usize> {
         let plan = synth::select(maneuvers)?;
+        let log = synth::parse_log(opts.log)?;
         if !opts.roads.is_empty() {
             if effect != "road" || !params.is_empty() {
                 return Err(Error::usage(
@@ -270,7 +275,7 @@ pub fn cli_synth(
             let roads = synth::parse_roads(opts.roads, &plan)?;
             let v = load_vehicle(vehicle, None, tyre_model)?;
             let p = model::EffectParams::default();
-            let runs = synth::generate_plan_roads(&model::ReplayModel::new(v), &p, seed, &plan, &roads, opts.pose);
+            let runs = synth::generate_plan_roads(&model::ReplayModel::new(v), &p, seed, &plan, &roads, &log);
             synth::write_runs(out, &runs)?;
             return Ok(runs.len());
         }
@@ -314,12 +319,7 @@ pub fn cli_synth(
         } else if !params.is_empty() {
             return Err(Error::usage("--params", "effect 'none' takes no parameters"));
         }
-        let model = model::ReplayModel::new(v);
-        let runs = if opts.pose {
-            synth::generate_plan_posed(&model, &p, seed, &plan)
-        } else {
-            synth::generate_plan(&model, &p, seed, &plan)
-        };
+        let runs = synth::generate_plan_logging(&model::ReplayModel::new(v), &p, seed, &plan, &log);
         synth::write_runs(out, &runs)?;
         Ok(runs.len())
     })();

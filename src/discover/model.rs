@@ -332,7 +332,7 @@ pub struct Simulated {
     /// Front contact-temperature rise above the ice, K (0 unless thermal_friction is on).
     pub contact_rise_k: Vec<f64>,
     /// The replay's own pose, untouched by the instruments: X, Y (m) and heading psi (rad) in
-    /// the engine's ground frame (its start need not be the run's; [`super::pose`] compares
+    /// the engine's ground frame (its start need not be the run's; [`super::increments`] compares
     /// increments only).
     pub x: Vec<f64>,
     pub y: Vec<f64>,

@@ -251,10 +251,11 @@ fn report_json(
         "heldout_runs": data.heldout_runs(),
         "noise": data.runs.iter().zip(&data.noise).map(|(r, n)| {
             let mut j = json!({"run": r.name, "yaw_rate_radps": n.yaw_rate, "ay_mps2": n.ay});
-            if let Some(p) = n.pose {
-                j["psi_rad"] = json!(p.psi_rad);
-                if let Some(m) = p.position_m {
-                    j["position_m"] = json!(m);
+            if let Some(p) = n.increments {
+                for (key, v) in [("psi_rad", p.psi_rad), ("position_m", p.position_m), ("vy_mps", p.vy_mps)] {
+                    if let Some(v) = v {
+                        j[key] = json!(v);
+                    }
                 }
             }
             j
@@ -504,31 +505,23 @@ fn md_folds(s: &mut String, d: &Discovery) {
             f.final_noise_ratio[1]
         );
     }
-    if d.folds.iter().any(|f| f.final_pose_noise_ratio.iter().any(Option::is_some)) {
+    if d.folds.iter().any(|f| f.final_increment_noise_ratio.iter().any(Option::is_some)) {
         let _ = writeln!(
             s,
-            "\nThe logged pose, scored on its increments over {} s windows (RMS / noise, heading and lateral \
-             position; at the noise within the limit of its window count):\n",
-            super::pose::WINDOW_S
+            "\nThe channels scored on their increments over {} s windows (RMS / noise per fold; at the noise \
+             within the limit of its window count; `-`: not logged):\n",
+            super::increments::WINDOW_S
         );
-        let _ = writeln!(s, "| fold | windows | limit | baseline | final |\n|---|---|---|---|---|");
-        let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+        let _ = writeln!(s, "| fold | channel | windows | limit | baseline | final |\n|---|---|---|---|---|---|");
         for (i, f) in d.folds.iter().enumerate() {
-            let [b, a] = [f.baseline_pose_noise_ratio, f.final_pose_noise_ratio];
-            let lim = f.pose_windows.map(super::select::pose_noise_limit);
-            let _ = writeln!(
-                s,
-                "| {} | {}, {} | {:.2}, {:.2} | {}, {} | {}, {} |",
-                i + 1,
-                f.pose_windows[0],
-                f.pose_windows[1],
-                lim[0],
-                lim[1],
-                num(b[0]),
-                num(b[1]),
-                num(a[0]),
-                num(a[1])
-            );
+            for (c, name) in super::increments::CHANNELS.iter().enumerate() {
+                let (Some(b), Some(a)) = (f.baseline_increment_noise_ratio[c], f.final_increment_noise_ratio[c]) else {
+                    continue;
+                };
+                let n = f.increment_windows[c];
+                let lim = super::select::increment_noise_limit(n);
+                let _ = writeln!(s, "| {} | {name} | {n} | {lim:.2} | {b:.2} | {a:.2} |", i + 1);
+            }
         }
     }
 }
@@ -614,21 +607,26 @@ fn md_rejected(s: &mut String, d: &Discovery) {
 /// report.md: The noise estimate per run and channel.
 fn md_noise(s: &mut String, data: &Dataset) {
     let _ = writeln!(s, "\n## Noise estimate (from second differences of the measured signals)\n");
-    let posed = data.noise.iter().any(|n| n.pose.is_some());
-    if posed {
+    let logged = data.noise.iter().any(|n| n.increments.is_some());
+    if logged {
         let _ = writeln!(
             s,
-            "| run | yaw rate (rad/s) | ay (m/s^2) | heading (rad) | position (m) |\n|---|---|---|---|---|"
+            "| run | yaw rate (rad/s) | ay (m/s^2) | heading (rad) | position (m) | vy (m/s) |\n|---|---|---|---|---|---|"
         );
     } else {
         let _ = writeln!(s, "| run | yaw rate (rad/s) | ay (m/s^2) |\n|---|---|---|");
     }
     for (r, n) in data.runs.iter().zip(&data.noise) {
         let mut row = format!("| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
-        if posed {
-            let psi = n.pose.map_or("-".to_string(), |p| format!("{:.2e}", p.psi_rad));
-            let pos = n.pose.and_then(|p| p.position_m).map_or("-".to_string(), |m| format!("{m:.2e}"));
-            row.push_str(&format!(" {psi} | {pos} |"));
+        if logged {
+            let p = n.increments.unwrap_or(super::increments::IncrementNoise {
+                psi_rad: None,
+                position_m: None,
+                vy_mps: None,
+            });
+            for v in [p.psi_rad, p.position_m, p.vy_mps] {
+                row.push_str(&v.map_or(" - |".to_string(), |v| format!(" {v:.2e} |")));
+            }
         }
         let _ = writeln!(s, "{row}");
     }

@@ -7,8 +7,8 @@
 //! gives second differences of variance 6 s^2; the median absolute deviation ignores outliers.
 //!
 //! Residuals are divided by their channel's noise, so a perfect model leaves a mean square of 1
-//! per channel and sample. A run that logs its heading adds one normalized residual per pose
-//! window and pose channel ([`super::pose`]: heading and lateral position increments over 1 s).
+//! per channel and sample. A run that logs its heading, position or lateral velocity adds one
+//! normalized residual per window and channel ([`super::increments`]: their increments over 1 s).
 //! Held-out data: with two runs or more, half the runs, stratified by surface and by the
 //! baseline's disagreement ([`Dataset::stratified`]), never used by a fit; with one run,
 //! alternate 3 s blocks (a quarter of the run when it is shorter than 12 s).
@@ -27,9 +27,9 @@ use serde::Serialize;
 use super::effects::Effect;
 use super::equivalence::{Class, Equivalent};
 use super::fit::nelder_mead;
+use super::increments::{self, IncrementNoise};
 use super::measured::MeasuredRun;
 use super::model::{EffectParams, ReplayModel, Simulated};
-use super::pose::{self, PoseNoise};
 use super::search::triples;
 use super::uncertainty::{refine, significant, Interval};
 
@@ -50,9 +50,10 @@ pub const FIT_EVALS: usize = 60;
 pub struct Noise {
     pub yaw_rate: f64,
     pub ay: f64,
-    /// The logged pose's noise, when the run logs a heading ([`super::pose`]).
+    /// The noise of the channels scored on their increments, when the run logs a heading or a
+    /// lateral velocity ([`super::increments`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pose: Option<PoseNoise>,
+    pub increments: Option<IncrementNoise>,
 }
 
 /// Estimate white-noise sigma from second differences (robust).
@@ -86,7 +87,11 @@ impl Dataset {
     pub fn new(runs: Vec<MeasuredRun>) -> Self {
         let noise = runs
             .iter()
-            .map(|r| Noise { yaw_rate: noise_sigma(&r.yaw_rate), ay: noise_sigma(&r.ay), pose: pose::noise(r) })
+            .map(|r| Noise {
+                yaw_rate: noise_sigma(&r.yaw_rate),
+                ay: noise_sigma(&r.ay),
+                increments: increments::noise(r),
+            })
             .collect();
         let held = if runs.len() >= 2 {
             runs.iter().enumerate().map(|(i, r)| vec![i % 2 == 1; r.t.len()]).collect()
@@ -176,12 +181,12 @@ pub struct Scores {
     pub ss_held: [f64; 2],
     /// Normalized sums of squares per channel on held-out samples.
     pub zs_held: [f64; 2],
-    /// The pose windows ([`super::pose`]): their count on the fitted side, and per pose channel
-    /// (heading, lateral position) their count and normalized sum of squares on the held-out
-    /// side. Their squares are in `rss_fit` and `rss_held` too.
-    pub pose_n_fit: usize,
-    pub pose_n_held: [usize; 2],
-    pub pose_zs_held: [f64; 2],
+    /// The increment windows ([`super::increments`]): their count on the fitted side, and per
+    /// channel (heading, lateral position, lateral velocity) their count and normalized sum of
+    /// squares on the held-out side. Their squares are in `rss_fit` and `rss_held` too.
+    pub increment_n_fit: usize,
+    pub increment_n_held: [usize; increments::N],
+    pub increment_zs_held: [f64; increments::N],
 }
 
 impl Scores {
@@ -198,16 +203,18 @@ impl Scores {
         [(self.zs_held[0] / n).sqrt(), (self.zs_held[1] / n).sqrt()]
     }
 
-    /// Held-out RMS over the noise of the pose windows, per pose channel (heading, lateral
-    /// position); None for a channel without a held-out window.
-    pub fn pose_noise_ratio(&self) -> [Option<f64>; 2] {
-        [0, 1].map(|c| (self.pose_n_held[c] > 0).then(|| (self.pose_zs_held[c] / self.pose_n_held[c] as f64).sqrt()))
+    /// Held-out RMS over the noise of the increment windows, per channel (heading, lateral
+    /// position, lateral velocity); None for a channel without a held-out window.
+    pub fn increment_noise_ratio(&self) -> [Option<f64>; increments::N] {
+        std::array::from_fn(|c| {
+            (self.increment_n_held[c] > 0).then(|| (self.increment_zs_held[c] / self.increment_n_held[c] as f64).sqrt())
+        })
     }
 
     /// Held-out BIC with k parameters.
     pub fn bic_held(&self, k: usize) -> f64 {
-        // Two residuals (yaw rate, ay) per held-out sample, and one per pose window and channel.
-        let n = (2 * self.n_held + self.pose_n_held[0] + self.pose_n_held[1]).max(1) as f64;
+        // Two residuals (yaw rate, ay) per held-out sample, and one per increment window and channel.
+        let n = (2 * self.n_held + self.increment_n_held.iter().sum::<usize>()).max(1) as f64;
         n * (self.rss_held.max(1e-300) / n).ln() + k as f64 * n.ln()
     }
 }
@@ -257,15 +264,15 @@ pub fn score(data: &Dataset, sims: &[Simulated]) -> Scores {
                 s.ss_fit[1] += ea * ea;
             }
         }
-        for w in pose::residuals(r, &nz, sim, &data.held[i]) {
+        for w in increments::residuals(r, &nz, sim, &data.held[i]) {
             let z = w.z * w.z;
             if w.held {
                 s.rss_held += z;
-                s.pose_n_held[w.channel] += 1;
-                s.pose_zs_held[w.channel] += z;
+                s.increment_n_held[w.channel] += 1;
+                s.increment_zs_held[w.channel] += z;
             } else {
                 s.rss_fit += z;
-                s.pose_n_fit += 1;
+                s.increment_n_fit += 1;
             }
         }
     }
@@ -285,7 +292,11 @@ fn fit_cost(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> f64 {
                     ((r.yaw_rate[k] - sim.yaw_rate[k]) / nz.yaw_rate).powi(2) + ((r.ay[k] - sim.ay[k]) / nz.ay).powi(2);
             }
         }
-        c += pose::residuals(r, &nz, sim, &data.held[i]).iter().filter(|w| !w.held).map(|w| w.z * w.z).sum::<f64>();
+        c += increments::residuals(r, &nz, sim, &data.held[i])
+            .iter()
+            .filter(|w| !w.held)
+            .map(|w| w.z * w.z)
+            .sum::<f64>();
         if !sim.ok {
             c *= 10.0;
         }
@@ -345,32 +356,33 @@ pub struct Fold {
     /// Held-out RMS residual over the noise, per channel [yaw rate, ay], baseline and final.
     pub baseline_noise_ratio: [f64; 2],
     pub final_noise_ratio: [f64; 2],
-    /// The same for the pose windows [heading, lateral position] ([`super::pose`]); null for a
-    /// channel no run logs, and left out of the report when no run logs a heading.
-    #[serde(skip_serializing_if = "no_pose")]
-    pub baseline_pose_noise_ratio: [Option<f64>; 2],
-    #[serde(skip_serializing_if = "no_pose")]
-    pub final_pose_noise_ratio: [Option<f64>; 2],
-    /// Held-out pose windows per pose channel (what [`pose_noise_limit`] is taken at).
+    /// The same for the increment windows [heading, lateral position, lateral velocity]
+    /// ([`super::increments`]); null for a channel no run logs, and left out of the report when
+    /// no run logs any.
+    #[serde(skip_serializing_if = "no_increments")]
+    pub baseline_increment_noise_ratio: [Option<f64>; increments::N],
+    #[serde(skip_serializing_if = "no_increments")]
+    pub final_increment_noise_ratio: [Option<f64>; increments::N],
+    /// Held-out increment windows per channel (what [`increment_noise_limit`] is taken at).
     #[serde(skip_serializing_if = "no_windows")]
-    pub pose_windows: [usize; 2],
+    pub increment_windows: [usize; increments::N],
 }
 
-fn no_pose(r: &[Option<f64>; 2]) -> bool {
+fn no_increments(r: &[Option<f64>; increments::N]) -> bool {
     r.iter().all(Option::is_none)
 }
 
-fn no_windows(n: &[usize; 2]) -> bool {
+fn no_windows(n: &[usize; increments::N]) -> bool {
     n.iter().all(|n| *n == 0)
 }
 
-/// The held-out RMS over the noise at or below which a pose channel with `n` held-out windows is
+/// The held-out RMS over the noise at or below which an increment channel with `n` held-out windows is
 /// at the noise: [`EXPLAINED_NOISE_RATIO`], or, when there are so few windows that noise alone
 /// passes that ratio by chance, the RMS that noise alone stays below with probability 0.999 (the
 /// chi-square quantile with n degrees of freedom by the Wilson-Hilferty cube; 1.94 for 6 windows,
 /// 1.66 for 12, 1.5 from 21 on). The sample channels have thousands of held-out samples,
 /// whose noise-only RMS stays within a few per cent of 1, so the ratio alone is their limit.
-pub fn pose_noise_limit(n: usize) -> f64 {
+pub fn increment_noise_limit(n: usize) -> f64 {
     const Z999: f64 = 3.090_232;
     let n = n.max(1) as f64;
     let c = 2.0 / (9.0 * n);
@@ -387,19 +399,21 @@ impl Fold {
             final_heldout_rmse: fin.rmse(true),
             baseline_noise_ratio: baseline.noise_ratio(),
             final_noise_ratio: fin.noise_ratio(),
-            baseline_pose_noise_ratio: baseline.pose_noise_ratio(),
-            final_pose_noise_ratio: fin.pose_noise_ratio(),
-            pose_windows: fin.pose_n_held,
+            baseline_increment_noise_ratio: baseline.increment_noise_ratio(),
+            final_increment_noise_ratio: fin.increment_noise_ratio(),
+            increment_windows: fin.increment_n_held,
         }
     }
 
     /// True when the final model leaves every scored channel of this fold's held-out side at the
-    /// noise: the yaw rate and a_y within [`EXPLAINED_NOISE_RATIO`], each pose channel within
-    /// [`pose_noise_limit`] of its window count.
+    /// noise: the yaw rate and a_y within [`EXPLAINED_NOISE_RATIO`], each increment channel within
+    /// [`increment_noise_limit`] of its window count.
     pub fn final_at_noise(&self) -> bool {
         self.final_noise_ratio.iter().all(|r| *r <= EXPLAINED_NOISE_RATIO)
-            && (0..2)
-                .all(|c| self.final_pose_noise_ratio[c].is_none_or(|r| r <= pose_noise_limit(self.pose_windows[c])))
+            && (0..increments::N).all(|c| {
+                self.final_increment_noise_ratio[c]
+                    .is_none_or(|r| r <= increment_noise_limit(self.increment_windows[c]))
+            })
     }
 }
 

@@ -28,10 +28,28 @@ pub const ICE_MU_MAX: f64 = 0.3;
 /// Noise standard deviations: yaw rate (rad/s), ay (m/s^2), steer (rad), vx (m/s).
 pub const NOISE: [f64; 4] = [0.0015, 0.03, 1e-4, 0.02];
 
-/// Noise standard deviations of a logged pose (`vehsim synth --pose`): heading (rad) and position
-/// per axis (m), a survey-grade satellite receiver with an inertial system (real-time kinematic
-/// position to about a centimetre, heading to about 0.03 degrees).
-pub const POSE_NOISE: [f64; 2] = [5e-4, 0.01];
+/// The optional channels `vehsim synth --log` can add, in the order they are written and their
+/// noise drawn, with their white-noise standard deviations: a survey-grade satellite receiver with
+/// an inertial system (real-time kinematic position to about a centimetre, heading to about 0.03
+/// degrees, lateral velocity to about 0.01 m/s, the noise of the Stanford lap's logged `vy`).
+pub const LOGGABLE: [(&str, f64); 4] = [("x", 0.01), ("y", 0.01), ("psi", 5e-4), ("vy", 0.01)];
+
+/// The noise standard deviation of loggable channel `name` ([`LOGGABLE`]).
+pub fn log_noise(name: &str) -> f64 {
+    LOGGABLE.iter().find(|(n, _)| *n == name).map_or(0.0, |(_, s)| *s)
+}
+
+/// The `--log` channels, checked against [`LOGGABLE`] and put in its order (each once).
+pub fn parse_log(given: &[String]) -> Result<Vec<&'static str>> {
+    let names: Vec<&str> = LOGGABLE.iter().map(|(n, _)| *n).collect();
+    if let Some(bad) = given.iter().find(|g| !names.contains(&g.as_str())) {
+        return Err(Error::usage(
+            "--log",
+            format!("'{bad}' is not a channel synth can log; allowed: {} (comma-separated)", names.join(", ")),
+        ));
+    }
+    Ok(names.into_iter().filter(|n| given.iter().any(|g| g == n)).collect())
+}
 
 /// Deterministic normal random numbers (splitmix64 + Box–Muller).
 #[derive(Debug, Clone)]
@@ -212,18 +230,20 @@ pub fn generate_plan(
     seed: u64,
     plan: &[Manoeuvre],
 ) -> Vec<(MeasuredRun, String)> {
-    generate_plan_each(model, &|_| *p, seed, plan, false)
+    generate_plan_each(model, &|_| *p, seed, plan, &[])
 }
 
-/// As [`generate_plan`], every run also logging its pose (`x`, `y`, `psi`: the replay's own, with
-/// the noise of [`POSE_NOISE`]; the sensor effects of `p` do not act on it).
-pub fn generate_plan_posed(
+/// As [`generate_plan`], every run also logging the channels `log` (names of [`LOGGABLE`]: the
+/// replay's own pose and lateral velocity, with their noise; the sensor effects of `p` do not act
+/// on them).
+pub fn generate_plan_logging(
     model: &ReplayModel,
     p: &EffectParams,
     seed: u64,
     plan: &[Manoeuvre],
+    log: &[&str],
 ) -> Vec<(MeasuredRun, String)> {
-    generate_plan_each(model, &|_| *p, seed, plan, true)
+    generate_plan_each(model, &|_| *p, seed, plan, log)
 }
 
 /// As [`generate_plan`], run `i` driven on its own road `roads[i]` (bank and grade; over `p`,
@@ -235,26 +255,26 @@ pub fn generate_plan_roads(
     seed: u64,
     plan: &[Manoeuvre],
     roads: &[vehsim_core::vehicle::road::Road],
-    pose: bool,
+    log: &[&str],
 ) -> Vec<(MeasuredRun, String)> {
     assert_eq!(roads.len(), plan.len(), "one road per manoeuvre");
-    generate_plan_each(model, &|i| EffectParams { road: Some(roads[i]), ..*p }, seed, plan, pose)
+    generate_plan_each(model, &|i| EffectParams { road: Some(roads[i]), ..*p }, seed, plan, log)
 }
 
 /// The runs of `plan` (names `NN_<id>`), run `i` generated with the parameters `p_of(i)`, noise
-/// from `seed` in the order of the plan; logging the pose when `pose`.
+/// from `seed` in the order of the plan; also logging the channels `log`.
 fn generate_plan_each(
     model: &ReplayModel,
     p_of: &dyn Fn(usize) -> EffectParams,
     seed: u64,
     plan: &[Manoeuvre],
-    pose: bool,
+    log: &[&str],
 ) -> Vec<(MeasuredRun, String)> {
     let mut rng = Rng::new(seed);
     let mut out = Vec::new();
     for (i, m) in plan.iter().enumerate() {
         let name = format!("{:02}_{}", i + 1, m.id);
-        let mut run = truth_of(model, &p_of(i), m, &name, pose);
+        let mut run = truth_of(model, &p_of(i), m, &name, log);
         add_noise(&mut run, &mut rng);
         out.push((run, name));
     }
@@ -264,11 +284,12 @@ fn generate_plan_each(
 /// The noise-free run `name` of manoeuvre `m` by the replay model with `p`: 12 s at 100 Hz, the
 /// speed drifting +-5 % over 24 s; the lane change's steer is what the driver did.
 pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -> MeasuredRun {
-    truth_of(model, p, m, name, false)
+    truth_of(model, p, m, name, &[])
 }
 
-/// [`truth`], also logging the replay's pose (`x`, `y`, `psi` wrapped to within +-pi) when `pose`.
-fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, pose: bool) -> MeasuredRun {
+/// [`truth`], also logging the replay's channels `log` (of [`LOGGABLE`]; `psi` wrapped to within
+/// +-pi).
+fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, log: &[&str]) -> MeasuredRun {
     let n = 1201;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
     let v0 = m.speed_mps;
@@ -302,10 +323,15 @@ fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, po
     };
     run.yaw_rate = sim.yaw_rate;
     run.ay = sim.ay;
-    if pose {
-        let tau = std::f64::consts::TAU;
-        let psi = sim.psi.iter().map(|a| a - tau * ((a + std::f64::consts::PI) / tau).floor()).collect();
-        run.optional = vec![("x".to_string(), sim.x), ("y".to_string(), sim.y), ("psi".to_string(), psi)];
+    let tau = std::f64::consts::TAU;
+    for &c in log {
+        let values = match c {
+            "x" => sim.x.clone(),
+            "y" => sim.y.clone(),
+            "psi" => sim.psi.iter().map(|a| a - tau * ((a + std::f64::consts::PI) / tau).floor()).collect(),
+            _ => sim.vy.clone(),
+        };
+        run.optional.push((c.to_string(), values));
     }
     run
 }
@@ -403,7 +429,7 @@ pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
     for (r, name) in runs {
         let mut csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay);
         if !r.optional.is_empty() {
-            // The optional channels (a logged pose) as further columns.
+            // The optional channels (`--log`) as further columns.
             let mut lines: Vec<String> = csv.lines().map(str::to_string).collect();
             for (name, values) in &r.optional {
                 lines[0].push_str(&format!(",{name}"));
@@ -422,8 +448,8 @@ pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
 }
 
 /// Add the sensor noise of [`NOISE`] to a run's channels, in a fixed order (yaw rate, ay, steer,
-/// vx, then a logged ax with the a_y noise, then a logged pose x, y, psi with [`POSE_NOISE`]), so
-/// a seed gives the same bytes.
+/// vx, then a logged ax with the a_y noise, then the `--log` channels in the order of
+/// [`LOGGABLE`] with its noise), so a seed gives the same bytes.
 pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
     let channels = [&mut run.yaw_rate, &mut run.ay, &mut run.steer, &mut run.vx];
     for (values, sigma) in channels.into_iter().zip(NOISE) {
@@ -436,8 +462,8 @@ pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
             *v += NOISE[1] * rng.normal();
         }
     }
-    // A logged pose: x, y, then psi (kept within +-pi).
-    for (channel, sigma) in [("x", POSE_NOISE[1]), ("y", POSE_NOISE[1]), ("psi", POSE_NOISE[0])] {
+    // The logged pose and lateral velocity (psi kept within +-pi).
+    for (channel, sigma) in LOGGABLE {
         if let Some((_, values)) = run.optional.iter_mut().find(|(n, _)| n == channel) {
             for v in values.iter_mut() {
                 *v += sigma * rng.normal();

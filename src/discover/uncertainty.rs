@@ -1,8 +1,9 @@
 //! Confidence intervals of fitted effect parameters, from the Jacobian of the residuals at the
 //! optimum.
 //!
-//! r(theta) is the vector of the fitted samples' residuals (yaw rate and ay, and the fitted pose
-//! windows of a run that logs its heading, [`super::pose`]), each divided by its noise estimate. J = dr/dtheta by central differences (step 1 % of each parameter's
+//! r(theta) is the vector of the fitted samples' residuals (yaw rate and ay, and the fitted
+//! increment windows of a run that logs a heading, position or lateral velocity,
+//! [`super::increments`]), each divided by its noise estimate. J = dr/dtheta by central differences (step 1 % of each parameter's
 //! typical scale; one-sided when the step would cross a bound). The Gauss–Newton covariance is
 //!
 //!   C = s^2 (J^T J)^-1 * f,   s^2 = RSS / (N - p),   f = max((1 + rho) / (1 - rho), tau),
@@ -34,8 +35,8 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use super::effects::{Effect, ParamDef};
+use super::increments;
 use super::model::{EffectParams, ReplayModel};
-use super::pose;
 use super::select::{apply_all, noise_sigma, simulate_fitted, Dataset};
 use super::synth::Rng;
 
@@ -74,14 +75,14 @@ impl Interval {
 }
 
 /// Normalized residuals of the fitted samples (per run: yaw rate then ay, sample by sample, then
-/// the run's fitted pose windows, [`super::pose`]), the residuals' sum of squares and their autocorrelation variance factor (the larger of the AR(1)
+/// the run's fitted increment windows, [`super::increments`]), the residuals' sum of squares and their autocorrelation variance factor (the larger of the AR(1)
 /// factor and the integrated autocorrelation time, pooled over runs and channels; see the module
 /// header).
 fn residuals(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> (Vec<f64>, f64, f64) {
     let sims = simulate_fitted(model, data, p);
     let mut r = Vec::new();
     let mut sq = 0.0;
-    let mut pose_sq = 0.0;
+    let mut inc_sq = 0.0;
     // Sums of lagged products (lag 1..=MAX_LAG) over pairs of fitted samples of one run.
     let mut lagged = [0.0; MAX_LAG + 1];
     for (i, (run, sim)) in data.runs.iter().zip(&sims).enumerate() {
@@ -102,15 +103,15 @@ fn residuals(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> (Vec<f64>
                 }
             }
         }
-        // The fitted pose windows after the run's samples (not in the autocorrelation sums:
+        // The fitted increment windows after the run's samples (not in the autocorrelation sums:
         // windows do not overlap).
-        for w in pose::residuals(run, &nz, sim, &data.held[i]).iter().filter(|w| !w.held) {
+        for w in increments::residuals(run, &nz, sim, &data.held[i]).iter().filter(|w| !w.held) {
             r.push(w.z);
-            pose_sq += w.z * w.z;
+            inc_sq += w.z * w.z;
         }
     }
     if !(sq > 0.0) {
-        return (r, sq + pose_sq, 1.0);
+        return (r, sq + inc_sq, 1.0);
     }
     let rho1 = (lagged[1] / sq).clamp(0.0, 0.99);
     let mut tau = 1.0;
@@ -121,7 +122,7 @@ fn residuals(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> (Vec<f64>
         }
         tau += 2.0 * rho;
     }
-    (r, sq + pose_sq, tau.max((1.0 + rho1) / (1.0 - rho1)))
+    (r, sq + inc_sq, tau.max((1.0 + rho1) / (1.0 - rho1)))
 }
 
 /// The data with white noise added again to the inputs (steer and vx) at each run's own noise

@@ -1,59 +1,70 @@
-//! The logged pose as evidence: a run that logs its heading `psi` (rad, counter-clockwise) is
-//! scored on the heading's increments over windows, and one that also logs its position `x`, `y`
-//! (m, ground frame) on the lateral part of the position's increments. Neither is compared sample
-//! by sample: the heading and the position are integrals of what the replay gets wrong, so their
-//! sample residuals drift and are correlated over the whole run, and a white-noise weight would
-//! let them swamp the yaw rate and a_y. An increment over a window restarts from the measured pose
-//! at the window's start, so its residual is the replay's error integrated over that window only.
+//! Channels scored on their increments over windows: a run that logs its heading `psi` (rad,
+//! counter-clockwise), its position `x`, `y` (m, ground frame, with the heading) or its lateral
+//! velocity `vy` (m/s, at the CG, positive left) is scored on them as well as on yaw rate and a_y.
+//! Not sample by sample: the heading and the position are integrals of what the replay gets
+//! wrong, so their sample residuals drift and are correlated over the whole run, and a lateral
+//! velocity from an inertial navigation system carries an offset (its mounting angle times the
+//! speed) that no effect of the car explains; a white-noise weight would let either swamp the yaw
+//! rate and a_y. An increment over a window restarts from the measured value at the window's
+//! start, so its residual is the replay's error over that window only, and a constant offset
+//! cancels.
 //!
 //! Windows: each stretch of samples on one side of the held-out split is cut into windows of
 //! [`WINDOW_S`] (the last one takes a remainder under half a window; a stretch shorter than a
-//! window is one window). A window from sample k0 to k1 gives
+//! window is one window; no window crosses the split). A window from sample k0 to k1 gives
 //!
-//!   heading:  e_psi = (psi(k1) - psi(k0)) - (psi_s(k1) - psi_s(k0)),
-//!   position: e_lat = n(psi(k0)) . (p(k1) - p(k0)) - n(psi_s(k0)) . (p_s(k1) - p_s(k0)),
+//!   heading:            e_psi = (psi(k1) - psi(k0)) - (psi_s(k1) - psi_s(k0)),
+//!   lateral position:   e_lat = n(psi(k0)) . (p(k1) - p(k0)) - n(psi_s(k0)) . (p_s(k1) - p_s(k0)),
+//!   lateral velocity:   e_vy  = (vy(k1) - vy(k0)) - (vy_s(k1) - vy_s(k0)),
 //!
-//! with the replay's own pose psi_s, p_s (the engine integrates it, in its own ground frame; only
-//! increments are compared, so the frames need not agree) and n(psi) = (-sin psi, cos psi) the
-//! unit vector to the left of a heading. The measured heading's increment is the sum of its
-//! wrapped sample-to-sample differences (a heading logged in (-pi, pi] unwraps). The position's
-//! component along the heading is not scored: it is the integral of the measured speed, which the
-//! replay takes as its input, so it tests the speed sensor and not the car.
+//! with the replay's own pose psi_s, p_s and lateral velocity vy_s (the engine integrates the pose
+//! in its own ground frame; only increments are compared, so the frames need not agree) and
+//! n(psi) = (-sin psi, cos psi) the unit vector to the left of a heading. The measured heading's
+//! increment is the sum of its wrapped sample-to-sample differences (a heading logged within +-pi
+//! unwraps). The position is scored only with a heading, and only across it: its component along
+//! the heading is the integral of the measured speed, which the replay takes as its input, so it
+//! tests the speed sensor and not the car.
 //!
-//! The pose is taken as the reference of the measurement chain: the `[sensors]` effects (latency,
-//! scale, offsets, clock skew, accelerometer mounting) act on the inertial channels (yaw rate,
-//! a_y) and not on the heading and position, which a satellite receiver or a survey-grade
-//! inertial navigation system logs on the logger's clock. That is what lets the pose tell a
-//! sensor's error from the car's: a latency of both inertial channels and a steering lag delay the
-//! yaw rate and a_y alike, but only the steering lag delays the heading.
+//! These channels are taken as the reference of the measurement chain: the `[sensors]` effects
+//! (latency, scale, offsets, clock skew, accelerometer mounting) act on the inertial channels (yaw
+//! rate, a_y) and not on the heading, position and lateral velocity, which a satellite receiver or
+//! a survey-grade inertial navigation system logs on the logger's clock. That is what lets them
+//! tell a sensor's error from the car's: a latency of both inertial channels and a steering lag
+//! delay the yaw rate and a_y alike, but only the steering lag delays the heading.
 //!
-//! Noise of an increment (its normalization, like the channels' noise in [`super::select`]): the
-//! heading's and position's white noise sigma_psi, sigma_p from second differences (as every
-//! channel's), so sigma(e_psi)^2 = 2 sigma_psi^2 and sigma(e_lat)^2 = 2 sigma_p^2 + (|p(k1) -
+//! Noise of an increment (its normalization, like the channels' noise in [`super::select`]): each
+//! channel's white noise sigma from second differences (as every channel's), so sigma(e_psi)^2 =
+//! 2 sigma_psi^2, sigma(e_vy)^2 = 2 sigma_vy^2 and sigma(e_lat)^2 = 2 sigma_p^2 + (|p(k1) -
 //! p(k0)| sigma_psi)^2 (the measured heading at k0 turns the measured increment). Each is floored
 //! at what integrating the inertial channel's own noise over the window gives: sigma_r W / sqrt(m)
-//! for the heading and sigma_ay W^2 / sqrt(3 m) for the lateral position, with W the window's
-//! duration and m its sample intervals. A pose logged without noise, or one an inertial system
-//! integrated from the same gyro, then weighs no more than the inertial samples it spans.
+//! for the heading, sigma_ay W / sqrt(m) for the lateral velocity (v_y' = a_y - v_x r) and
+//! sigma_ay W^2 / sqrt(3 m) for the lateral position, with W the window's duration and m its
+//! sample intervals. A channel logged without noise, or one an inertial system integrated from the
+//! same sensors, then weighs no more than the inertial samples it spans.
 
 use super::measured::MeasuredRun;
 use super::model::Simulated;
 use super::select::{noise_sigma, Noise};
 
-/// Duration of a pose window, s.
+/// Duration of an increment window, s.
 pub const WINDOW_S: f64 = 1.0;
 
-/// The pose channels a run logs, and their white-noise levels.
+/// The windowed channels a run logs, and their white-noise levels (None for one it does not log).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct PoseNoise {
+pub struct IncrementNoise {
     /// Heading noise, rad.
-    pub psi_rad: f64,
-    /// Position noise per axis, m (None when the run does not log both `x` and `y`).
+    pub psi_rad: Option<f64>,
+    /// Position noise per axis, m (the run logs `x`, `y` and `psi`).
     pub position_m: Option<f64>,
+    /// Lateral velocity noise, m/s.
+    pub vy_mps: Option<f64>,
 }
 
-/// The two scored pose channels, in the order of [`Residual::channel`].
-pub const CHANNELS: [&str; 2] = ["heading", "lateral_position"];
+/// The scored window channels, in the order of [`Residual::channel`].
+pub const CHANNELS: [&str; 3] = ["heading", "lateral_position", "lateral_velocity"];
+
+/// Number of window channels.
+pub const N: usize = CHANNELS.len();
 
 /// Wrap an angle difference into (-pi, pi].
 fn wrap(a: f64) -> f64 {
@@ -79,14 +90,17 @@ fn unwrapped(psi: &[f64]) -> Vec<f64> {
     out
 }
 
-/// The pose noise of `run`: None when it logs no heading.
-pub fn noise(run: &MeasuredRun) -> Option<PoseNoise> {
-    let psi = run.channel("psi")?;
-    let position_m = match (run.channel("x"), run.channel("y")) {
-        (Some(x), Some(y)) => Some((0.5 * (noise_sigma(x).powi(2) + noise_sigma(y).powi(2))).sqrt()),
+/// The window channels' noise of `run`: None when it logs neither a heading nor a lateral
+/// velocity.
+pub fn noise(run: &MeasuredRun) -> Option<IncrementNoise> {
+    let psi = run.channel("psi");
+    let position_m = match (run.channel("x"), run.channel("y"), psi) {
+        (Some(x), Some(y), Some(_)) => Some((0.5 * (noise_sigma(x).powi(2) + noise_sigma(y).powi(2))).sqrt()),
         _ => None,
     };
-    Some(PoseNoise { psi_rad: noise_sigma(&unwrapped(psi)), position_m })
+    let vy_mps = run.channel("vy").map(noise_sigma);
+    let psi_rad = psi.map(|p| noise_sigma(&unwrapped(p)));
+    (psi_rad.is_some() || vy_mps.is_some()).then_some(IncrementNoise { psi_rad, position_m, vy_mps })
 }
 
 /// One window's residual.
@@ -94,7 +108,7 @@ pub fn noise(run: &MeasuredRun) -> Option<PoseNoise> {
 pub struct Residual {
     /// On the held-out side of the split.
     pub held: bool,
-    /// 0: heading (rad), 1: lateral position (m) ([`CHANNELS`]).
+    /// 0: heading (rad), 1: lateral position (m), 2: lateral velocity (m/s) ([`CHANNELS`]).
     pub channel: usize,
     /// Measured minus replayed increment, in the channel's unit.
     pub error: f64,
@@ -133,33 +147,41 @@ pub fn windows(t: &[f64], held: &[bool]) -> Vec<(usize, usize, bool)> {
     out
 }
 
-/// The pose residuals of `run` against the replay `sim` with the split `held`, every window in
-/// order (heading, then the lateral position when the run logs it); none when the run logs no
-/// heading or the replay has no pose.
+/// The window residuals of `run` against the replay `sim` with the split `held`, every window in
+/// order (heading, lateral position, lateral velocity, each when the run logs it); none when the
+/// run logs none of them or the replay lacks the channels.
 pub fn residuals(run: &MeasuredRun, nz: &Noise, sim: &Simulated, held: &[bool]) -> Vec<Residual> {
-    let (Some(pn), Some(psi)) = (nz.pose, run.channel("psi")) else { return Vec::new() };
+    let Some(pn) = nz.increments else { return Vec::new() };
     let n = run.t.len();
-    if sim.psi.len() != n || sim.x.len() != n || sim.y.len() != n {
+    if sim.psi.len() != n || sim.x.len() != n || sim.y.len() != n || sim.vy.len() != n {
         return Vec::new();
     }
-    let psi_u = unwrapped(psi);
+    let psi = run.channel("psi").zip(pn.psi_rad).map(|(p, s)| (p, unwrapped(p), s));
     let xy = match (run.channel("x"), run.channel("y"), pn.position_m) {
         (Some(x), Some(y), Some(s)) => Some((x, y, s)),
         _ => None,
     };
+    let vy = run.channel("vy").zip(pn.vy_mps);
     let mut out = Vec::new();
     for (k0, k1, side) in windows(&run.t, held) {
         let w = run.t[k1] - run.t[k0];
         let m = (k1 - k0) as f64;
-        let e = (psi_u[k1] - psi_u[k0]) - (sim.psi[k1] - sim.psi[k0]);
-        let s = (2f64.sqrt() * pn.psi_rad).max(nz.yaw_rate * w / m.sqrt());
-        out.push(Residual { held: side, channel: 0, error: e, z: e / s });
-        if let Some((x, y, sp)) = xy {
-            let lateral = |psi: f64, dx: f64, dy: f64| -psi.sin() * dx + psi.cos() * dy;
-            let (dx, dy) = (x[k1] - x[k0], y[k1] - y[k0]);
-            let e = lateral(psi[k0], dx, dy) - lateral(sim.psi[k0], sim.x[k1] - sim.x[k0], sim.y[k1] - sim.y[k0]);
-            let s = (2.0 * sp * sp + (dx.hypot(dy) * pn.psi_rad).powi(2)).sqrt().max(nz.ay * w * w / (3.0 * m).sqrt());
-            out.push(Residual { held: side, channel: 1, error: e, z: e / s });
+        if let Some((psi, psi_u, sp)) = &psi {
+            let e = (psi_u[k1] - psi_u[k0]) - (sim.psi[k1] - sim.psi[k0]);
+            let s = (2f64.sqrt() * sp).max(nz.yaw_rate * w / m.sqrt());
+            out.push(Residual { held: side, channel: 0, error: e, z: e / s });
+            if let Some((x, y, sx)) = xy {
+                let lateral = |psi: f64, dx: f64, dy: f64| -psi.sin() * dx + psi.cos() * dy;
+                let (dx, dy) = (x[k1] - x[k0], y[k1] - y[k0]);
+                let e = lateral(psi[k0], dx, dy) - lateral(sim.psi[k0], sim.x[k1] - sim.x[k0], sim.y[k1] - sim.y[k0]);
+                let s = (2.0 * sx * sx + (dx.hypot(dy) * sp).powi(2)).sqrt().max(nz.ay * w * w / (3.0 * m).sqrt());
+                out.push(Residual { held: side, channel: 1, error: e, z: e / s });
+            }
+        }
+        if let Some((vy, sv)) = vy {
+            let e = (vy[k1] - vy[k0]) - (sim.vy[k1] - sim.vy[k0]);
+            let s = (2f64.sqrt() * sv).max(nz.ay * w / m.sqrt());
+            out.push(Residual { held: side, channel: 2, error: e, z: e / s });
         }
     }
     out
@@ -205,14 +227,14 @@ mod tests {
     }
 
     #[test]
-    fn the_pose_limit_is_what_noise_alone_passes_once_in_a_thousand() {
-        use crate::discover::select::{pose_noise_limit, EXPLAINED_NOISE_RATIO};
+    fn the_increment_limit_is_what_noise_alone_passes_once_in_a_thousand() {
+        use crate::discover::select::{increment_noise_limit, EXPLAINED_NOISE_RATIO};
         use crate::discover::synth::Rng;
         // Monte Carlo of the RMS of n standard normal residuals: the fraction above the limit is
         // 0.001 where the limit is the quantile (n = 6, 12) and smaller where 1.5 is larger.
         let mut rng = Rng::new(7);
         for (n, expect) in [(6usize, Some(1.944)), (12, Some(1.660)), (40, None)] {
-            let lim = pose_noise_limit(n);
+            let lim = increment_noise_limit(n);
             if let Some(e) = expect {
                 assert!((lim - e).abs() < 2e-3, "limit at {n}: {lim}");
             } else {
