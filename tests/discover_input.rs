@@ -95,7 +95,7 @@ fn steer_in_degrees_is_rejected() {
 }
 
 #[test]
-fn a_pose_out_of_range_names_the_line_and_column() {
+fn a_pose_or_lateral_velocity_out_of_range_names_the_line_and_column() {
     // A heading of 1e6 rad (beyond any unwrapped heading) on line 42; the pose columns x, y, psi.
     let text = csv(|k, l| {
         let psi = if k == 40 { "1e6" } else { "0.1" };
@@ -106,6 +106,9 @@ fn a_pose_out_of_range_names_the_line_and_column() {
     let text = csv(|k, l| format!("{},{},0,0\n", l.trim_end(), if k == 7 { "-3e8" } else { "1" }))
         .replace("ay\n", "ay,x,y,psi\n");
     expect_bad("pose-x", &text, &["line 9", "column 'x'", "at most 1e8 m"]);
+    let text =
+        csv(|k, l| format!("{},{}\n", l.trim_end(), if k == 3 { "250" } else { "0.1" })).replace("ay\n", "ay,vy\n");
+    expect_bad("vy", &text, &["line 5", "column 'vy'", "at most 1e2 m/s"]);
 }
 
 #[test]

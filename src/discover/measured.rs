@@ -6,8 +6,8 @@
 //! (m), `psi` (rad), `vy` (m/s), `ax` (m/s^2), `roll` (rad). Any other column is ignored with a
 //! notice. Time must increase strictly (sampling need not be uniform), every value must be finite,
 //! the run must last at least 1 s and at most 3600 s, the median sample interval must lie in
-//! 0.1 ms to 1 s (else `t` is not in seconds), a logged position within 1e8 m and heading within
-//! 1e5 rad in magnitude, |steer| must stay at or below 1.2 rad (a larger
+//! 0.1 ms to 1 s (else `t` is not in seconds), a logged position within 1e8 m, heading within
+//! 1e5 rad and lateral velocity within 100 m/s in magnitude, |steer| must stay at or below 1.2 rad (a larger
 //! value almost certainly means degrees or a steering-wheel angle), vx must not be negative (beyond
 //! 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s (a car does not turn
 //! on the spot). Each violation is one bad-input error that names the file and the row or column
@@ -51,6 +51,8 @@ pub const YAW_NOISE_RADPS: f64 = 0.05;
 pub const POSITION_MAX_M: f64 = 1e8;
 /// Largest magnitude of a logged heading `psi`, rad (an unwrapped heading of some 16 000 turns).
 pub const HEADING_MAX_RAD: f64 = 1e5;
+/// Largest magnitude of a logged lateral velocity `vy`, m/s (the manoeuvre files' largest speed).
+pub const VY_MAX_MPS: f64 = 100.0;
 
 /// One measured run, validated.
 #[derive(Debug, Clone)]
@@ -203,12 +205,18 @@ fn parse_run_csv_with(path: &Path, text: &str, side: &Path, units: &BTreeMap<Str
     check_time(path, &t)?;
     let (steer, vx, yaw_rate) = (get("steer"), get("vx"), get("yaw_rate"));
     check_channels(path, &steer, &vx, &yaw_rate)?;
-    for (col, max, unit) in [("x", POSITION_MAX_M, "m"), ("y", POSITION_MAX_M, "m"), ("psi", HEADING_MAX_RAD, "rad")] {
+    let bounded = [
+        ("x", POSITION_MAX_M, "m"),
+        ("y", POSITION_MAX_M, "m"),
+        ("psi", HEADING_MAX_RAD, "rad"),
+        ("vy", VY_MAX_MPS, "m/s"),
+    ];
+    for (col, max, unit) in bounded {
         if let Some(k) = get(col).iter().position(|v| v.abs() > max) {
             return Err(Error::input(
                 path,
                 format!(
-                    "line {}, column '{col}': {} {unit}; a pose value must be at most {max:e} {unit} in magnitude",
+                    "line {}, column '{col}': {} {unit}; it must be at most {max:e} {unit} in magnitude",
                     k + 2,
                     vehsim_core::error::short_num(get(col)[k])
                 ),
