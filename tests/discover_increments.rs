@@ -14,6 +14,7 @@
 
 mod common;
 
+use vehsim::discover::equivalence::{separate, Equivalent};
 use vehsim::discover::increments::{self, CHANNELS};
 use vehsim::discover::model::{EffectParams, ReplayModel};
 use vehsim::discover::select::increment_noise_limit;
@@ -91,6 +92,39 @@ fn the_logged_heading_tells_a_sensor_latency_from_a_steering_lag() {
     eprintln!("a_y latency {ay:.5} s ({lo:.5} to {hi:.5})");
     assert!((ay - 0.05).abs() <= 0.005, "a_y latency {ay}, hidden 0.05");
     assert_increments_at_noise(&d, &[0, 1]);
+}
+
+#[test]
+fn the_separating_manoeuvre_report_says_what_a_logged_heading_would_add() {
+    // The class {sensor latency, steering lag} at 0.05 s each: on the gentle sine, yaw rate and
+    // a_y separate it by a fraction of their noise, a logged heading by several times its own.
+    let m = model();
+    let runs = logged_runs(&m, Some((Effect::SensorLatency, &[0.05, 0.05])), &["gentle_sine_dry"], &[], 1);
+    let data = Dataset::new(runs);
+    let lag = Equivalent {
+        effect: Effect::SteerLag,
+        params: Vec::new(),
+        values: vec![0.05],
+        intervals: Vec::new(),
+        delta_bic: 0.0,
+        named_delta_bic: 0.0,
+    };
+    let accepted = [(Effect::SensorLatency, vec![0.05, 0.05])];
+    let (seps, _) = separate(&m, &data, &EffectParams::default(), &accepted, Effect::SensorLatency, &[lag]);
+    let gentle = seps.iter().find(|s| s.maneuver == "gentle_sine_dry").unwrap();
+    eprintln!("gentle_sine_dry: yaw rate / a_y {:.2}, heading {:.2}", gentle.class, gentle.class_heading);
+    assert!(gentle.class < 1.0, "yaw rate and a_y separate it by {:.2}", gentle.class);
+    assert!(gentle.class_heading > 2.0, "a logged heading separates it by {:.2}", gentle.class_heading);
+    // Every manoeuvre: the heading separates this sensor/car pair better than yaw rate and a_y.
+    for s in &seps {
+        assert!(
+            s.class_heading > s.class,
+            "{}: heading {:.2}, yaw rate / a_y {:.2}",
+            s.maneuver,
+            s.class_heading,
+            s.class
+        );
+    }
 }
 
 #[test]

@@ -20,6 +20,14 @@
 //! larger of the two channels (yaw rate, a_y); a manoeuvre separates the class as well as its
 //! least-separated member. The manoeuvre with the largest such figure is proposed: runs of it,
 //! added to the data, make the class split when that figure is well above 1.
+//!
+//! **A logged heading.** The instruments' errors (the `[sensors]` forms) do not reach a heading
+//! logged by a satellite receiver ([`super::increments`]), so a class that mixes a sensor form with
+//! a form of the car may split with the heading logged where yaw rate and a_y cannot split it.
+//! Every manoeuvre's separation is therefore also given for the heading: the RMS over 1 s windows
+//! of the difference of the two replays' heading increments, over the increment's noise at
+//! `vehsim synth`'s survey-grade heading noise (sqrt(2) x 5e-4 rad, [`super::synth::LOGGABLE`]),
+//! and the manoeuvre with the largest such figure is named beside the proposal.
 
 use serde::Serialize;
 
@@ -59,6 +67,11 @@ pub struct Separation {
     pub per_member: Vec<f64>,
     /// The smallest of those: how well the manoeuvre separates the whole class.
     pub class: f64,
+    /// Per equivalent: the RMS difference of the heading increments over 1 s windows, over the
+    /// increment's noise with a survey-grade logged heading (see the module docs).
+    pub per_member_heading: Vec<f64>,
+    /// The smallest of those.
+    pub class_heading: f64,
 }
 
 /// A named effect with the candidates the data cannot tell from it, and the manoeuvre proposed to
@@ -73,10 +86,20 @@ pub struct Class {
     pub proposed: usize,
 }
 
+/// Index of the largest of `f` over `s` (the first on ties).
+fn best(s: &[Separation], f: fn(&Separation) -> f64) -> usize {
+    (0..s.len()).fold(0, |b, i| if f(&s[i]) > f(&s[b]) { i } else { b })
+}
+
 impl Class {
     /// The proposed manoeuvre's separation.
     pub fn proposal(&self) -> &Separation {
         &self.separations[self.proposed]
+    }
+
+    /// The manoeuvre that separates the class best with a logged heading.
+    pub fn heading_proposal(&self) -> &Separation {
+        &self.separations[best(&self.separations, |s| s.class_heading)]
     }
 
     /// "A = B = C" by labels (name and form), the named effect first.
@@ -198,8 +221,7 @@ pub fn separate(
         .collect();
     let separations: Vec<Separation> =
         MANOEUVRES.iter().map(|m| separation(model, m, &p_named, &p_members, noise)).collect();
-    let proposed =
-        (0..separations.len()).fold(0, |best, i| if separations[i].class > separations[best].class { i } else { best });
+    let proposed = best(&separations, |s| s.class);
     (separations, proposed)
 }
 
@@ -213,10 +235,36 @@ fn separation(
 ) -> Separation {
     let run = truth(model, p_named, m, m.id);
     let reference = model.simulate(&run, p_named);
-    let per_member: Vec<f64> =
-        p_members.iter().map(|p| difference(&reference, &model.simulate(&run, p), noise)).collect();
-    let class = per_member.iter().copied().fold(f64::INFINITY, f64::min);
-    Separation { maneuver: m.id, per_member, class: if class.is_finite() { class } else { 0.0 } }
+    let sims: Vec<Simulated> = p_members.iter().map(|p| model.simulate(&run, p)).collect();
+    let per_member: Vec<f64> = sims.iter().map(|s| difference(&reference, s, noise)).collect();
+    let windows = super::increments::windows(&run.t, &vec![false; run.t.len()]);
+    let per_member_heading: Vec<f64> = sims.iter().map(|s| heading_difference(&reference, s, &windows)).collect();
+    let least = |v: &[f64]| {
+        let m = v.iter().copied().fold(f64::INFINITY, f64::min);
+        if m.is_finite() {
+            m
+        } else {
+            0.0
+        }
+    };
+    Separation {
+        maneuver: m.id,
+        class: least(&per_member),
+        class_heading: least(&per_member_heading),
+        per_member,
+        per_member_heading,
+    }
+}
+
+/// RMS over `windows` of the difference of two replays' heading increments, over the increment's
+/// noise with a survey-grade logged heading (sqrt(2) x [`super::synth::log_noise`] of `psi`).
+fn heading_difference(a: &Simulated, b: &Simulated, windows: &[(usize, usize, bool)]) -> f64 {
+    if !(a.ok && b.ok) || windows.is_empty() || a.psi.len() != b.psi.len() {
+        return 0.0;
+    }
+    let sigma = 2f64.sqrt() * super::synth::log_noise("psi");
+    let ss: f64 = windows.iter().map(|&(k0, k1, _)| ((a.psi[k1] - a.psi[k0]) - (b.psi[k1] - b.psi[k0])).powi(2)).sum();
+    (ss / windows.len() as f64).sqrt() / sigma
 }
 
 #[cfg(test)]

@@ -368,6 +368,8 @@ fn class_json(c: &Class) -> serde_json::Value {
         })).collect::<Vec<_>>(),
         "separating_maneuver": c.proposal().maneuver,
         "predicted_difference_over_noise": c.proposal().class,
+        "separating_maneuver_with_heading": c.heading_proposal().maneuver,
+        "predicted_heading_difference_over_noise": c.heading_proposal().class_heading,
         "separations": c.separations,
     })
 }
@@ -378,7 +380,7 @@ pub fn classes_text(d: &Discovery) -> Vec<String> {
     d.classes
         .iter()
         .map(|c| {
-            let p = c.proposal();
+            let (p, h) = (c.proposal(), c.heading_proposal());
             let fitted: Vec<String> = c
                 .members
                 .iter()
@@ -387,13 +389,16 @@ pub fn classes_text(d: &Discovery) -> Vec<String> {
             format!(
                 "the data cannot tell apart {} (held-out dBIC within {}; the equivalents fitted jointly with the \
                  effects named before, {}); runs of the manoeuvre {} would (predicted difference {:.1} x the \
-                 noise; `vehsim synth --maneuvers {}` makes them)",
+                 noise; `vehsim synth --maneuvers {}` makes them); with the heading logged to 0.03 degrees, {} \
+                 would ({:.1} x the heading increments' noise)",
                 c.text(),
                 super::equivalence::EQUIVALENCE_BIC,
                 fitted.join("; "),
                 p.maneuver,
                 p.class,
-                p.maneuver
+                p.maneuver,
+                h.maneuver,
+                h.class_heading
             )
         })
         .collect()
