@@ -212,15 +212,25 @@ impl Ramped {
 struct Pending<const N: usize> {
     first: FirstStage<N>,
     k1: SVector<f64, N>,
-    obs: Option<Observation>,
+    /// The output row when one is due: its observation from this evaluation, the rest filled in
+    /// when the step records it (the row is built where the observation lands, not copied).
+    row: Option<Row>,
+}
+
+/// A row to be filled: the observation `obs`, the rest blank (time 0, default inputs, no speed
+/// target or path error).
+fn blank_row(obs: Observation) -> Row {
+    Row { t_s: 0.0, obs, inputs: Inputs::default(), speed_target_mps: f64::NAN, path_error_m: f64::NAN }
 }
 
 /// The first stage of a step of `model` at state `x` under inputs `u` (see [`Pending`]), with
 /// the observation when `record` and the tyres' contact conditions into `contacts` when given:
 /// one evaluation of the model (plus its lag rates, and an observation of its own, under
-/// [`Method::Rk4Lag`] with a model that has lags).
+/// [`Method::Rk4Lag`] with a model that has lags). Written into `slot` in place (the observation
+/// is evaluated where it is kept, not built and then moved: a memory copy less per step).
 #[allow(clippy::too_many_arguments)]
-fn first_stage<const N: usize, M: VehicleModel<N>>(
+fn first_stage<'p, const N: usize, M: VehicleModel<N>>(
+    slot: &'p mut Option<Pending<N>>,
     model: &M,
     env: &Environment,
     lag: bool,
@@ -228,7 +238,7 @@ fn first_stage<const N: usize, M: VehicleModel<N>>(
     u: &Inputs,
     record: bool,
     contacts: Option<&mut [TyreContact]>,
-) -> Pending<N> {
+) -> &'p mut Pending<N> {
     if let Some(l) = model.lags().filter(|_| lag) {
         let (body, inputs) = l.lag_split(x, u, env, contacts);
         let rates = l.lag_rates(x, u, env);
@@ -238,17 +248,22 @@ fn first_stage<const N: usize, M: VehicleModel<N>>(
                 k1[i] = rates[j] * (inputs[j] - x[i]);
             }
         }
-        let obs = record.then(|| model.observe(x, u, env));
-        return Pending { first: FirstStage::Lag { body, inputs, rates }, k1, obs };
+        let row = record.then(|| blank_row(model.observe(x, u, env)));
+        return slot.insert(Pending { first: FirstStage::Lag { body, inputs, rates }, k1, row });
     }
-    let mut o = Observation::default();
-    let k1 = model.evaluate(x, u, env, Extras { observation: record.then_some(&mut o), contacts });
-    let first = if lag {
+    let p = slot.insert(Pending {
+        first: FirstStage::Derivative(SVector::zeros()),
+        k1: SVector::zeros(),
+        row: record.then(|| blank_row(Observation::default())),
+    });
+    let k1 = model.evaluate(x, u, env, Extras { observation: p.row.as_mut().map(|r| &mut r.obs), contacts });
+    p.first = if lag {
         FirstStage::Lag { body: k1, inputs: [0.0; MAX_LAGS], rates: [0.0; MAX_LAGS] }
     } else {
         FirstStage::Derivative(k1)
     };
-    Pending { first, k1, obs: record.then_some(o) }
+    p.k1 = k1;
+    p
 }
 
 /// The stages of one step as the integrator sees them ([`Problem`]): the model's derivative under
@@ -602,7 +617,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
         let mut conditions = |temps: &[f64], out: &mut [TyreContact]| {
             let mut u = *u0;
             u.contact_temp_c[..temps.len()].copy_from_slice(temps);
-            *pending = Some(first_stage(model, env, lag, x, &u, record, Some(out)));
+            first_stage(pending, model, env, lag, x, &u, record, Some(out));
             evaluated = Some(u.contact_temp_c);
         };
         let n = M::TYRES;
@@ -631,7 +646,7 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
             evaluated.is_some_and(|e| e[..n].iter().zip(&self.temps[..n]).all(|(p, q)| p.to_bits() == q.to_bits()));
         if !at_estimate || self.pending.is_none() {
             let lag = self.method == Method::Rk4Lag;
-            self.pending = Some(first_stage(self.model, &self.env, lag, &self.x, u0, record, None));
+            first_stage(&mut self.pending, self.model, &self.env, lag, &self.x, u0, record, None);
         }
         let Some(p) = &self.pending else { return self.x };
         match &p.first {
@@ -719,26 +734,32 @@ impl<'a, const N: usize, M: VehicleModel<N>> Simulation<'a, N, M> {
     /// was one); the inputs at every stage are the ramps' values at the stage time; updates the running figures of the step's
     /// start. Returns the new state or why the solver gave up.
     fn advance(&mut self, t: f64, kin: &Kinematics, record: bool) -> Result<SVector<f64, N>, String> {
-        let (model, env, h) = (self.model, self.env, self.h);
+        // The environment and the pending first stage (with its row) are read in place: moving
+        // them (a few hundred bytes each) cost a memory copy each per step.
+        let (model, h) = (self.model, self.h);
         let inputs = self.inputs_at(t);
-        let Pending { first, k1, obs } = match self.pending.take() {
-            Some(p) if p.obs.is_some() || !record => p,
-            _ => first_stage(model, &env, self.method == Method::Rk4Lag, &self.x, &inputs, record, None),
+        let lag = self.method == Method::Rk4Lag;
+        let pending = match &mut self.pending {
+            Some(p) if p.row.is_some() || !record => p,
+            slot => first_stage(slot, model, &self.env, lag, &self.x, &inputs, record, None),
         };
-        if let Some(obs) = obs {
-            let row = Row {
-                t_s: t,
-                obs,
-                inputs,
-                speed_target_mps: self.speed_target,
-                path_error_m: self.path_error.unwrap_or(f64::NAN),
-            };
-            self.observer.record(&row);
+        let k1 = pending.k1;
+        if let Some(row) = &mut pending.row {
+            row.t_s = t;
+            row.inputs = inputs;
+            row.speed_target_mps = self.speed_target;
+            row.path_error_m = self.path_error.unwrap_or(f64::NAN);
+            self.observer.record(row);
             self.last_row = Some((row.t_s, row.speed_target_mps));
         }
         self.u = inputs;
         let stages = Stages { sim: &*self, mid: (t + 0.5 * h, self.inputs_at(t + 0.5 * h)) };
-        let next = self.method.step(&stages, t, &self.x, h, first);
+        // (always filled above; the next step's first stage is evaluated afresh)
+        let next = match &self.pending {
+            Some(p) => self.method.step(&stages, t, &self.x, h, &p.first),
+            None => Err("the step's first stage was not evaluated".to_string()),
+        };
+        self.pending = None;
         let st = &mut self.st;
         let (_, ay) = model.body_acceleration(&self.x, &k1);
         if ay.is_finite() {

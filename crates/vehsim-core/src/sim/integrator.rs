@@ -121,22 +121,22 @@ impl Method {
         t: f64,
         x: &SVector<f64, N>,
         h: f64,
-        first: FirstStage<N>,
+        first: &FirstStage<N>,
     ) -> Result<SVector<f64, N>, String> {
         let f = |ts: f64, s: &SVector<f64, N>| problem.rhs(ts, s);
         match (*self, first) {
             (Method::Rk4Lag, FirstStage::Lag { body, inputs, rates }) => {
                 let split = |s: &SVector<f64, N>, c: f64| problem.lag_split(t + c * h, s);
-                Ok(rk4_lag_step_k1(split, x, h, problem.lag_states(), &rates, (body, inputs)))
+                Ok(rk4_lag_step_k1(split, x, h, problem.lag_states(), rates, (*body, *inputs)))
             }
             (Method::Rk4Lag, FirstStage::Derivative(_)) | (_, FirstStage::Lag { .. }) => {
                 Err(format!("{}: first stage of the wrong kind", self.name()))
             }
-            (Method::Rk4, FirstStage::Derivative(k1)) => Ok(rk4_step_k1(f, t, x, h, k1).0),
+            (Method::Rk4, FirstStage::Derivative(k1)) => Ok(rk4_step_k1(f, t, x, h, *k1).0),
             (Method::Rk4Exp, FirstStage::Derivative(k1)) => {
                 let mut pairs = [ExpPair::new(0, 0, [[0.0; 2]; 2], h); 4];
-                let n = spin_slip_linearisation(problem.spin_slip(), &f, t, x, &k1, h, &mut pairs);
-                Ok(rk4_exp_step_t(f, t, x, h, k1, &pairs[..n]))
+                let n = spin_slip_linearisation(problem.spin_slip(), &f, t, x, k1, h, &mut pairs);
+                Ok(rk4_exp_step_t(f, t, x, h, *k1, &pairs[..n]))
             }
             (m, FirstStage::Derivative(_)) => step_t(m, f, t, x, h),
         }
