@@ -140,7 +140,9 @@ impl MeltLaw {
         }
     }
 
-    /// The multipliers for one input.
+    /// The multipliers for one input. (Inlined into the tyre evaluation: outlined, the call and
+    /// the multipliers' return through memory cost about as much as the law.)
+    #[inline(always)]
     pub fn scale_for(&self, i: &TyreInput) -> Scale {
         let p = self.proximity(i.surface_temp_c, i.contact_temp_c);
         if p == 0.0 {
