@@ -513,8 +513,8 @@ fn md_folds(s: &mut String, d: &Discovery) {
     if d.folds.iter().any(|f| f.final_increment_noise_ratio.iter().any(Option::is_some)) {
         let _ = writeln!(
             s,
-            "\nThe channels scored on their increments over {} s windows (RMS / noise per fold; at the noise \
-             within the limit of its window count; `-`: not logged):\n",
+            "\nThe channels scored on their increments over {} s windows (held-out RMS / noise per fold and \
+             logged channel; at the noise within the limit of its window count):\n",
             super::increments::WINDOW_S
         );
         let _ = writeln!(s, "| fold | channel | windows | limit | baseline | final |\n|---|---|---|---|---|---|");
