@@ -180,7 +180,7 @@ fn bad_road_keys_are_refused_naming_file_and_key() {
     let dir = common::temp_dir("road-bad-sidecar");
     std::fs::write(
         dir.join("a.csv"),
-        vehsim::discover::measured::run_csv(&run.t, &run.steer, &run.vx, &run.yaw_rate, &run.ay),
+        vehsim::discover::measured::run_csv(&run.t, &run.steer, &run.vx, &run.yaw_rate, &run.ay, &[]),
     )
     .unwrap();
     std::fs::write(dir.join("a.toml"), "[surface]\nmu = 0.15\n[road]\nbank_deg = 36.0\n").unwrap();

@@ -50,7 +50,7 @@ use super::select::{noise_sigma, Noise};
 pub const WINDOW_S: f64 = 1.0;
 
 /// The windowed channels a run logs, and their white-noise levels (None for one it does not log).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct IncrementNoise {
     /// Heading noise, rad.
     pub psi_rad: Option<f64>,
@@ -66,8 +66,8 @@ pub const CHANNELS: [&str; 3] = ["heading", "lateral_position", "lateral_velocit
 /// Number of window channels.
 pub const N: usize = CHANNELS.len();
 
-/// Wrap an angle difference into (-pi, pi].
-fn wrap(a: f64) -> f64 {
+/// Wrap an angle (or an angle difference), rad, into (-pi, pi].
+pub fn wrap(a: f64) -> f64 {
     let tau = std::f64::consts::TAU;
     let w = a - tau * (a / tau).round();
     if w <= -std::f64::consts::PI {

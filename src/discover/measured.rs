@@ -7,10 +7,10 @@
 //! notice. Time must increase strictly (sampling need not be uniform), every value must be finite,
 //! the run must last at least 1 s and at most 3600 s, the median sample interval must lie in
 //! 0.1 ms to 1 s (else `t` is not in seconds), a logged position within 1e8 m, heading within
-//! 1e5 rad and lateral velocity within 100 m/s in magnitude, |steer| must stay at or below 1.2 rad (a larger
-//! value almost certainly means degrees or a steering-wheel angle), vx must not be negative (beyond
-//! 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s (a car does not turn
-//! on the spot). Each violation is one bad-input error that names the file and the row or column
+//! 1e5 rad and lateral velocity within 100 m/s in magnitude, |steer| must stay at or below
+//! 1.2 rad (a larger value almost certainly means degrees or a steering-wheel angle), vx must not
+//! be negative (beyond 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s
+//! (a car does not turn on the spot). Each violation is one bad-input error that names the file and the row or column
 //! (exit code 2). A column in another common unit says so in its header cell (`yaw_rate [deg/s]`)
 //! or the sidecar's `[units]`, and is converted to SI first ([`super::units`]).
 //!
@@ -212,13 +212,14 @@ fn parse_run_csv_with(path: &Path, text: &str, side: &Path, units: &BTreeMap<Str
         ("vy", VY_MAX_MPS, "m/s"),
     ];
     for (col, max, unit) in bounded {
-        if let Some(k) = get(col).iter().position(|v| v.abs() > max) {
+        let Some(j) = used.iter().position(|(_, n)| n == col) else { continue };
+        if let Some((k, v)) = cols[j].iter().enumerate().find(|(_, v)| v.abs() > max) {
             return Err(Error::input(
                 path,
                 format!(
                     "line {}, column '{col}': {} {unit}; it must be at most {max:e} {unit} in magnitude",
                     k + 2,
-                    vehsim_core::error::short_num(get(col)[k])
+                    vehsim_core::error::short_num(*v)
                 ),
             ));
         }
@@ -475,11 +476,27 @@ fn apply_parsed(run: &mut MeasuredRun, side: &Path, s: Sidecar) -> Result<()> {
     Ok(())
 }
 
-/// Write a run in the measured-run format (only the required columns plus any optional ones given).
-pub fn run_csv(t: &[f64], steer: &[f64], vx: &[f64], yaw_rate: &[f64], ay: &[f64]) -> String {
-    let mut s = String::from("t,steer,vx,yaw_rate,ay\n");
+/// Write a run in the measured-run format: the required columns, then the optional channels
+/// `optional` (name, one value per sample) in the order given.
+pub fn run_csv(
+    t: &[f64],
+    steer: &[f64],
+    vx: &[f64],
+    yaw_rate: &[f64],
+    ay: &[f64],
+    optional: &[(String, Vec<f64>)],
+) -> String {
+    let mut s = String::from("t,steer,vx,yaw_rate,ay");
+    for (name, _) in optional {
+        s.push_str(&format!(",{name}"));
+    }
+    s.push('\n');
     for k in 0..t.len() {
-        s.push_str(&format!("{},{},{},{},{}\n", t[k], steer[k], vx[k], yaw_rate[k], ay[k]));
+        s.push_str(&format!("{},{},{},{},{}", t[k], steer[k], vx[k], yaw_rate[k], ay[k]));
+        for (_, values) in optional {
+            s.push_str(&format!(",{}", values[k]));
+        }
+        s.push('\n');
     }
     s
 }

@@ -287,8 +287,8 @@ pub fn truth(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str) -
     truth_of(model, p, m, name, &[])
 }
 
-/// [`truth`], also logging the replay's channels `log` (of [`LOGGABLE`]; `psi` wrapped to within
-/// +-pi).
+/// [`truth`], also logging the replay's channels `log` (of [`LOGGABLE`]; `psi` wrapped into
+/// (-pi, pi]).
 fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, log: &[&str]) -> MeasuredRun {
     let n = 1201;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.01).collect();
@@ -323,12 +323,11 @@ fn truth_of(model: &ReplayModel, p: &EffectParams, m: &Manoeuvre, name: &str, lo
     };
     run.yaw_rate = sim.yaw_rate;
     run.ay = sim.ay;
-    let tau = std::f64::consts::TAU;
     for &c in log {
         let values = match c {
             "x" => sim.x.clone(),
             "y" => sim.y.clone(),
-            "psi" => sim.psi.iter().map(|a| a - tau * ((a + std::f64::consts::PI) / tau).floor()).collect(),
+            "psi" => sim.psi.iter().map(|&a| super::increments::wrap(a)).collect(),
             _ => sim.vy.clone(),
         };
         run.optional.push((c.to_string(), values));
@@ -427,18 +426,7 @@ pub fn parse_roads(given: &[String], plan: &[Manoeuvre]) -> Result<Vec<vehsim_co
 pub fn write_runs(dir: &Path, runs: &[(MeasuredRun, String)]) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io { path: dir.to_path_buf(), source: e })?;
     for (r, name) in runs {
-        let mut csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay);
-        if !r.optional.is_empty() {
-            // The optional channels (`--log`) as further columns.
-            let mut lines: Vec<String> = csv.lines().map(str::to_string).collect();
-            for (name, values) in &r.optional {
-                lines[0].push_str(&format!(",{name}"));
-                for (k, v) in values.iter().enumerate() {
-                    lines[k + 1].push_str(&format!(",{v}"));
-                }
-            }
-            csv = lines.join("\n") + "\n";
-        }
+        let csv = run_csv(&r.t, &r.steer, &r.vx, &r.yaw_rate, &r.ay, &r.optional);
         let p = dir.join(format!("{name}.csv"));
         crate::output::write_atomic(&p, csv.as_bytes())?;
         let s = dir.join(format!("{name}.toml"));
@@ -462,13 +450,13 @@ pub fn add_noise(run: &mut MeasuredRun, rng: &mut Rng) {
             *v += NOISE[1] * rng.normal();
         }
     }
-    // The logged pose and lateral velocity (psi kept within +-pi).
+    // The logged pose and lateral velocity (psi kept within (-pi, pi]).
     for (channel, sigma) in LOGGABLE {
         if let Some((_, values)) = run.optional.iter_mut().find(|(n, _)| n == channel) {
             for v in values.iter_mut() {
                 *v += sigma * rng.normal();
-                if channel == "psi" && v.abs() > std::f64::consts::PI {
-                    *v -= std::f64::consts::TAU * v.signum();
+                if channel == "psi" {
+                    *v = super::increments::wrap(*v);
                 }
             }
         }
