@@ -624,11 +624,7 @@ fn md_noise(s: &mut String, data: &Dataset) {
     for (r, n) in data.runs.iter().zip(&data.noise) {
         let mut row = format!("| {} | {:.2e} | {:.2e} |", r.name, n.yaw_rate, n.ay);
         if logged {
-            let p = n.increments.unwrap_or(super::increments::IncrementNoise {
-                psi_rad: None,
-                position_m: None,
-                vy_mps: None,
-            });
+            let p = n.increments.unwrap_or_default();
             for v in [p.psi_rad, p.position_m, p.vy_mps] {
                 row.push_str(&v.map_or(" - |".to_string(), |v| format!(" {v:.2e} |")));
             }

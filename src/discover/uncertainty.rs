@@ -3,8 +3,9 @@
 //!
 //! r(theta) is the vector of the fitted samples' residuals (yaw rate and ay, and the fitted
 //! increment windows of a run that logs a heading, position or lateral velocity,
-//! [`super::increments`]), each divided by its noise estimate. J = dr/dtheta by central differences (step 1 % of each parameter's
-//! typical scale; one-sided when the step would cross a bound). The Gauss–Newton covariance is
+//! [`super::increments`]), each divided by its noise estimate. J = dr/dtheta by central
+//! differences (step 1 % of each parameter's typical scale; one-sided when the step would cross a
+//! bound). The Gauss–Newton covariance is
 //!
 //!   C = s^2 (J^T J)^-1 * f,   s^2 = RSS / (N - p),   f = max((1 + rho) / (1 - rho), tau),
 //!
@@ -75,9 +76,9 @@ impl Interval {
 }
 
 /// Normalized residuals of the fitted samples (per run: yaw rate then ay, sample by sample, then
-/// the run's fitted increment windows, [`super::increments`]), the residuals' sum of squares and their autocorrelation variance factor (the larger of the AR(1)
-/// factor and the integrated autocorrelation time, pooled over runs and channels; see the module
-/// header).
+/// the run's fitted increment windows, [`super::increments`]), the residuals' sum of squares and
+/// their autocorrelation variance factor (the larger of the AR(1) factor and the integrated
+/// autocorrelation time, pooled over runs and channels; see the module header).
 fn residuals(model: &ReplayModel, data: &Dataset, p: &EffectParams) -> (Vec<f64>, f64, f64) {
     let sims = simulate_fitted(model, data, p);
     let mut r = Vec::new();
