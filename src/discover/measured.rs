@@ -10,9 +10,10 @@
 //! 1e5 rad and lateral velocity within 100 m/s in magnitude, |steer| must stay at or below
 //! 1.2 rad (a larger value almost certainly means degrees or a steering-wheel angle), vx must not
 //! be negative (beyond 0.5 m/s of noise) and the yaw rate must stay below |vx| / 1 m + 0.05 rad/s
-//! (a car does not turn on the spot). Each violation is one bad-input error that names the file and the row or column
-//! (exit code 2). A column in another common unit says so in its header cell (`yaw_rate [deg/s]`)
-//! or the sidecar's `[units]`, and is converted to SI first ([`super::units`]).
+//! (a car does not turn on the spot). Each violation is one bad-input error that names the file
+//! and the row or column (exit code 2). A column in another common unit says so in its header
+//! cell (`yaw_rate [deg/s]`) or the sidecar's `[units]`, and is converted to SI first
+//! ([`super::units`]).
 //!
 //! Sidecar `RUN.toml` (same stem): `[surface] mu` (peak friction, (0, 2], default 1.0 with a
 //! notice), `[surface] ice_temp_c` (degC; when given the run is on ice, otherwise it is taken as a
